@@ -1,0 +1,20 @@
+-- Travelling-wave gait for a chain of SuperBots.
+-- Each module drives one joint with a sine wave whose phase lags by `lag` per module down the
+-- chain: the wave travels from tail to head and the chain crawls towards its head.
+-- params:
+--   index      the module's place in the chain (0 = head), given by the world
+--   joint      "pitch" (vertical wave, default) or "yaw" (lateral undulation)
+--   amplitude  radians (default 0.6)
+--   period     seconds per wave (default 1.5)
+--   lag        phase lag between neighbours, radians (default 2*pi/5)
+
+local joint = module.joint(params.joint or "pitch")
+local amplitude = params.amplitude or 0.6
+local period = params.period or 1.5
+local lag = params.lag or (2 * math.pi / 5)
+local index = params.index or 0
+
+function step(dt)
+  local t = sim.time()
+  joint:set_target(amplitude * math.sin(2 * math.pi * t / period + index * lag))
+end

@@ -1,0 +1,50 @@
+// The command line: `rm3d run`, `rm3d test`, `rm3d bench`, `rm3d view`.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rm3d {
+
+struct RunArgs {
+  std::string world;
+  std::optional<double> seconds;
+  std::optional<long long> steps;
+  std::optional<unsigned long long> seed;
+  std::vector<std::string> params;  ///< key=value
+  std::string json;
+  bool strict = false;
+  int threads = 1;
+  std::string png, video;
+  bool quiet = false;
+};
+
+struct TestArgs {
+  std::vector<std::string> paths;
+  std::string junit;
+  int threads = 1;
+  bool strict = false;
+};
+
+struct BenchArgs {
+  std::vector<std::string> scenes;
+  std::optional<double> dt;
+  long long steps = 300;
+  int threads = 1;
+  std::optional<int> modules;
+  std::optional<int> iterations;
+  std::optional<int> substeps;
+  std::string json;
+};
+
+/// Exit codes: 0 ok, 1 failed expectations or a fault under --strict, 2 bad input.
+int runCommand(const RunArgs& a, const std::string& root);
+int testCommand(const TestArgs& a, const std::string& root);
+int benchCommand(const BenchArgs& a, const std::string& root);
+
+/// Parses ["k=v", ...]; false and err on a malformed entry.
+bool parseParams(const std::vector<std::string>& in, std::map<std::string, std::string>& out, std::string& err);
+
+}  // namespace rm3d

@@ -1,0 +1,84 @@
+// rm3d: entry point. Parses the command line (CLI11) and dispatches to the commands.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "app/app.h"
+
+namespace {
+
+std::string projectRoot(const std::string& given) {
+  if (!given.empty()) return std::filesystem::absolute(given).lexically_normal().string();
+  if (const char* env = std::getenv("RM3D_ROOT")) return std::filesystem::absolute(env).lexically_normal().string();
+  return RM3D_SOURCE_DIR;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"RM3D: a physics-based simulator for self-reconfigurable modular robots"};
+  app.require_subcommand(1);
+  std::string root;
+  app.add_option("--root", root, "project root (assets/, lua/, behaviors/); default: the source tree")->check(CLI::ExistingDirectory);
+
+  rm3d::RunArgs run;
+  CLI::App* runCmd = app.add_subcommand("run", "run a world headless");
+  runCmd->add_option("world", run.world, "world script (.lua)")->required();
+  bool headless = true;
+  runCmd->add_flag("--headless", headless, "no window (runs are always headless; `view` opens a window)");
+  auto* secOpt = runCmd->add_option("--seconds", run.seconds, "simulated seconds (default: the world's duration)")->check(CLI::PositiveNumber);
+  runCmd->add_option("--steps", run.steps, "number of steps")->check(CLI::PositiveNumber)->excludes(secOpt);
+  runCmd->add_option("--seed", run.seed, "world seed (overrides world.set{seed=})");
+  runCmd->add_option("--param", run.params, "key=value, seen as args.key in the world script")->take_all();
+  runCmd->add_option("--json", run.json, "write the run summary as JSON");
+  runCmd->add_flag("--strict", run.strict, "a module fault ends the run with exit code 1");
+  runCmd->add_option("--threads", run.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
+  runCmd->add_option("--png", run.png, "write the last frame as PNG");
+  runCmd->add_option("--video", run.video, "write a video (MP4)");
+  runCmd->add_flag("--quiet", run.quiet, "no module log lines");
+
+  rm3d::TestArgs test;
+  CLI::App* testCmd = app.add_subcommand("test", "run scripted test worlds headless; ends with 'N passed, N failed'");
+  testCmd->add_option("paths", test.paths, "world files or folders (default: tests/worlds)");
+  testCmd->add_option("--junit", test.junit, "write a JUnit XML report");
+  testCmd->add_option("--threads", test.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
+  testCmd->add_flag("--strict", test.strict, "a module fault fails the world");
+
+  rm3d::BenchArgs bench;
+  CLI::App* benchCmd = app.add_subcommand("bench", "scale benchmarks (snake_1000, superbots_1000)");
+  benchCmd->add_option("scenes", bench.scenes, "scene names (default: all)");
+  benchCmd->add_option("--dt", bench.dt, "control step, s (default: 1/30 and 1/60)")->check(CLI::PositiveNumber);
+  benchCmd->add_option("--steps", bench.steps, "measured steps per scene")->check(CLI::PositiveNumber);
+  benchCmd->add_option("--threads", bench.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
+  benchCmd->add_option("--modules", bench.modules, "modules per scene (default 1000)")->check(CLI::PositiveNumber);
+  benchCmd->add_option("--iterations", bench.iterations, "solver iterations (default 10, as the reference)")->check(CLI::PositiveNumber);
+  benchCmd->add_option("--substeps", bench.substeps, "physics substeps per step (default 1)")->check(CLI::PositiveNumber);
+  benchCmd->add_option("--json", bench.json, "write results as JSON");
+
+  std::string viewWorld;
+  CLI::App* viewCmd = app.add_subcommand("view", "interactive window with hot reload");
+  viewCmd->add_option("world", viewWorld, "world script")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "rm3d: %s\n(see rm3d --help, or rm3d run --help)\n", e.what());
+    return 2;
+  }
+  const std::string r = projectRoot(root);
+  if (*runCmd) return rm3d::runCommand(run, r);
+  if (*testCmd) return rm3d::testCommand(test, r);
+  if (*benchCmd) return rm3d::benchCommand(bench, r);
+  if (*viewCmd) {
+    std::fprintf(stderr, "rm3d view: this build has no interactive viewer yet; use `rm3d run %s --png FILE` for a picture\n",
+                 viewWorld.c_str());
+    return 2;
+  }
+  return 2;
+}

@@ -1,0 +1,62 @@
+// A module type as data (MuJoCo's mjModel idea): links, joints, docks, sensors, read from
+// assets/modules/<type>.lua. All poses are in the module frame at zero joint angles, which is
+// also every link's own frame, so a joint's pivot and axis mean the same thing in both links.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "physics/shape_def.h"
+
+namespace rm3d {
+
+struct LinkDef {
+  std::string name;
+  double mass = 0.1;
+  std::vector<ShapeDef> shapes;
+  std::array<float, 4> color{0.8f, 0.8f, 0.8f, 1.0f};
+  double friction = 1.0;
+};
+
+struct JointDef {
+  std::string name;
+  int parent = -1, child = -1;  ///< link indices; angle = rotation of child about axis
+  Vec3 pivot = Vec3::Zero();
+  Vec3 axis = Vec3::UnitZ();    ///< unit
+  bool limited = true;          ///< false: continuous
+  double lower = -kPi / 2, upper = kPi / 2;
+  double maxTorque = 1.0, maxSpeed = 1.0;
+  double servoGain = 20.0;
+};
+
+enum class Gender { None, Male, Female };
+
+struct DockDef {
+  std::string name;
+  int link = -1;
+  Vec3 pos = Vec3::Zero();     ///< face centre
+  Vec3 normal = Vec3::UnitX(); ///< outward, unit
+  Vec3 up = Vec3::UnitZ();     ///< reference direction in the face, unit, normal to `normal`
+  Gender gender = Gender::None;
+  double size = 0.034;         ///< face side, m
+  int symmetry = 4;            ///< ways the face can mate about its normal (4: square)
+};
+
+struct ModuleTypeDef {
+  std::string name;
+  std::string file;
+  int rootLink = 0;  ///< the link whose frame is the module frame
+  std::vector<LinkDef> links;
+  std::vector<JointDef> joints;
+  std::vector<DockDef> docks;
+
+  int findLink(const std::string& n) const;
+  int findJoint(const std::string& n) const;
+  int findDock(const std::string& n) const;
+  double mass() const;
+};
+
+const char* genderName(Gender g);
+
+}  // namespace rm3d

@@ -1,0 +1,506 @@
+// Bullet behind the PhysicsWorld interface: parts merged into compound rigid bodies, hinges
+// with servo and velocity motors, and an overlap filter that keeps a module from colliding
+// with itself.
+#include "physics/physics_world.h"
+
+#include <btBulletDynamicsCommon.h>
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+namespace rm3d {
+
+namespace {
+
+btVector3 toBt(const Vec3& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
+Vec3 fromBt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+btTransform toBt(const Pose& p) {
+  const Quat& q = p.rot;
+  return btTransform(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())), toBt(p.pos));
+}
+Pose fromBt(const btTransform& t) {
+  const btQuaternion q = t.getRotation();
+  return {fromBt(t.getOrigin()), Quat(q.w(), q.x(), q.y(), q.z()).normalized()};
+}
+
+constexpr btScalar kHullMargin = 0.001f;  // Bullet's 0.04 m default would lift small links off the ground
+
+btCollisionShape* makeShape(const ShapeDef& s) {
+  switch (s.kind) {
+    case ShapeKind::Box:
+      return new btBoxShape(toBt(s.size / 2));
+    case ShapeKind::Sphere:
+      return new btSphereShape(btScalar(s.radius));
+    case ShapeKind::Cylinder:
+      return new btCylinderShapeZ(btVector3(btScalar(s.radius), btScalar(s.radius), btScalar(s.length / 2)));
+    case ShapeKind::Hull: {
+      auto* h = new btConvexHullShape();
+      for (const Vec3& p : s.points) h->addPoint(toBt(p), false);
+      h->recalcLocalAabb();
+      h->setMargin(kHullMargin);
+      return h;
+    }
+  }
+  return nullptr;
+}
+
+bool isIdentity(const Pose& p) {
+  return p.pos.norm() < 1e-9 && std::abs(std::abs(p.rot.w()) - 1.0) < 1e-12;
+}
+
+}  // namespace
+
+struct PhysicsWorld::Impl {
+  struct Part {
+    int body = -1;
+    Pose inBody;
+    double mass = 0;
+    Vec3 com = Vec3::Zero();                            // part frame
+    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about com, part frame
+    std::vector<btCollisionShape*> shapes;              // owned
+    std::vector<Pose> shapePoses;                       // in part frame
+    double friction = 0.8, restitution = 0;
+    int owner = -1;
+    std::vector<int> hinges;
+  };
+  struct Body {
+    btRigidBody* rb = nullptr;
+    btCompoundShape* compound = nullptr;  // owned when the body has several shapes
+    std::vector<int> parts;
+    std::vector<int> owners;  // sorted module indices
+  };
+  struct Hinge {
+    HingeDesc d;
+    btHingeConstraint* c = nullptr;
+    Vec3 axisA = Vec3::UnitZ();  // in part A frame
+    MotorMode mode = MotorMode::Off;
+    double value = 0;
+    double angle = 0;   // unwrapped
+    double rawLast = 0;
+  };
+
+  /// Pairs whose bodies share a module never collide (a module's own links, docked neighbours).
+  struct OwnerFilter : btOverlapFilterCallback {
+    const std::vector<Body>* bodies = nullptr;
+    bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
+      if (!(a->m_collisionFilterGroup & b->m_collisionFilterMask) || !(b->m_collisionFilterGroup & a->m_collisionFilterMask))
+        return false;
+      const int ia = static_cast<btCollisionObject*>(a->m_clientObject)->getUserIndex();
+      const int ib = static_cast<btCollisionObject*>(b->m_clientObject)->getUserIndex();
+      if (ia < 0 || ib < 0) return true;
+      const auto& oa = (*bodies)[ia].owners;
+      const auto& ob = (*bodies)[ib].owners;
+      auto i = oa.begin();
+      auto j = ob.begin();
+      while (i != oa.end() && j != ob.end()) {
+        if (*i == *j) return false;
+        if (*i < *j) ++i; else ++j;
+      }
+      return true;
+    }
+  };
+
+  PhysicsSettings settings;
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher{&config};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+  OwnerFilter filter;
+  std::vector<Part> parts;
+  std::vector<Body> bodies;
+  std::vector<Hinge> hinges;
+  std::vector<btCollisionShape*> extraShapes;  // ground plane
+  std::vector<btRigidBody*> extraBodies;
+  int liveBodies = 0;
+
+  explicit Impl(const PhysicsSettings& s) : settings(s) {
+    world.setGravity(toBt(s.gravity));
+    world.getSolverInfo().m_numIterations = s.solverIterations;
+    filter.bodies = &bodies;
+    world.getPairCache()->setOverlapFilterCallback(&filter);
+  }
+
+  ~Impl() {
+    for (Hinge& h : hinges)
+      if (h.c) {
+        world.removeConstraint(h.c);
+        delete h.c;
+      }
+    for (Body& b : bodies) destroyBody(b);
+    for (btRigidBody* rb : extraBodies) {
+      world.removeRigidBody(rb);
+      delete rb;
+    }
+    for (Part& p : parts)
+      for (btCollisionShape* s : p.shapes) delete s;
+    for (btCollisionShape* s : extraShapes) delete s;
+  }
+
+  void destroyBody(Body& b) {
+    if (!b.rb) return;
+    world.removeRigidBody(b.rb);
+    delete b.rb;
+    delete b.compound;
+    b.rb = nullptr;
+    b.compound = nullptr;
+    b.parts.clear();
+    b.owners.clear();
+    --liveBodies;
+  }
+
+  Pose bodyPose(int b) const { return fromBt(bodies[b].rb->getWorldTransform()); }
+  Pose partPose(int p) const { return bodyPose(parts[p].body) * parts[p].inBody; }
+
+  /// Builds one rigid body from parts placed at the given world poses, with the given momentum.
+  int buildBody(const std::vector<int>& ids, const std::vector<Pose>& world_, const Vec3& linMomentum,
+                const Vec3& angMomentum) {
+    double mass = 0;
+    bool isStatic = false;
+    Vec3 com = Vec3::Zero();
+    for (size_t i = 0; i < ids.size(); ++i) {
+      const Part& p = parts[ids[i]];
+      if (p.mass <= 0) isStatic = true;
+      mass += p.mass;
+      com += p.mass * (world_[i] * p.com);
+    }
+    Pose frame = world_[0];
+    Eigen::Vector3d principal = Eigen::Vector3d::Zero();
+    if (!isStatic) {
+      com /= mass;
+      Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+      for (size_t i = 0; i < ids.size(); ++i) {
+        const Part& p = parts[ids[i]];
+        const Eigen::Matrix3d r = world_[i].rot.toRotationMatrix();
+        const Vec3 d = world_[i] * p.com - com;
+        inertia += r * p.inertia * r.transpose() + p.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+      }
+      // Keep the world-aligned frame when it is already principal (common for single links),
+      // so a one-shape body needs no compound.
+      Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
+      const Eigen::Matrix3d local = ids.size() == 1 ? (world_[0].rot.toRotationMatrix().transpose() * inertia *
+                                                       world_[0].rot.toRotationMatrix())
+                                                    : inertia;
+      const double off = std::abs(local(0, 1)) + std::abs(local(0, 2)) + std::abs(local(1, 2));
+      if (off <= 1e-9 * local.trace()) {
+        rot = ids.size() == 1 ? world_[0].rot.toRotationMatrix() : Eigen::Matrix3d::Identity();
+        principal = local.diagonal();
+      } else {
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(inertia);
+        rot = es.eigenvectors();
+        if (rot.determinant() < 0) rot.col(2) = -rot.col(2);
+        principal = es.eigenvalues();
+      }
+      frame = Pose{com, Quat(rot).normalized()};
+    }
+
+    const int index = int(bodies.size());
+    bodies.emplace_back();
+    Body& b = bodies.back();
+    b.parts = ids;
+    const Pose inv = frame.inverse();
+    int shapeCount = 0;
+    for (int id : ids) shapeCount += int(parts[id].shapes.size());
+    btCollisionShape* shape = nullptr;
+    for (size_t i = 0; i < ids.size(); ++i) {
+      Part& p = parts[ids[i]];
+      p.body = index;
+      p.inBody = inv * world_[i];
+      if (p.owner >= 0) b.owners.push_back(p.owner);
+      for (size_t k = 0; k < p.shapes.size(); ++k) {
+        const Pose childPose = p.inBody * p.shapePoses[k];
+        if (shapeCount == 1 && isIdentity(childPose)) {
+          shape = p.shapes[k];
+        } else {
+          if (!b.compound) b.compound = new btCompoundShape(false, shapeCount);
+          b.compound->addChildShape(toBt(childPose), p.shapes[k]);
+        }
+      }
+    }
+    if (b.compound) shape = b.compound;
+    std::sort(b.owners.begin(), b.owners.end());
+    b.owners.erase(std::unique(b.owners.begin(), b.owners.end()), b.owners.end());
+
+    const double m = isStatic ? 0.0 : mass;
+    btRigidBody::btRigidBodyConstructionInfo ci(btScalar(m), nullptr, shape, isStatic ? btVector3(0, 0, 0) : toBt(principal));
+    ci.m_startWorldTransform = toBt(frame);
+    ci.m_friction = btScalar(parts[ids[0]].friction);
+    ci.m_restitution = btScalar(parts[ids[0]].restitution);
+    b.rb = new btRigidBody(ci);
+    b.rb->setUserIndex(index);
+    if (!isStatic) {
+      b.rb->setActivationState(DISABLE_DEACTIVATION);
+      b.rb->setLinearVelocity(toBt(linMomentum / mass));
+      // world inertia = R diag R^T
+      const Eigen::Matrix3d r = frame.rot.toRotationMatrix();
+      const Eigen::Matrix3d iw = r * principal.asDiagonal() * r.transpose();
+      b.rb->setAngularVelocity(toBt(iw.ldlt().solve(angMomentum)));
+    }
+    world.addRigidBody(b.rb);
+    ++liveBodies;
+    return index;
+  }
+
+  void makeHinge(Hinge& h) {
+    const Part& a = parts[h.d.partA];
+    const Part& b = parts[h.d.partB];
+    if (a.body == b.body) {  // both ends inside one rigid body (a closed loop): the joint is frozen
+      h.c = nullptr;
+      return;
+    }
+    const btTransform fa = toBt(a.inBody * h.d.frameA);
+    const btTransform fb = toBt(b.inBody * h.d.frameB);
+    h.c = new btHingeConstraint(*bodies[a.body].rb, *bodies[b.body].rb, fa, fb, false);
+    // Bullet measures the hinge angle the other way round (A relative to B); RM3D's angles are
+    // right-handed rotations of B about the axis, so limits, angles and speeds change sign here.
+    if (h.d.limited) h.c->setLimit(btScalar(-h.d.upper), btScalar(-h.d.lower));
+    if (settings.jointIterations > 0) h.c->setOverrideNumSolverIterations(settings.jointIterations);
+    world.addConstraint(h.c, true);
+  }
+
+  void removeHinge(Hinge& h) {
+    if (!h.c) return;
+    world.removeConstraint(h.c);
+    delete h.c;
+    h.c = nullptr;
+  }
+
+  double rawAngle(const Hinge& h) const {
+    if (!h.c) return h.rawLast;
+    return -h.c->getHingeAngle();
+  }
+
+  void updateAngle(Hinge& h) {
+    const double raw = rawAngle(h);
+    double d = raw - h.rawLast;
+    if (d > kPi) d -= 2 * kPi;
+    if (d < -kPi) d += 2 * kPi;
+    h.angle += d;
+    h.rawLast = raw;
+  }
+
+  void applyMotor(Hinge& h, double dtSub) {
+    if (!h.c) return;
+    const double impulse = h.d.maxTorque * dtSub;
+    switch (h.mode) {
+      case MotorMode::Off:
+        h.c->enableMotor(false);
+        break;
+      case MotorMode::Servo: {
+        double target = h.value;
+        if (h.d.limited) target = std::clamp(target, h.d.lower, h.d.upper);
+        const double err = target - h.angle;
+        // Proportional speed command, bounded by the joint's speed and by what reaches the
+        // target within one substep (no overshoot from the command itself).
+        double v = std::clamp(h.d.servoGain * err, -h.d.maxSpeed, h.d.maxSpeed);
+        const double deadbeat = std::abs(err) / dtSub;
+        v = std::clamp(v, -deadbeat, deadbeat);
+        h.c->enableAngularMotor(true, btScalar(-v), btScalar(impulse));
+        break;
+      }
+      case MotorMode::Velocity:
+        h.c->enableAngularMotor(true, btScalar(-std::clamp(h.value, -h.d.maxSpeed, h.d.maxSpeed)), btScalar(impulse));
+        break;
+    }
+  }
+};
+
+PhysicsWorld::PhysicsWorld(const PhysicsSettings& settings) : m(std::make_unique<Impl>(settings)) {}
+PhysicsWorld::~PhysicsWorld() = default;
+
+const PhysicsSettings& PhysicsWorld::settings() const { return m->settings; }
+int PhysicsWorld::partCount() const { return int(m->parts.size()); }
+int PhysicsWorld::bodyCount() const { return m->liveBodies; }
+
+void PhysicsWorld::configure(const PhysicsSettings& s) {
+  m->settings = s;
+  m->world.setGravity(toBt(s.gravity));
+  m->world.getSolverInfo().m_numIterations = s.solverIterations;
+  for (Impl::Hinge& h : m->hinges)
+    if (h.c) h.c->setOverrideNumSolverIterations(s.jointIterations > 0 ? s.jointIterations : -1);
+}
+
+void PhysicsWorld::addGroundPlane(double friction, double restitution) {
+  auto* plane = new btStaticPlaneShape(btVector3(0, 0, 1), 0);
+  m->extraShapes.push_back(plane);
+  btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, plane);
+  ci.m_friction = btScalar(friction);
+  ci.m_restitution = btScalar(restitution);
+  auto* rb = new btRigidBody(ci);
+  rb->setUserIndex(-1);
+  m->world.addRigidBody(rb);
+  m->extraBodies.push_back(rb);
+}
+
+int PhysicsWorld::addPart(const PartDesc& desc) {
+  const int id = int(m->parts.size());
+  m->parts.emplace_back();
+  Impl::Part& p = m->parts.back();
+  p.mass = desc.mass;
+  p.friction = desc.friction;
+  p.restitution = desc.restitution;
+  p.owner = desc.owner;
+
+  // Mass properties: each shape gets its given mass, the rest is shared by volume.
+  std::vector<MassProps> props;
+  double fixedMass = 0, freeVolume = 0;
+  for (const ShapeDef& s : desc.shapes) {
+    props.push_back(shapeMassProps(s));
+    if (s.mass >= 0) fixedMass += s.mass; else freeVolume += props.back().volume;
+  }
+  std::vector<double> masses;
+  double total = 0;
+  for (size_t i = 0; i < desc.shapes.size(); ++i) {
+    double mi = desc.shapes[i].mass >= 0 ? desc.shapes[i].mass
+                                         : (freeVolume > 0 ? (desc.mass - fixedMass) * props[i].volume / freeVolume : 0);
+    masses.push_back(std::max(mi, 0.0));
+    total += masses.back();
+  }
+  if (desc.mass > 0 && total > 0) {
+    Vec3 com = Vec3::Zero();
+    for (size_t i = 0; i < desc.shapes.size(); ++i) com += masses[i] * (desc.shapes[i].pose * props[i].com);
+    com /= total;
+    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+    for (size_t i = 0; i < desc.shapes.size(); ++i) {
+      const double density = props[i].volume > 0 ? masses[i] / props[i].volume : 0;
+      const Eigen::Matrix3d r = desc.shapes[i].pose.rot.toRotationMatrix();
+      const Vec3 d = desc.shapes[i].pose * props[i].com - com;
+      inertia += density * r * props[i].inertia * r.transpose() +
+                 masses[i] * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+    }
+    p.com = com;
+    p.inertia = inertia * (desc.mass / total);
+  }
+  for (const ShapeDef& s : desc.shapes) {
+    p.shapes.push_back(makeShape(s));
+    p.shapePoses.push_back(s.pose);
+  }
+  m->buildBody({id}, {desc.pose}, Vec3::Zero(), Vec3::Zero());
+  return id;
+}
+
+int PhysicsWorld::addHinge(const HingeDesc& desc) {
+  const int id = int(m->hinges.size());
+  m->hinges.emplace_back();
+  Impl::Hinge& h = m->hinges.back();
+  h.d = desc;
+  h.axisA = desc.frameA.rot * Vec3::UnitZ();
+  m->parts[desc.partA].hinges.push_back(id);
+  m->parts[desc.partB].hinges.push_back(id);
+  m->makeHinge(h);
+  h.rawLast = m->rawAngle(h);
+  h.angle = h.rawLast;
+  return id;
+}
+
+void PhysicsWorld::lockParts(int a, int b) {
+  const int ba = m->parts[a].body, bb = m->parts[b].body;
+  if (ba == bb) return;
+  std::vector<int> ids = m->bodies[ba].parts;
+  ids.insert(ids.end(), m->bodies[bb].parts.begin(), m->bodies[bb].parts.end());
+  std::vector<Pose> poses;
+  Vec3 lin = Vec3::Zero(), ang = Vec3::Zero();
+  // Total momentum about the new centre of mass (computed after the parts' com is known).
+  double mass = 0;
+  Vec3 com = Vec3::Zero();
+  for (int id : ids) {
+    poses.push_back(m->partPose(id));
+    mass += m->parts[id].mass;
+    com += m->parts[id].mass * (poses.back() * m->parts[id].com);
+  }
+  if (mass > 0) com /= mass;
+  for (int body : {ba, bb}) {
+    const btRigidBody* rb = m->bodies[body].rb;
+    if (rb->getInvMass() == 0) continue;
+    const double bm = 1.0 / rb->getInvMass();
+    const Vec3 v = fromBt(rb->getLinearVelocity());
+    const Vec3 w = fromBt(rb->getAngularVelocity());
+    const Vec3 c = fromBt(rb->getCenterOfMassPosition());
+    lin += bm * v;
+    const Pose bp = m->bodyPose(body);
+    const Eigen::Matrix3d r = bp.rot.toRotationMatrix();
+    const Vec3 inv = fromBt(rb->getInvInertiaDiagLocal());
+    const Vec3 diag(inv.x() > 0 ? 1 / inv.x() : 0, inv.y() > 0 ? 1 / inv.y() : 0, inv.z() > 0 ? 1 / inv.z() : 0);
+    ang += r * diag.asDiagonal() * r.transpose() * w + (c - com).cross(bm * v);
+  }
+  std::vector<int> touched;
+  for (int id : ids)
+    for (int h : m->parts[id].hinges) touched.push_back(h);
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (int h : touched) m->removeHinge(m->hinges[h]);
+  m->destroyBody(m->bodies[ba]);
+  m->destroyBody(m->bodies[bb]);
+  m->buildBody(ids, poses, lin, ang);
+  for (int h : touched) m->makeHinge(m->hinges[h]);
+}
+
+void PhysicsWorld::transformParts(const std::vector<int>& parts, const Pose& delta) {
+  std::vector<int> bodies;
+  for (int p : parts) bodies.push_back(m->parts[p].body);
+  std::sort(bodies.begin(), bodies.end());
+  bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
+  for (int b : bodies) {
+    btRigidBody* rb = m->bodies[b].rb;
+    const Pose np = delta * m->bodyPose(b);
+    rb->setWorldTransform(toBt(np));
+    rb->setInterpolationWorldTransform(rb->getWorldTransform());
+    rb->setLinearVelocity(toBt(delta.rot * fromBt(rb->getLinearVelocity())));
+    rb->setAngularVelocity(toBt(delta.rot * fromBt(rb->getAngularVelocity())));
+    m->world.updateSingleAabb(rb);
+  }
+}
+
+void PhysicsWorld::setMotor(int hinge, MotorMode mode, double value) {
+  Impl::Hinge& h = m->hinges[hinge];
+  h.mode = mode;
+  h.value = value;
+}
+
+void PhysicsWorld::step(double dt, int substeps) {
+  const int n = std::max(1, substeps);
+  const double h = dt / n;
+  for (int s = 0; s < n; ++s) {
+    for (Impl::Hinge& hg : m->hinges) m->applyMotor(hg, h);
+    m->world.stepSimulation(btScalar(h), 0, btScalar(h));
+    for (Impl::Hinge& hg : m->hinges) m->updateAngle(hg);
+  }
+}
+
+Pose PhysicsWorld::partPose(int part) const { return m->partPose(part); }
+
+Vec3 PhysicsWorld::partLinearVelocity(int part) const {
+  const btRigidBody* rb = m->bodies[m->parts[part].body].rb;
+  const Vec3 p = m->partPose(part) * m->parts[part].com;
+  return fromBt(rb->getVelocityInLocalPoint(toBt(p) - rb->getCenterOfMassPosition()));
+}
+
+Vec3 PhysicsWorld::partAngularVelocity(int part) const {
+  return fromBt(m->bodies[m->parts[part].body].rb->getAngularVelocity());
+}
+
+bool PhysicsWorld::sameBody(int a, int b) const { return m->parts[a].body == m->parts[b].body; }
+
+double PhysicsWorld::hingeAngle(int hinge) const { return m->hinges[hinge].angle; }
+
+double PhysicsWorld::hingeVelocity(int hinge) const {
+  const Impl::Hinge& h = m->hinges[hinge];
+  const int ba = m->parts[h.d.partA].body, bb = m->parts[h.d.partB].body;
+  const Vec3 axis = m->partPose(h.d.partA).rot * h.axisA;
+  return (fromBt(m->bodies[bb].rb->getAngularVelocity()) - fromBt(m->bodies[ba].rb->getAngularVelocity())).dot(axis);
+}
+
+HingeQuality PhysicsWorld::hingeQuality() const {
+  HingeQuality q;
+  for (const Impl::Hinge& h : m->hinges) {
+    if (!h.c) continue;
+    const Pose a = m->partPose(h.d.partA) * h.d.frameA;
+    const Pose b = m->partPose(h.d.partB) * h.d.frameB;
+    q.maxGap = std::max(q.maxGap, (a.pos - b.pos).norm());
+    q.maxAngle = std::max(q.maxAngle, angleBetween(a.rot * Vec3::UnitZ(), b.rot * Vec3::UnitZ()));
+  }
+  return q;
+}
+
+}  // namespace rm3d

@@ -1,0 +1,88 @@
+// The only door to Bullet. Everything else speaks in parts, hinges and poses.
+//
+// A *part* is one rigid piece the rest of the engine knows about: a module link or an obstacle.
+// Parts locked together (docked links) are merged into one Bullet rigid body with a compound
+// shape, so a dock is exact and costs the solver nothing. A *hinge* joins two parts with a
+// motorised revolute joint (position servo or velocity drive, both bounded by the joint's
+// torque and speed).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "core/types.h"
+#include "physics/shape_def.h"
+
+namespace rm3d {
+
+struct PhysicsSettings {
+  Vec3 gravity = Vec3(0, 0, -9.81);
+  int solverIterations = 10;  ///< sequential-impulse iterations per substep
+  int jointIterations = 0;    ///< per-hinge override (0: use solverIterations)
+};
+
+struct PartDesc {
+  std::vector<ShapeDef> shapes;  ///< in the part frame
+  double mass = 0;               ///< 0: static
+  Pose pose;                     ///< part frame in the world
+  double friction = 0.8;
+  double restitution = 0.0;
+  int owner = -1;  ///< module index, or -1; parts sharing an owner never collide
+};
+
+struct HingeDesc {
+  int partA = -1, partB = -1;  ///< angle = rotation of B relative to A about the axis
+  Pose frameA, frameB;         ///< joint frame in each part frame; z is the axis
+  bool limited = true;
+  double lower = -kPi / 2, upper = kPi / 2;
+  double maxTorque = 1.0;  ///< N m
+  double maxSpeed = 1.0;   ///< rad/s
+  double servoGain = 20.0; ///< 1/s: servo speed command per radian of error
+};
+
+enum class MotorMode { Off, Servo, Velocity };
+
+struct HingeQuality {
+  double maxGap = 0;    ///< metres between the two pivots
+  double maxAngle = 0;  ///< radians between the two axes
+};
+
+class PhysicsWorld {
+ public:
+  explicit PhysicsWorld(const PhysicsSettings& settings);
+  ~PhysicsWorld();
+  PhysicsWorld(const PhysicsWorld&) = delete;
+  PhysicsWorld& operator=(const PhysicsWorld&) = delete;
+
+  /// Gravity and iterations may change until the first step.
+  void configure(const PhysicsSettings& settings);
+  void addGroundPlane(double friction, double restitution);
+  int addPart(const PartDesc& desc);
+  int addHinge(const HingeDesc& desc);
+  /// Merges the bodies holding a and b into one rigid body (no-op if already one).
+  void lockParts(int a, int b);
+  /// Moves parts rigidly by `delta` (world frame), keeping their relative poses. For placing
+  /// modules before they interact; velocities are kept.
+  void transformParts(const std::vector<int>& parts, const Pose& delta);
+
+  void setMotor(int hinge, MotorMode mode, double value);
+  /// Advances by dt in `substeps` equal steps, updating servos before each one.
+  void step(double dt, int substeps);
+
+  Pose partPose(int part) const;
+  Vec3 partLinearVelocity(int part) const;
+  Vec3 partAngularVelocity(int part) const;
+  bool sameBody(int a, int b) const;
+  double hingeAngle(int hinge) const;
+  double hingeVelocity(int hinge) const;
+  HingeQuality hingeQuality() const;
+  int partCount() const;
+  int bodyCount() const;
+  const PhysicsSettings& settings() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m;
+};
+
+}  // namespace rm3d

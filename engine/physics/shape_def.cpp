@@ -1,0 +1,83 @@
+// Volume, centre of mass and inertia of the shape kinds, used to build link and body mass
+// properties (hulls integrate their triangles as signed tetrahedra).
+#include "physics/shape_def.h"
+
+#include <cmath>
+
+namespace rm3d {
+
+namespace {
+
+MassProps hullMassProps(const ShapeDef& s) {
+  MassProps mp;
+  // Integrate over tetrahedra (origin, a, b, c); exact for a closed, consistently wound mesh.
+  double vol = 0;
+  Vec3 c = Vec3::Zero();
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();  // second moment about the origin
+  for (size_t t = 0; t + 2 < s.triangles.size(); t += 3) {
+    const Vec3& a = s.points[s.triangles[t]];
+    const Vec3& b = s.points[s.triangles[t + 1]];
+    const Vec3& d = s.points[s.triangles[t + 2]];
+    const double v = a.dot(b.cross(d)) / 6.0;
+    vol += v;
+    c += v * (a + b + d) / 4.0;
+    const Vec3 sum = a + b + d;
+    cov += v / 20.0 * (a * a.transpose() + b * b.transpose() + d * d.transpose() + sum * sum.transpose());
+  }
+  if (vol <= 1e-12) {  // open or inverted mesh: fall back to its bounding box
+    Vec3 lo = s.points.empty() ? Vec3::Zero() : s.points[0], hi = lo;
+    for (const Vec3& p : s.points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const Vec3 e = (hi - lo).cwiseMax(1e-6);
+    mp.volume = e.x() * e.y() * e.z();
+    mp.com = (lo + hi) / 2;
+    mp.inertia = Eigen::Vector3d(e.y() * e.y() + e.z() * e.z(), e.x() * e.x() + e.z() * e.z(),
+                                 e.x() * e.x() + e.y() * e.y())
+                     .asDiagonal();
+    mp.inertia *= mp.volume / 12.0;
+    return mp;
+  }
+  c /= vol;
+  mp.volume = vol;
+  mp.com = c;
+  const Eigen::Matrix3d covCom = cov - vol * c * c.transpose();
+  mp.inertia = Eigen::Matrix3d::Identity() * covCom.trace() - covCom;
+  return mp;
+}
+
+}  // namespace
+
+MassProps shapeMassProps(const ShapeDef& s) {
+  MassProps mp;
+  switch (s.kind) {
+    case ShapeKind::Box: {
+      const Vec3& e = s.size;
+      mp.volume = e.x() * e.y() * e.z();
+      mp.inertia = Eigen::Vector3d(e.y() * e.y() + e.z() * e.z(), e.x() * e.x() + e.z() * e.z(),
+                                   e.x() * e.x() + e.y() * e.y())
+                       .asDiagonal();
+      mp.inertia *= mp.volume / 12.0;
+      break;
+    }
+    case ShapeKind::Sphere: {
+      const double r = s.radius;
+      mp.volume = 4.0 / 3.0 * kPi * r * r * r;
+      mp.inertia = Eigen::Matrix3d::Identity() * (0.4 * mp.volume * r * r);
+      break;
+    }
+    case ShapeKind::Cylinder: {
+      const double r = s.radius, h = s.length;
+      mp.volume = kPi * r * r * h;
+      const double ixy = mp.volume * (3 * r * r + h * h) / 12.0;
+      mp.inertia = Eigen::Vector3d(ixy, ixy, mp.volume * r * r / 2.0).asDiagonal();
+      break;
+    }
+    case ShapeKind::Hull:
+      return hullMassProps(s);
+  }
+  return mp;
+}
+
+}  // namespace rm3d

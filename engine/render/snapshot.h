@@ -1,0 +1,48 @@
+// A read-only picture of a world at one instant: what the renderer draws. The World fills it;
+// the renderer never sees the World itself. Frames: z up, metres.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace rm3d {
+
+/// Triangle mesh in its own local frame (a link shape, an obstacle).
+struct RenderMesh {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<uint32_t> indices;  ///< three per triangle, counter-clockwise seen from outside
+};
+
+/// One drawn instance of a mesh.
+struct RenderItem {
+  int mesh = 0;                                          ///< index into Snapshot::meshes
+  Eigen::Matrix4f transform = Eigen::Matrix4f::Identity();  ///< mesh frame -> world (may scale)
+  std::array<float, 4> color{0.8f, 0.8f, 0.8f, 1.0f};    ///< linear RGBA
+};
+
+/// A line segment in world space (range-sensor rays, dock markers).
+struct RenderLine {
+  Eigen::Vector3f a, b;
+  std::array<float, 4> color{1, 1, 0, 1};
+};
+
+struct Camera {
+  Eigen::Vector3f eye{1.5f, -1.5f, 1.0f};
+  Eigen::Vector3f target{0, 0, 0};
+  Eigen::Vector3f up{0, 0, 1};
+  float fovyDeg = 45.0f;
+};
+
+struct Snapshot {
+  std::vector<RenderMesh> meshes;
+  std::vector<RenderItem> items;
+  std::vector<RenderLine> lines;
+  bool ground = true;                 ///< draw the plane z = 0 with a 0.1 m / 1 m grid
+  std::vector<std::string> overlay;   ///< text lines drawn top-left (sim time, modules, ...)
+};
+
+}  // namespace rm3d

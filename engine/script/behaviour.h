@@ -1,0 +1,36 @@
+// A module's behaviour: its VM with the behaviour API installed, the behaviour file loaded,
+// and the callbacks (init, step, on_dock, on_reload) held as registry references so a step
+// costs one protected call and no name look-up.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "script/lua_vm.h"
+
+namespace rm3d {
+
+class World;
+
+struct BehaviourContext {
+  World* world = nullptr;
+  int module = -1;
+  int stepRef = -2, initRef = -2, onDockRef = -2, onReloadRef = -2;  // LUA_NOREF
+};
+
+class Behaviour {
+ public:
+  Behaviour(World& world, int module);
+  /// Loads and runs the behaviour file's top level. False and err on failure (the module faults).
+  bool load(const std::string& path, std::string& err);
+  bool callInit(std::string& err);
+  bool callStep(double dt, std::string& err);
+  LuaVm& vm() { return m_vm; }
+
+ private:
+  void refreshCallbacks();
+  LuaVm m_vm;
+  BehaviourContext m_ctx;
+};
+
+}  // namespace rm3d

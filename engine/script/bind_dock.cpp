@@ -1,0 +1,135 @@
+// Dock: module.dock(name) -> userdata {index}; state queries, enable/disable, send.
+#include <lua.hpp>
+
+#include "script/behaviour.h"
+#include "script/bindings.h"
+#include "world/world.h"
+
+namespace rm3d {
+
+namespace {
+
+constexpr const char* kDockMeta = "rm3d.Dock";
+constexpr size_t kMessageLimit = 64 * 1024;
+
+struct DockUd {
+  int index;
+};
+
+int checkDock(lua_State* L) { return static_cast<DockUd*>(luaL_checkudata(L, 1, kDockMeta))->index; }
+
+DockState& dockState(lua_State* L, int d) {
+  const BehaviourContext& c = behaviourContext(L);
+  return c.world->mutableModule(c.module).docks[size_t(d)];
+}
+
+/// dock:enabled() -> bool (willing to connect)
+int dockEnabled(lua_State* L) {
+  lua_pushboolean(L, dockState(L, checkDock(L)).enabled);
+  return 1;
+}
+
+/// dock:engaged() -> bool (connected)
+int dockEngaged(lua_State* L) {
+  lua_pushboolean(L, dockState(L, checkDock(L)).engaged);
+  return 1;
+}
+
+/// dock:gender() -> "none" | "male" | "female"
+int dockGender(lua_State* L) {
+  const int d = checkDock(L);
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushstring(L, genderName(c.world->module(c.module).type->docks[size_t(d)].gender));
+  return 1;
+}
+
+/// dock:enable(): willing to connect
+int dockEnable(lua_State* L) {
+  dockState(L, checkDock(L)).enabled = true;
+  return 0;
+}
+
+/// dock:disable(): unwilling; an engaged connection here is released this step
+int dockDisable(lua_State* L) {
+  dockState(L, checkDock(L)).enabled = false;
+  return 0;
+}
+
+/// dock:name() -> string
+int dockName(lua_State* L) {
+  const int d = checkDock(L);
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushstring(L, c.world->module(c.module).type->docks[size_t(d)].name.c_str());
+  return 1;
+}
+
+/// dock:send(value) -> bool: queue a plain Lua value (<= 64 KiB) for the module docked here;
+/// it can read it next step. False when nothing is engaged here.
+int dockSend(lua_State* L) {
+  const int d = checkDock(L);
+  luaL_checkany(L, 2);
+  const BehaviourContext& c = behaviourContext(L);
+  if (!c.world->module(c.module).docks[size_t(d)].engaged) {
+    lua_pushboolean(L, 0);
+    return 1;
+  }
+  bool ok;
+  {
+    std::string err;
+    Message msg;
+    msg.dock = d;
+    msg.time = c.world->time();
+    ok = readLuaValue(L, 2, msg.data, kMessageLimit, err);
+    if (ok) c.world->mailbox(c.module).outbox.push_back(std::move(msg));
+    else lua_pushfstring(L, "dock:send: %s", err.c_str());
+  }
+  if (!ok) {
+    luaL_where(L, 1);
+    lua_insert(L, -2);
+    lua_concat(L, 2);
+    return lua_error(L);
+  }
+  lua_pushboolean(L, 1);
+  return 1;
+}
+
+/// dock:peer() -> module id, dock name of the engaged peer, or nil
+int dockPeer(lua_State* L) {
+  const int d = checkDock(L);
+  const BehaviourContext& c = behaviourContext(L);
+  const DockState& s = c.world->module(c.module).docks[size_t(d)];
+  if (!s.engaged) return 0;
+  const Module& peer = c.world->module(s.peerModule);
+  lua_pushinteger(L, peer.id);
+  lua_pushstring(L, peer.type->docks[size_t(s.peerDock)].name.c_str());
+  return 2;
+}
+
+int dockToString(lua_State* L) {
+  const int d = checkDock(L);
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushfstring(L, "Dock(%s)", c.world->module(c.module).type->docks[size_t(d)].name.c_str());
+  return 1;
+}
+
+}  // namespace
+
+void openDockType(lua_State* L) {
+  static const luaL_Reg methods[] = {{"enabled", dockEnabled}, {"engaged", dockEngaged}, {"gender", dockGender},
+                                     {"enable", dockEnable},   {"disable", dockDisable}, {"send", dockSend},
+                                     {"name", dockName},       {"peer", dockPeer},       {nullptr, nullptr}};
+  luaL_newmetatable(L, kDockMeta);
+  luaL_newlib(L, methods);
+  lua_setfield(L, -2, "__index");
+  lua_pushcfunction(L, dockToString);
+  lua_setfield(L, -2, "__tostring");
+  lua_pop(L, 1);
+}
+
+void pushDock(lua_State* L, int index) {
+  auto* ud = static_cast<DockUd*>(lua_newuserdatauv(L, sizeof(DockUd), 0));
+  ud->index = index;
+  luaL_setmetatable(L, kDockMeta);
+}
+
+}  // namespace rm3d

@@ -1,0 +1,121 @@
+// Joint: module.joint(name) -> userdata {index}; angle, velocity, set_target, set_velocity, free.
+#include <lua.hpp>
+
+#include <cmath>
+
+#include "script/behaviour.h"
+#include "script/bindings.h"
+#include "world/world.h"
+
+namespace rm3d {
+
+namespace {
+
+constexpr const char* kJointMeta = "rm3d.Joint";
+
+struct JointUd {
+  int index;
+};
+
+int checkJoint(lua_State* L) { return static_cast<JointUd*>(luaL_checkudata(L, 1, kJointMeta))->index; }
+
+/// joint:angle() -> radians (child relative to parent, about the axis)
+int jointAngle(lua_State* L) {
+  const int j = checkJoint(L);
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushnumber(L, c.world->jointAngle(c.module, j));
+  return 1;
+}
+
+/// joint:velocity() -> rad/s
+int jointVelocity(lua_State* L) {
+  const int j = checkJoint(L);
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushnumber(L, c.world->jointVelocity(c.module, j));
+  return 1;
+}
+
+/// joint:set_target(rad): position servo, within the joint's limits, torque and speed
+int jointSetTarget(lua_State* L) {
+  const int j = checkJoint(L);
+  const double v = checkFinite(L, 2);
+  const BehaviourContext& c = behaviourContext(L);
+  c.world->mutableModule(c.module).commands[size_t(j)] = {JointMode::Servo, v};
+  return 0;
+}
+
+/// joint:set_velocity(rad_s): velocity drive, within torque and speed
+int jointSetVelocity(lua_State* L) {
+  const int j = checkJoint(L);
+  const double v = checkFinite(L, 2);
+  const BehaviourContext& c = behaviourContext(L);
+  c.world->mutableModule(c.module).commands[size_t(j)] = {JointMode::Velocity, v};
+  return 0;
+}
+
+/// joint:free(): motor off, the joint swings freely (within its limits)
+int jointFree(lua_State* L) {
+  const int j = checkJoint(L);
+  const BehaviourContext& c = behaviourContext(L);
+  c.world->mutableModule(c.module).commands[size_t(j)] = {JointMode::Off, 0};
+  return 0;
+}
+
+/// joint:target() -> the last servo target, or nil when not in servo mode
+int jointTarget(lua_State* L) {
+  const int j = checkJoint(L);
+  const BehaviourContext& c = behaviourContext(L);
+  const JointCommand& cmd = c.world->module(c.module).commands[size_t(j)];
+  if (cmd.mode == JointMode::Servo) lua_pushnumber(L, cmd.value); else lua_pushnil(L);
+  return 1;
+}
+
+/// joint:name() -> string
+int jointName(lua_State* L) {
+  const int j = checkJoint(L);
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushstring(L, c.world->module(c.module).type->joints[size_t(j)].name.c_str());
+  return 1;
+}
+
+/// joint:limits() -> lower, upper (radians; -inf, inf when continuous)
+int jointLimits(lua_State* L) {
+  const int j = checkJoint(L);
+  const BehaviourContext& c = behaviourContext(L);
+  const JointDef& d = c.world->module(c.module).type->joints[size_t(j)];
+  lua_pushnumber(L, d.limited ? d.lower : -HUGE_VAL);
+  lua_pushnumber(L, d.limited ? d.upper : HUGE_VAL);
+  return 2;
+}
+
+int jointToString(lua_State* L) {
+  const int j = checkJoint(L);
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushfstring(L, "Joint(%s)", c.world->module(c.module).type->joints[size_t(j)].name.c_str());
+  return 1;
+}
+
+}  // namespace
+
+void openJointType(lua_State* L) {
+  static const luaL_Reg methods[] = {{"angle", jointAngle},       {"velocity", jointVelocity},
+                                     {"set_target", jointSetTarget}, {"set_velocity", jointSetVelocity},
+                                     {"free", jointFree},         {"target", jointTarget},
+                                     {"name", jointName},         {"limits", jointLimits},
+                                     {nullptr, nullptr}};
+  luaL_newmetatable(L, kJointMeta);
+  luaL_newlib(L, methods);
+  lua_setfield(L, -2, "__index");
+  lua_pushcfunction(L, jointToString);
+  lua_setfield(L, -2, "__tostring");
+  lua_pop(L, 1);
+}
+
+/// Pushes a new Joint userdata (used once per joint when the VM is set up, then cached).
+void pushJoint(lua_State* L, int index) {
+  auto* ud = static_cast<JointUd*>(lua_newuserdatauv(L, sizeof(JointUd), 0));
+  ud->index = index;
+  luaL_setmetatable(L, kJointMeta);
+}
+
+}  // namespace rm3d

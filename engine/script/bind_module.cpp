@@ -1,0 +1,252 @@
+// The behaviour API tables: `module` (identity, joints, docks, messages, percepts), `sim`
+// (clock and the module's random stream), `log`/`print`, and math.random on that stream.
+#include <lua.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "script/behaviour.h"
+#include "script/bindings.h"
+#include "world/world.h"
+
+namespace rm3d {
+
+namespace {
+
+Module& self(lua_State* L) {
+  const BehaviourContext& c = behaviourContext(L);
+  return c.world->mutableModule(c.module);
+}
+
+/// Looks `name` up in the cache table stored as upvalue 1; errors listing the valid names.
+int lookupNamed(lua_State* L, const char* what) {
+  const char* name = luaL_checkstring(L, 1);
+  lua_pushvalue(L, 1);
+  if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL) return 1;
+  luaL_where(L, 1);
+  lua_pushfstring(L, "module.%s: no %s named '%s' on a %s (it has:", what, what, name, self(L).type->name.c_str());
+  luaL_Buffer b;
+  luaL_buffinit(L, &b);
+  int n = 0;
+  // names in declaration order come from the type, not from the hash table
+  const ModuleTypeDef& t = *self(L).type;
+  const bool joints = what[0] == 'j';
+  const size_t count = joints ? t.joints.size() : t.docks.size();
+  for (size_t i = 0; i < count; ++i) {
+    luaL_addstring(&b, n++ ? ", " : " ");
+    luaL_addstring(&b, joints ? t.joints[i].name.c_str() : t.docks[i].name.c_str());
+  }
+  luaL_addstring(&b, ")");
+  luaL_pushresult(&b);
+  lua_concat(L, 3);
+  return lua_error(L);
+}
+
+/// module.joint(name) -> Joint
+int moduleJoint(lua_State* L) { return lookupNamed(L, "joint"); }
+/// module.dock(name) -> Dock
+int moduleDock(lua_State* L) { return lookupNamed(L, "dock"); }
+
+/// module.joints() -> array of joint names
+int moduleJoints(lua_State* L) {
+  const ModuleTypeDef& t = *self(L).type;
+  lua_createtable(L, int(t.joints.size()), 0);
+  for (size_t i = 0; i < t.joints.size(); ++i) {
+    lua_pushstring(L, t.joints[i].name.c_str());
+    lua_rawseti(L, -2, lua_Integer(i + 1));
+  }
+  return 1;
+}
+
+/// module.docks() -> array of dock names
+int moduleDocks(lua_State* L) {
+  const ModuleTypeDef& t = *self(L).type;
+  lua_createtable(L, int(t.docks.size()), 0);
+  for (size_t i = 0; i < t.docks.size(); ++i) {
+    lua_pushstring(L, t.docks[i].name.c_str());
+    lua_rawseti(L, -2, lua_Integer(i + 1));
+  }
+  return 1;
+}
+
+/// module.receive([dock]) -> {dock=, data=, time=} or nil: the oldest pending message, consumed
+int moduleReceive(lua_State* L) {
+  const BehaviourContext& c = behaviourContext(L);
+  int dock = -1;
+  if (!lua_isnoneornil(L, 1)) {
+    const char* name = nullptr;
+    if (lua_type(L, 1) == LUA_TSTRING) {
+      name = lua_tostring(L, 1);
+      dock = self(L).type->findDock(name);
+    } else {
+      lua_getmetatable(L, 1);
+      luaL_getmetatable(L, "rm3d.Dock");
+      const bool isDock = lua_rawequal(L, -1, -2);
+      lua_pop(L, 2);
+      if (isDock) dock = *static_cast<int*>(lua_touserdata(L, 1));
+    }
+    if (dock < 0) return luaL_argerror(L, 1, "expected a dock name or Dock of this module");
+  }
+  Mailbox& box = c.world->mailbox(c.module);
+  if (box.inbox.empty()) return 0;
+  Message msg;
+  if (!box.take(dock, msg)) return 0;
+  lua_createtable(L, 0, 3);
+  lua_pushstring(L, self(L).type->docks[size_t(msg.dock)].name.c_str());
+  lua_setfield(L, -2, "dock");
+  pushLuaValue(L, msg.data);
+  lua_setfield(L, -2, "data");
+  lua_pushnumber(L, msg.time);
+  lua_setfield(L, -2, "time");
+  return 1;
+}
+
+/// module.sense(name) -> the percept's value
+int moduleSense(lua_State* L) {
+  const char* name = luaL_checkstring(L, 1);
+  return luaL_error(L, "module.sense: no percept named '%s' is declared by this behaviour", name);
+}
+
+/// module.act(name, value)
+int moduleAct(lua_State* L) {
+  const char* name = luaL_checkstring(L, 1);
+  return luaL_error(L, "module.act: no action named '%s' is declared by this behaviour", name);
+}
+
+/// sim.time() -> seconds since the start
+int simTime(lua_State* L) {
+  lua_pushnumber(L, behaviourContext(L).world->time());
+  return 1;
+}
+
+/// sim.dt() -> the control step, seconds
+int simDt(lua_State* L) {
+  lua_pushnumber(L, behaviourContext(L).world->settings().dt);
+  return 1;
+}
+
+/// sim.random([m [, n]]) -> like math.random, from the module's own seeded stream
+int simRandom(lua_State* L) {
+  Rng& rng = self(L).rng;
+  const int n = lua_gettop(L);
+  if (n == 0) {
+    lua_pushnumber(L, rng.uniform());
+    return 1;
+  }
+  lua_Integer lo = 1, hi;
+  if (n == 1) {
+    hi = luaL_checkinteger(L, 1);
+  } else {
+    lo = luaL_checkinteger(L, 1);
+    hi = luaL_checkinteger(L, 2);
+  }
+  luaL_argcheck(L, lo <= hi, n, "interval is empty");
+  const uint64_t span = uint64_t(hi) - uint64_t(lo) + 1;
+  const uint64_t r = span == 0 ? rng.next() : rng.next() % span;
+  lua_pushinteger(L, lua_Integer(uint64_t(lo) + r));
+  return 1;
+}
+
+/// sim.gaussian([mu [, sigma]]) -> a normal deviate from the module's stream
+int simGaussian(lua_State* L) {
+  const double mu = luaL_optnumber(L, 1, 0.0);
+  const double sigma = luaL_optnumber(L, 2, 1.0);
+  luaL_argcheck(L, sigma >= 0, 2, "sigma must not be negative");
+  lua_pushnumber(L, self(L).rng.gaussian(mu, sigma));
+  return 1;
+}
+
+/// math.randomseed(x): restarts the module's stream from x (and the module id)
+int simRandomSeed(lua_State* L) {
+  const lua_Integer s = luaL_checkinteger(L, 1);
+  self(L).rng.seed(uint64_t(s), uint64_t(self(L).id));
+  return 0;
+}
+
+/// log(...) / print(...): a line in the run's log, tagged with time and module
+int logLine(lua_State* L) {
+  const int n = lua_gettop(L);
+  luaL_Buffer b;
+  luaL_buffinit(L, &b);
+  for (int i = 1; i <= n; ++i) {
+    luaL_tolstring(L, i, nullptr);
+    luaL_addvalue(&b);
+    if (i < n) luaL_addchar(&b, '\t');
+  }
+  luaL_pushresult(&b);
+  self(L).log.emplace_back(lua_tostring(L, -1));
+  return 0;
+}
+
+void setFunctions(lua_State* L, const luaL_Reg* fns) { luaL_setfuncs(L, fns, 0); }
+
+}  // namespace
+
+BehaviourContext& behaviourContext(lua_State* L) { return *static_cast<BehaviourContext*>(LuaVm::from(L)->user()); }
+
+double checkFinite(lua_State* L, int arg) {
+  const double v = luaL_checknumber(L, arg);
+  if (!std::isfinite(v)) luaL_argerror(L, arg, "expected a finite number");
+  return v;
+}
+
+void openModuleApi(lua_State* L, BehaviourContext& ctx) {
+  openJointType(L);
+  openDockType(L);
+  const Module& m = ctx.world->module(ctx.module);
+
+  lua_newtable(L);  // module
+  lua_pushinteger(L, m.id);
+  lua_setfield(L, -2, "id");
+  lua_pushstring(L, m.name.c_str());
+  lua_setfield(L, -2, "name");
+  lua_pushstring(L, m.type->name.c_str());
+  lua_setfield(L, -2, "type");
+  // Joint and Dock objects are made once and cached by name.
+  lua_createtable(L, 0, int(m.type->joints.size()));
+  for (size_t i = 0; i < m.type->joints.size(); ++i) {
+    pushJoint(L, int(i));
+    lua_setfield(L, -2, m.type->joints[i].name.c_str());
+  }
+  lua_pushcclosure(L, moduleJoint, 1);
+  lua_setfield(L, -2, "joint");
+  lua_createtable(L, 0, int(m.type->docks.size()));
+  for (size_t i = 0; i < m.type->docks.size(); ++i) {
+    pushDock(L, int(i));
+    lua_setfield(L, -2, m.type->docks[i].name.c_str());
+  }
+  lua_pushcclosure(L, moduleDock, 1);
+  lua_setfield(L, -2, "dock");
+  static const luaL_Reg moduleFns[] = {{"joints", moduleJoints}, {"docks", moduleDocks}, {"receive", moduleReceive},
+                                       {"sense", moduleSense},   {"act", moduleAct},     {nullptr, nullptr}};
+  setFunctions(L, moduleFns);
+  lua_setglobal(L, "module");
+
+  static const luaL_Reg simFns[] = {{"time", simTime},         {"dt", simDt}, {"random", simRandom},
+                                    {"gaussian", simGaussian}, {nullptr, nullptr}};
+  luaL_newlib(L, simFns);
+  lua_setglobal(L, "sim");
+
+  lua_getglobal(L, "math");
+  lua_pushcfunction(L, simRandom);
+  lua_setfield(L, -2, "random");
+  lua_pushcfunction(L, simRandomSeed);
+  lua_setfield(L, -2, "randomseed");
+  lua_pop(L, 1);
+
+  lua_pushcfunction(L, logLine);
+  lua_setglobal(L, "log");
+  lua_pushcfunction(L, logLine);
+  lua_setglobal(L, "print");
+
+  pushLuaValue(L, m.params);
+  if (!lua_istable(L, -1)) {
+    lua_pop(L, 1);
+    lua_newtable(L);
+  }
+  lua_setglobal(L, "params");
+  lua_newtable(L);
+  lua_setglobal(L, "state");
+}
+
+}  // namespace rm3d

@@ -1,0 +1,309 @@
+// The world-script API: `world.*`, `expect`, `args`, `log`. Calls into World may throw
+// InputError; callWorld converts it into a Lua error with the caller's file:line.
+#include <lua.hpp>
+
+#include <cstdlib>
+#include <cstring>
+
+#include "core/error.h"
+#include "docking/dock_frame.h"
+#include "script/bindings.h"
+#include "script/lua_options.h"
+#include "script/world_handles.h"
+#include "script/world_script.h"
+#include "world/world.h"
+
+namespace rm3d {
+
+namespace {
+
+WorldScript& script(lua_State* L) { return *static_cast<WorldScript*>(LuaVm::from(L)->user()); }
+World& world(lua_State* L) { return script(L).world(); }
+
+/// world.set{dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=, joint_iterations=}
+int worldSet(lua_State* L) {
+  const char* fn = "world.set";
+  checkOptionKeys(L, 1, fn, {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations"});
+  WorldSettings s = world(L).settings();
+  const double dt = optNumberField(L, 1, fn, "dt", s.dt);
+  if (dt <= 0 || dt > 1) return luaL_error(L, "%s: dt must be in (0, 1] seconds, got %f", fn, dt);
+  const long long substeps = optIntegerField(L, 1, fn, "substeps", s.substeps);
+  if (substeps < 1 || substeps > 1000) return luaL_error(L, "%s: substeps must be 1..1000", fn);
+  const long long iters = optIntegerField(L, 1, fn, "solver_iterations", s.solverIterations);
+  if (iters < 1 || iters > 10000) return luaL_error(L, "%s: solver_iterations must be 1..10000", fn);
+  const long long jiters = optIntegerField(L, 1, fn, "joint_iterations", s.jointIterations);
+  if (jiters < 0 || jiters > 10000) return luaL_error(L, "%s: joint_iterations must be 0..10000", fn);
+  const double duration = optNumberField(L, 1, fn, "duration", s.duration);
+  if (duration <= 0) return luaL_error(L, "%s: duration must be positive", fn);
+  const long long seed = optIntegerField(L, 1, fn, "seed", (long long)s.seed);
+  if (uint64_t(seed) != s.seed && !world(L).modules().empty())
+    return luaL_error(L, "%s: set the seed before the first world.spawn", fn);
+  s.dt = dt;
+  s.substeps = int(substeps);
+  s.solverIterations = int(iters);
+  s.jointIterations = int(jiters);
+  s.duration = duration;
+  s.seed = uint64_t(seed);
+  s.gravity = optVec3Field(L, 1, fn, "gravity", s.gravity);
+  world(L).setSettings(s);
+  return 0;
+}
+
+/// world.ground{friction=, restitution=}: the infinite plane z = 0
+int worldGround(lua_State* L) {
+  const char* fn = "world.ground";
+  if (lua_isnoneornil(L, 1)) lua_newtable(L);
+  checkOptionKeys(L, 1, fn, {"friction", "restitution"});
+  const double friction = optNumberField(L, 1, fn, "friction", 0.8);
+  const double restitution = optNumberField(L, 1, fn, "restitution", 0.0);
+  if (friction < 0) return luaL_error(L, "%s: friction must not be negative", fn);
+  return callWorld(L, fn, [&] {
+    world(L).addGround(friction, restitution);
+    return 0;
+  });
+}
+
+int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
+  checkOptionKeys(L, 1, fn, {"size", "radius", "length", "file", "scale", "at", "rot", "quat", "mass", "friction"});
+  const Pose pose = optPoseFields(L, 1, fn);
+  const double mass = optNumberField(L, 1, fn, "mass", 0.0);
+  const double friction = optNumberField(L, 1, fn, "friction", 0.8);
+  if (mass < 0) return luaL_error(L, "%s: mass must not be negative (0 is static)", fn);
+  const Vec3 size = optVec3Field(L, 1, fn, "size", Vec3(0.1, 0.1, 0.1));
+  const double radius = optNumberField(L, 1, fn, "radius", 0.05);
+  const double length = optNumberField(L, 1, fn, "length", 0.1);
+  const double scale = optNumberField(L, 1, fn, "scale", 1.0);
+  const char* file = optStringField(L, 1, fn, "file");
+  if (size.minCoeff() <= 0 || radius <= 0 || length <= 0 || scale <= 0)
+    return luaL_error(L, "%s: sizes must be positive", fn);
+  if (kind == ShapeKind::Hull && !file) return luaL_error(L, "%s: option 'file' (a mesh file) is required", fn);
+  return callWorld(L, fn, [&] {
+    ShapeDef s;
+    s.kind = kind;
+    s.size = size;
+    s.radius = radius;
+    s.length = length;
+    if (kind == ShapeKind::Hull) loadHullShape(world(L), file, scale, s);
+    const int part = world(L).addObstacle(s, pose, mass, friction);
+    pushBody(L, part);
+    return 1;
+  });
+}
+
+/// world.box{size={x,y,z}, at=, rot=, mass=, friction=} -> Body (mass 0: static)
+int worldBox(lua_State* L) { return addObstacle(L, "world.box", ShapeKind::Box); }
+/// world.sphere{radius=, at=, mass=, friction=} -> Body
+int worldSphere(lua_State* L) { return addObstacle(L, "world.sphere", ShapeKind::Sphere); }
+/// world.cylinder{radius=, length=, at=, rot=, mass=, friction=} -> Body (axis along local z)
+int worldCylinder(lua_State* L) { return addObstacle(L, "world.cylinder", ShapeKind::Cylinder); }
+/// world.mesh{file=, scale=, at=, rot=, mass=, friction=} -> Body (convex hull of the mesh)
+int worldMesh(lua_State* L) { return addObstacle(L, "world.mesh", ShapeKind::Hull); }
+
+/// world.spawn(type, {at=, rot=, name=, behavior=, params=}) -> Module
+int worldSpawn(lua_State* L) {
+  const char* fn = "world.spawn";
+  const char* type = luaL_checkstring(L, 1);
+  if (lua_isnoneornil(L, 2)) {
+    lua_settop(L, 1);
+    lua_newtable(L);
+  }
+  checkOptionKeys(L, 2, fn, {"at", "rot", "quat", "name", "behavior", "behaviour", "params"});
+  const Pose pose = optPoseFields(L, 2, fn);
+  const char* name = optStringField(L, 2, fn, "name");
+  const char* behaviour = optStringField(L, 2, fn, "behavior");
+  if (!behaviour) behaviour = optStringField(L, 2, fn, "behaviour");
+  const int paramsType = lua_getfield(L, 2, "params");
+  if (paramsType != LUA_TNIL && paramsType != LUA_TTABLE) return luaL_error(L, "%s: option 'params' must be a table", fn);
+  return callWorld(L, fn, [&] {
+    World::SpawnDef def;
+    def.type = type;
+    def.pose = pose;
+    if (name) def.name = name;
+    if (behaviour) def.behaviour = behaviour;
+    std::string err;
+    if (paramsType == LUA_TTABLE && !readLuaValue(L, -1, def.params, 0, err)) throw InputError("params: " + err);
+    for (const Module& m : world(L).modules())
+      if (!def.name.empty() && m.name == def.name) throw InputError("a module named '" + def.name + "' exists already");
+    pushModule(L, world(L).spawn(def));
+    return 1;
+  });
+}
+
+/// world.connect(a, dock_a, b, dock_b [, orientation 0..3]): place b so the docks mate, lock them
+int worldConnect(lua_State* L) {
+  const char* fn = "world.connect";
+  const int a = checkModule(L, 1);
+  const int da = checkDockName(L, 2, a);
+  const int b = checkModule(L, 3);
+  const int db = checkDockName(L, 4, b);
+  const int orientation = int(luaL_optinteger(L, 5, 0));
+  return callWorld(L, fn, [&] {
+    world(L).connect(a, da, b, db, orientation);
+    return 0;
+  });
+}
+
+/// world.modules() -> array of Module handles, in id order
+int worldModules(lua_State* L) {
+  const int n = int(world(L).modules().size());
+  lua_createtable(L, n, 0);
+  for (int i = 0; i < n; ++i) {
+    pushModule(L, i);
+    lua_rawseti(L, -2, i + 1);
+  }
+  return 1;
+}
+
+/// world.module(id or name) -> Module or nil
+int worldModule(lua_State* L) {
+  const auto& mods = world(L).modules();
+  if (lua_type(L, 1) == LUA_TNUMBER) {
+    const lua_Integer id = luaL_checkinteger(L, 1);
+    if (id >= 1 && id <= lua_Integer(mods.size())) {
+      pushModule(L, int(id - 1));
+      return 1;
+    }
+    return 0;
+  }
+  const char* name = luaL_checkstring(L, 1);
+  for (size_t i = 0; i < mods.size(); ++i)
+    if (mods[i].name == name) {
+      pushModule(L, int(i));
+      return 1;
+    }
+  return 0;
+}
+
+/// world.components() -> array of arrays of Module handles (connected by docks)
+int worldComponents(lua_State* L) {
+  const auto comps = world(L).components();
+  lua_createtable(L, int(comps.size()), 0);
+  for (size_t c = 0; c < comps.size(); ++c) {
+    lua_createtable(L, int(comps[c].size()), 0);
+    for (size_t k = 0; k < comps[c].size(); ++k) {
+      pushModule(L, comps[c][k]);
+      lua_rawseti(L, -2, lua_Integer(k + 1));
+    }
+    lua_rawseti(L, -2, lua_Integer(c + 1));
+  }
+  return 1;
+}
+
+int storeFunction(lua_State* L, int arg) {
+  luaL_checktype(L, arg, LUA_TFUNCTION);
+  lua_pushvalue(L, arg);
+  return luaL_ref(L, LUA_REGISTRYINDEX);
+}
+
+/// world.on_step(fn(t)): called after every step
+int worldOnStep(lua_State* L) {
+  script(L).onStep.push_back(storeFunction(L, 1));
+  return 0;
+}
+
+/// world.at(t, fn(t)): called once, after the first step that reaches time t
+int worldAt(lua_State* L) {
+  const double t = checkFinite(L, 1);
+  script(L).timed.push_back({t, 0.0, storeFunction(L, 2)});
+  return 0;
+}
+
+/// world.every(period, fn(t)): called at t = period, 2 period, ...
+int worldEvery(lua_State* L) {
+  const double p = checkFinite(L, 1);
+  luaL_argcheck(L, p > 0, 1, "period must be positive");
+  script(L).timed.push_back({p, p, storeFunction(L, 2)});
+  return 0;
+}
+
+/// world.stop(): end the run after this step
+int worldStop(lua_State* L) {
+  world(L).requestStop();
+  return 0;
+}
+
+/// world.time() -> seconds
+int worldTime(lua_State* L) {
+  lua_pushnumber(L, world(L).time());
+  return 1;
+}
+
+/// world.dt() -> the control step
+int worldDt(lua_State* L) {
+  lua_pushnumber(L, world(L).settings().dt);
+  return 1;
+}
+
+/// expect(cond, message) -> cond: a failed expectation is recorded with file:line; the run goes on
+int expectFn(lua_State* L) {
+  luaL_checkany(L, 1);
+  const bool ok = lua_toboolean(L, 1);
+  if (!ok) {
+    luaL_where(L, 1);
+    if (lua_isnoneornil(L, 2)) lua_pushliteral(L, "expectation failed");
+    else luaL_tolstring(L, 2, nullptr);
+    lua_concat(L, 2);
+    world(L).addFailure(lua_tostring(L, -1));
+    lua_pop(L, 1);
+  }
+  lua_pushboolean(L, ok);
+  return 1;
+}
+
+/// log(...) / print(...) in the world script
+int worldLog(lua_State* L) {
+  const int n = lua_gettop(L);
+  luaL_Buffer b;
+  luaL_buffinit(L, &b);
+  for (int i = 1; i <= n; ++i) {
+    luaL_tolstring(L, i, nullptr);
+    luaL_addvalue(&b);
+    if (i < n) luaL_addchar(&b, '\t');
+  }
+  luaL_pushresult(&b);
+  if (world(L).options().echoLog) std::fprintf(stderr, "[%8.3f world] %s\n", world(L).time(), lua_tostring(L, -1));
+  return 0;
+}
+
+void pushArgs(lua_State* L, const std::map<std::string, std::string>& params) {
+  lua_newtable(L);
+  for (const auto& [k, v] : params) {
+    // Numbers and booleans arrive typed, so `args.n or 10` works as expected.
+    char* end = nullptr;
+    const long long i = std::strtoll(v.c_str(), &end, 10);
+    if (!v.empty() && *end == '\0') {
+      lua_pushinteger(L, i);
+    } else {
+      const double d = std::strtod(v.c_str(), &end);
+      if (!v.empty() && *end == '\0') lua_pushnumber(L, d);
+      else if (v == "true" || v == "false") lua_pushboolean(L, v == "true");
+      else lua_pushstring(L, v.c_str());
+    }
+    lua_setfield(L, -2, k.c_str());
+  }
+}
+
+}  // namespace
+
+void openWorldApi(lua_State* L, WorldScript& s) {
+  openWorldHandles(L);
+  static const luaL_Reg fns[] = {{"set", worldSet},         {"ground", worldGround},   {"box", worldBox},
+                                 {"sphere", worldSphere},   {"cylinder", worldCylinder}, {"mesh", worldMesh},
+                                 {"spawn", worldSpawn},     {"connect", worldConnect}, {"modules", worldModules},
+                                 {"module", worldModule},   {"components", worldComponents},
+                                 {"on_step", worldOnStep},  {"at", worldAt},           {"every", worldEvery},
+                                 {"stop", worldStop},       {"time", worldTime},       {"dt", worldDt},
+                                 {nullptr, nullptr}};
+  luaL_newlib(L, fns);
+  lua_setglobal(L, "world");
+  lua_pushcfunction(L, expectFn);
+  lua_setglobal(L, "expect");
+  lua_pushcfunction(L, worldLog);
+  lua_setglobal(L, "log");
+  lua_pushcfunction(L, worldLog);
+  lua_setglobal(L, "print");
+  pushArgs(L, s.world().options().params);
+  lua_setglobal(L, "args");
+}
+
+}  // namespace rm3d

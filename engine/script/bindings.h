@@ -1,0 +1,22 @@
+// Registration of the Lua-visible types and tables, one binding file each (LÖVE's wrap_*).
+#pragma once
+
+struct lua_State;
+
+namespace rm3d {
+
+struct BehaviourContext;
+
+/// Behaviour VM: `module`, `sim`, `log`, `print`, seeded `math.random`; Joint and Dock types.
+void openJointType(lua_State* L);
+void openDockType(lua_State* L);
+void openModuleApi(lua_State* L, BehaviourContext& ctx);
+void pushJoint(lua_State* L, int index);
+void pushDock(lua_State* L, int index);
+
+/// Shared helpers for bindings.
+BehaviourContext& behaviourContext(lua_State* L);
+/// Errors with "file:line: fn: expected a finite number" when the argument is NaN or infinite.
+double checkFinite(lua_State* L, int arg);
+
+}  // namespace rm3d

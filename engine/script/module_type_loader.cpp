@@ -1,0 +1,583 @@
+// Module-type loading in two steps. First the file runs in a sandboxed LuaVm and the table it
+// returns is copied into a plain C++ tree using only Lua API calls that never raise (lua_next,
+// lua_type, lua_to*): a Lua error longjmps and would skip the destructors of the C++ objects
+// alive here. Then that tree is validated and converted in ordinary C++, with errors thrown as
+// InputError that name the file and the place in the data ("links[2].shapes[1]: ...").
+#include "script/module_type_loader.h"
+
+#include <lua.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <initializer_list>
+#include <map>
+#include <utility>
+
+#include "assets/mesh_loader.h"
+#include "core/error.h"
+#include "script/lua_vm.h"
+
+namespace fs = std::filesystem;
+
+namespace rm3d {
+
+namespace {
+
+constexpr size_t kMemoryLimit = size_t(64) << 20;
+constexpr int64_t kInstructionBudget = 100000000;
+// Module types nest four levels deep; anything far deeper is a mistake, and the limit keeps the
+// recursive copy from running out of C++ stack.
+constexpr int kMaxDepth = 32;
+// Below this length a direction (axis, normal, up) is taken to be zero.
+constexpr double kMinDirection = 1e-9;
+// A given `up` must be this close to perpendicular to the dock normal (cosine of the angle).
+constexpr double kPerpendicularTol = 1e-6;
+// When the dock normal is this close to z, the default `up` is x projected instead of z.
+constexpr double kNearZ = 0.9;
+
+struct LuaEntry;
+
+/// A Lua value copied out of the state, so that validation never calls into Lua.
+struct LuaValue {
+  int type = LUA_TNIL;
+  bool boolean = false;
+  double number = 0;
+  bool integral = false;  ///< number with an integer value (integer subtype or integral float)
+  std::string string;
+  std::vector<LuaEntry> entries;  ///< table: integer keys ascending, then string keys sorted
+};
+
+struct LuaEntry {
+  bool isIndex = false;
+  int64_t index = 0;
+  std::string key;
+  LuaValue value;
+};
+
+std::string formatNumber(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", x);
+  return buf;
+}
+
+std::string childPath(const std::string& where, const std::string& key) {
+  return where.empty() ? key : where + "." + key;
+}
+
+std::string indexPath(const std::string& where, int64_t i) { return where + "[" + std::to_string(i) + "]"; }
+
+/// What a value is, for "expected X, got Y" messages.
+std::string describe(const LuaValue& v) {
+  switch (v.type) {
+    case LUA_TNIL: return "nil";
+    case LUA_TBOOLEAN: return v.boolean ? "true" : "false";
+    case LUA_TNUMBER: return "the number " + formatNumber(v.number);
+    case LUA_TSTRING: return "the string '" + v.string + "'";
+    case LUA_TTABLE: return "a table";
+    case LUA_TFUNCTION: return "a function";
+    default: return "a value of an unsupported type";
+  }
+}
+
+/// Copies the value at a stack index (recursively for tables) without raising Lua errors.
+class Copier {
+ public:
+  Copier(lua_State* L, std::string file) : m_L(L), m_file(std::move(file)) {}
+
+  void copy(int idx, const std::string& where, int depth, LuaValue& out) {
+    out.type = lua_type(m_L, idx);
+    switch (out.type) {
+      case LUA_TBOOLEAN:
+        out.boolean = lua_toboolean(m_L, idx) != 0;
+        break;
+      case LUA_TNUMBER:
+        out.number = lua_tonumberx(m_L, idx, nullptr);
+        out.integral = lua_isinteger(m_L, idx) || (std::isfinite(out.number) && out.number == std::floor(out.number));
+        break;
+      case LUA_TSTRING: {
+        size_t len = 0;
+        const char* s = lua_tolstring(m_L, idx, &len);  // a string already: no conversion, no allocation
+        out.string.assign(s, len);
+        break;
+      }
+      case LUA_TTABLE:
+        copyTable(idx, where, depth, out);
+        break;
+      default:
+        break;
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& where, const std::string& msg) const {
+    throw InputError(m_file + ": " + (where.empty() ? "" : where + ": ") + msg);
+  }
+
+  void copyTable(int idx, const std::string& where, int depth, LuaValue& out) {
+    if (depth > kMaxDepth) fail(where, "tables nested too deeply");
+    const void* id = lua_topointer(m_L, idx);
+    if (std::find(m_open.begin(), m_open.end(), id) != m_open.end()) fail(where, "a table that contains itself");
+    if (!lua_checkstack(m_L, 4)) fail(where, "out of Lua stack space");
+    m_open.push_back(id);
+    lua_pushnil(m_L);
+    while (lua_next(m_L, idx) != 0) {  // raw traversal: metatables are ignored
+      const int top = lua_gettop(m_L);  // key at top - 1, value at top
+      LuaEntry e;
+      const int keyType = lua_type(m_L, top - 1);
+      if (keyType == LUA_TSTRING) {
+        size_t len = 0;
+        const char* s = lua_tolstring(m_L, top - 1, &len);
+        e.key.assign(s, len);
+      } else if (keyType == LUA_TNUMBER && lua_isinteger(m_L, top - 1)) {
+        e.isIndex = true;
+        e.index = lua_tointegerx(m_L, top - 1, nullptr);
+      } else if (keyType == LUA_TNUMBER) {
+        fail(where, "unexpected key " + formatNumber(lua_tonumberx(m_L, top - 1, nullptr)) +
+                        " (keys are names or list positions 1, 2, ...)");
+      } else {
+        fail(where, std::string("unexpected key of type ") + lua_typename(m_L, keyType) +
+                        " (keys are names or list positions 1, 2, ...)");
+      }
+      copy(top, e.isIndex ? indexPath(where, e.index) : childPath(where, e.key), depth + 1, e.value);
+      lua_pop(m_L, 1);  // keep the key for lua_next
+      out.entries.push_back(std::move(e));
+    }
+    m_open.pop_back();
+    std::sort(out.entries.begin(), out.entries.end(), [](const LuaEntry& a, const LuaEntry& b) {
+      if (a.isIndex != b.isIndex) return a.isIndex;
+      return a.isIndex ? a.index < b.index : a.key < b.key;
+    });
+  }
+
+  lua_State* m_L;
+  std::string m_file;
+  std::vector<const void*> m_open;  // tables being copied, to catch cycles
+};
+
+/// Validates the copied tree and builds the ModuleTypeDef.
+class TypeReader {
+ public:
+  TypeReader(const LuaVm& vm, std::string file, fs::path dir, fs::path root)
+      : m_vm(vm), m_file(std::move(file)), m_dir(std::move(dir)), m_root(std::move(root)) {}
+
+  ModuleTypeDef read(const LuaValue& top) {
+    if (top.type != LUA_TTABLE)
+      fail("", "expected the file to return a table { name = ..., links = { ... }, ... }, got " + describe(top));
+    checkRecord(top, "", {"name", "root", "links", "joints", "docks"});
+    ModuleTypeDef def;
+    def.name = toName(require(top, "", "name"), "name");
+    def.file = m_file;
+
+    const auto links = toList(require(top, "", "links"), "links");
+    if (links.empty()) fail("links", "a module type needs at least one link");
+    for (size_t i = 0; i < links.size(); ++i) def.links.push_back(readLink(*links[i], indexPath("links", i + 1)));
+    checkUnique(def.links, "links", "link");
+
+    def.rootLink = 0;
+    if (const LuaValue* r = find(top, "root")) def.rootLink = linkIndex(def, *r, "root");
+
+    if (const LuaValue* js = find(top, "joints")) {
+      const auto joints = toList(*js, "joints");
+      for (size_t i = 0; i < joints.size(); ++i)
+        def.joints.push_back(readJoint(def, *joints[i], indexPath("joints", i + 1)));
+      checkUnique(def.joints, "joints", "joint");
+    }
+    if (const LuaValue* ds = find(top, "docks")) {
+      const auto docks = toList(*ds, "docks");
+      for (size_t i = 0; i < docks.size(); ++i) def.docks.push_back(readDock(def, *docks[i], indexPath("docks", i + 1)));
+      checkUnique(def.docks, "docks", "dock");
+    }
+    checkConnected(def);
+    return def;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& where, const std::string& msg) const {
+    throw InputError(m_file + ": " + (where.empty() ? "" : where + ": ") + msg);
+  }
+
+  // ---- generic checks on the copied values ----
+
+  static const LuaValue* find(const LuaValue& rec, const char* key) {
+    for (const LuaEntry& e : rec.entries)
+      if (!e.isIndex && e.key == key) return &e.value;
+    return nullptr;
+  }
+
+  const LuaValue& require(const LuaValue& rec, const std::string& where, const char* key) const {
+    const LuaValue* v = find(rec, key);
+    if (v == nullptr) fail(where, std::string("missing required field '") + key + "'");
+    return *v;
+  }
+
+  /// A table of named fields, each one of `allowed`.
+  void checkRecord(const LuaValue& v, const std::string& where, std::initializer_list<const char*> allowed) const {
+    std::string expected;
+    for (const char* k : allowed) expected += std::string(expected.empty() ? "" : ", ") + k;
+    if (v.type != LUA_TTABLE) fail(where, "expected a table with fields " + expected + ", got " + describe(v));
+    for (const LuaEntry& e : v.entries) {
+      if (e.isIndex)
+        fail(where, "unexpected list entry [" + std::to_string(e.index) + "] (expected named fields: " + expected + ")");
+      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* k) { return e.key == k; }))
+        fail(where, "unknown key '" + e.key + "' (expected one of: " + expected + ")");
+    }
+  }
+
+  /// A list {a, b, c}: integer keys 1..n only.
+  std::vector<const LuaValue*> toList(const LuaValue& v, const std::string& where) const {
+    if (v.type != LUA_TTABLE) fail(where, "expected a list { ... }, got " + describe(v));
+    std::vector<const LuaValue*> out;
+    for (const LuaEntry& e : v.entries) {
+      if (!e.isIndex) fail(where, "unexpected named field '" + e.key + "' in a list");
+      if (e.index != int64_t(out.size()) + 1)
+        fail(where, "list has a gap or bad position [" + std::to_string(e.index) + "] (expected [" +
+                        std::to_string(out.size() + 1) + "])");
+      out.push_back(&e.value);
+    }
+    return out;
+  }
+
+  double toNumber(const LuaValue& v, const std::string& where) const {
+    if (v.type != LUA_TNUMBER) fail(where, "expected a number, got " + describe(v));
+    if (!std::isfinite(v.number)) fail(where, "expected a finite number, got " + formatNumber(v.number));
+    return v.number;
+  }
+
+  double toNonNegative(const LuaValue& v, const std::string& where) const {
+    const double x = toNumber(v, where);
+    if (x < 0) fail(where, "must not be negative (got " + formatNumber(x) + ")");
+    return x;
+  }
+
+  double toPositive(const LuaValue& v, const std::string& where) const {
+    const double x = toNumber(v, where);
+    if (x <= 0) fail(where, "must be greater than 0 (got " + formatNumber(x) + ")");
+    return x;
+  }
+
+  bool toBool(const LuaValue& v, const std::string& where) const {
+    if (v.type != LUA_TBOOLEAN) fail(where, "expected true or false, got " + describe(v));
+    return v.boolean;
+  }
+
+  std::string toString(const LuaValue& v, const std::string& where) const {
+    if (v.type != LUA_TSTRING) fail(where, "expected a string, got " + describe(v));
+    return v.string;
+  }
+
+  std::string toName(const LuaValue& v, const std::string& where) const {
+    std::string s = toString(v, where);
+    if (s.empty()) fail(where, "name must not be empty");
+    return s;
+  }
+
+  /// A list of between minCount and maxCount numbers; `shape` describes it for messages.
+  std::vector<double> toNumbers(const LuaValue& v, const std::string& where, size_t minCount, size_t maxCount,
+                                const std::string& shape) const {
+    bool ok = v.type == LUA_TTABLE;
+    if (ok) {
+      for (size_t i = 0; i < v.entries.size(); ++i) {
+        const LuaEntry& e = v.entries[i];
+        ok = ok && e.isIndex && e.index == int64_t(i) + 1 && e.value.type == LUA_TNUMBER;
+      }
+      ok = ok && v.entries.size() >= minCount && v.entries.size() <= maxCount;
+    }
+    if (!ok) fail(where, "expected " + shape + ", got " + describe(v));
+    std::vector<double> out;
+    for (size_t i = 0; i < v.entries.size(); ++i) out.push_back(toNumber(v.entries[i].value, indexPath(where, i + 1)));
+    return out;
+  }
+
+  Vec3 toVec3(const LuaValue& v, const std::string& where) const {
+    const auto n = toNumbers(v, where, 3, 3, "{x, y, z} (3 numbers)");
+    return Vec3(n[0], n[1], n[2]);
+  }
+
+  /// A direction: normalised silently, zero rejected.
+  Vec3 toDirection(const LuaValue& v, const std::string& where) const {
+    const Vec3 d = toVec3(v, where);
+    if (d.norm() < kMinDirection) fail(where, "direction must not be zero");
+    return d.normalized();
+  }
+
+  template <class T>
+  void checkUnique(const std::vector<T>& items, const std::string& list, const char* what) const {
+    std::map<std::string, size_t> seen;
+    for (size_t i = 0; i < items.size(); ++i) {
+      const auto [it, fresh] = seen.emplace(items[i].name, i);
+      if (!fresh)
+        fail(childPath(indexPath(list, i + 1), "name"), std::string("duplicate ") + what + " name '" + items[i].name +
+                                                             "' (also " + indexPath(list, it->second + 1) + ")");
+    }
+  }
+
+  int linkIndex(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
+    const std::string name = toName(v, where);
+    const int i = def.findLink(name);
+    if (i < 0) {
+      std::string names;
+      for (const LinkDef& l : def.links) names += (names.empty() ? "" : ", ") + l.name;
+      fail(where, "unknown link '" + name + "' (links are: " + names + ")");
+    }
+    return i;
+  }
+
+  // ---- module-type parts ----
+
+  LinkDef readLink(const LuaValue& v, const std::string& where) {
+    checkRecord(v, where, {"name", "mass", "color", "friction", "shapes"});
+    LinkDef link;
+    link.name = toName(require(v, where, "name"), childPath(where, "name"));
+    link.mass = toPositive(require(v, where, "mass"), childPath(where, "mass"));
+    if (const LuaValue* c = find(v, "color")) {
+      const std::string w = childPath(where, "color");
+      const auto rgba = toNumbers(*c, w, 3, 4, "{r, g, b} or {r, g, b, a} (numbers from 0 to 1)");
+      for (size_t i = 0; i < rgba.size(); ++i) {
+        if (rgba[i] < 0 || rgba[i] > 1) fail(indexPath(w, i + 1), "must be between 0 and 1 (got " + formatNumber(rgba[i]) + ")");
+        link.color[i] = float(rgba[i]);
+      }
+    }
+    if (const LuaValue* f = find(v, "friction")) link.friction = toNonNegative(*f, childPath(where, "friction"));
+    const std::string ws = childPath(where, "shapes");
+    const auto shapes = toList(require(v, where, "shapes"), ws);
+    if (shapes.empty()) fail(ws, "a link needs at least one shape");
+    double fixedMass = 0;
+    for (size_t i = 0; i < shapes.size(); ++i) {
+      link.shapes.push_back(readShape(*shapes[i], indexPath(ws, i + 1)));
+      if (link.shapes.back().mass > 0) fixedMass += link.shapes.back().mass;
+    }
+    // Shape masses are shares of the link's mass (physics spreads the rest by volume).
+    if (fixedMass > link.mass * (1 + 1e-9))
+      fail(ws, "shape masses add up to " + formatNumber(fixedMass) + " kg, more than the link's mass " +
+                   formatNumber(link.mass) + " kg");
+    return link;
+  }
+
+  ShapeDef readShape(const LuaValue& v, const std::string& where) {
+    checkRecord(v, where, {"box", "sphere", "cylinder", "mesh", "at", "rot", "quat", "mass", "scale", "axis"});
+    ShapeDef s;
+    const LuaValue* box = find(v, "box");
+    const LuaValue* sphere = find(v, "sphere");
+    const LuaValue* cylinder = find(v, "cylinder");
+    const LuaValue* mesh = find(v, "mesh");
+    const int kinds = (box != nullptr) + (sphere != nullptr) + (cylinder != nullptr) + (mesh != nullptr);
+    if (kinds != 1)
+      fail(where, std::string("expected exactly one of box, sphere, cylinder, mesh") +
+                      (kinds == 0 ? "" : " (this shape has several)"));
+    const LuaValue* scale = find(v, "scale");
+    const LuaValue* axis = find(v, "axis");
+    const LuaValue* rot = find(v, "rot");
+    const LuaValue* quat = find(v, "quat");
+    if (scale && !mesh) fail(childPath(where, "scale"), "scale is only for mesh shapes");
+    if (axis && !cylinder) fail(childPath(where, "axis"), "axis is only for cylinder shapes");
+    if (rot && quat) fail(where, "give either rot or quat, not both");
+    if (axis && (rot || quat)) fail(childPath(where, "axis"), "give either axis or rot/quat, not both");
+
+    if (box) {
+      const std::string w = childPath(where, "box");
+      s.kind = ShapeKind::Box;
+      s.size = toVec3(*box, w);
+      for (int i = 0; i < 3; ++i)
+        if (s.size[i] <= 0) fail(indexPath(w, i + 1), "box sides must be greater than 0 (got " + formatNumber(s.size[i]) + ")");
+    } else if (sphere) {
+      s.kind = ShapeKind::Sphere;
+      s.radius = toPositive(*sphere, childPath(where, "sphere"));
+    } else if (cylinder) {
+      const std::string w = childPath(where, "cylinder");
+      s.kind = ShapeKind::Cylinder;
+      const auto rl = toNumbers(*cylinder, w, 2, 2, "{radius, length} (2 numbers)");
+      if (rl[0] <= 0) fail(indexPath(w, 1), "radius must be greater than 0 (got " + formatNumber(rl[0]) + ")");
+      if (rl[1] <= 0) fail(indexPath(w, 2), "length must be greater than 0 (got " + formatNumber(rl[1]) + ")");
+      s.radius = rl[0];
+      s.length = rl[1];
+    } else {
+      const std::string w = childPath(where, "mesh");
+      const double k = scale ? toPositive(*scale, childPath(where, "scale")) : 1.0;
+      loadHull(toName(*mesh, w), k, w, s);
+    }
+
+    if (const LuaValue* at = find(v, "at")) s.pose.pos = toVec3(*at, childPath(where, "at"));
+    if (rot) {
+      const auto rpy = toNumbers(*rot, childPath(where, "rot"), 3, 3, "{roll, pitch, yaw} (3 numbers, radians)");
+      s.pose.rot = quatFromRpy(rpy[0], rpy[1], rpy[2]);
+    } else if (quat) {
+      const std::string w = childPath(where, "quat");
+      const auto q = toNumbers(*quat, w, 4, 4, "{w, x, y, z} (4 numbers)");
+      Quat r(q[0], q[1], q[2], q[3]);
+      if (r.norm() < kMinDirection) fail(w, "quaternion must not be zero");
+      s.pose.rot = r.normalized();
+    } else if (axis) {
+      // Cylinders lie along their own z; turn that z onto the named axis.
+      const std::string w = childPath(where, "axis");
+      const std::string a = toString(*axis, w);
+      if (a == "x")
+        s.pose.rot = Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitY()));
+      else if (a == "y")
+        s.pose.rot = Quat(Eigen::AngleAxisd(-kPi / 2, Vec3::UnitX()));
+      else if (a != "z")
+        fail(w, "unknown axis '" + a + "' (expected one of: x, y, z)");
+    }
+    if (const LuaValue* m = find(v, "mass")) s.mass = toNonNegative(*m, childPath(where, "mass"));
+    return s;
+  }
+
+  /// Finds the mesh file (the module-type file's folder first, then the project root), loads it
+  /// (once per file and scale) and fills the hull fields of s.
+  void loadHull(const std::string& name, double scale, const std::string& where, ShapeDef& s) {
+    const fs::path given(name);
+    std::vector<fs::path> candidates;
+    if (given.is_absolute())
+      candidates = {given};
+    else
+      candidates = {m_dir / given, m_root / given};
+    std::string path;
+    std::error_code ec;
+    for (const fs::path& c : candidates) {
+      if (fs::is_regular_file(c, ec)) {
+        path = c.lexically_normal().string();
+        break;
+      }
+    }
+    if (path.empty())
+      fail(where, "mesh file '" + name + "' not found" +
+                      (given.is_absolute() ? std::string()
+                                           : " (looked in " + m_vm.displayName(m_dir.string()) + "/ and the project root)"));
+    const std::string display = m_vm.displayName(path);
+    auto key = std::make_pair(path, scale);
+    auto it = m_meshes.find(key);
+    if (it == m_meshes.end()) {
+      MeshData mesh;
+      std::string err;
+      if (!loadMesh(path, scale, mesh, err)) {
+        if (err.rfind(path, 0) == 0) err = display + err.substr(path.size());
+        fail(where, err);
+      }
+      it = m_meshes.emplace(key, std::move(mesh)).first;
+    }
+    s.kind = ShapeKind::Hull;
+    s.points = it->second.points;
+    s.triangles = it->second.triangles;
+    s.source = display;
+  }
+
+  JointDef readJoint(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
+    checkRecord(v, where,
+                {"name", "parent", "child", "pivot", "axis", "lower", "upper", "continuous", "torque", "speed", "gain"});
+    JointDef j;
+    j.name = toName(require(v, where, "name"), childPath(where, "name"));
+    j.parent = linkIndex(def, require(v, where, "parent"), childPath(where, "parent"));
+    j.child = linkIndex(def, require(v, where, "child"), childPath(where, "child"));
+    if (j.parent == j.child) fail(childPath(where, "child"), "a joint needs two different links");
+    j.pivot = toVec3(require(v, where, "pivot"), childPath(where, "pivot"));
+    j.axis = toDirection(require(v, where, "axis"), childPath(where, "axis"));
+    const LuaValue* cont = find(v, "continuous");
+    const LuaValue* lower = find(v, "lower");
+    const LuaValue* upper = find(v, "upper");
+    j.limited = !(cont && toBool(*cont, childPath(where, "continuous")));
+    if (!j.limited) {
+      if (lower || upper) fail(where, "a continuous joint has no lower/upper limits");
+    } else {
+      if (!lower || !upper)
+        fail(where, std::string("missing required field '") + (lower ? "upper" : "lower") +
+                        "' (or set continuous = true)");
+      j.lower = toNumber(*lower, childPath(where, "lower"));
+      j.upper = toNumber(*upper, childPath(where, "upper"));
+      if (j.lower > j.upper)
+        fail(where, "lower (" + formatNumber(j.lower) + ") is greater than upper (" + formatNumber(j.upper) + ")");
+    }
+    j.maxTorque = toNonNegative(require(v, where, "torque"), childPath(where, "torque"));
+    j.maxSpeed = toNonNegative(require(v, where, "speed"), childPath(where, "speed"));
+    if (const LuaValue* g = find(v, "gain")) j.servoGain = toNonNegative(*g, childPath(where, "gain"));
+    return j;
+  }
+
+  DockDef readDock(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
+    checkRecord(v, where, {"name", "link", "at", "normal", "up", "gender", "size", "symmetry"});
+    DockDef d;
+    d.name = toName(require(v, where, "name"), childPath(where, "name"));
+    d.link = linkIndex(def, require(v, where, "link"), childPath(where, "link"));
+    d.pos = toVec3(require(v, where, "at"), childPath(where, "at"));
+    d.normal = toDirection(require(v, where, "normal"), childPath(where, "normal"));
+    if (const LuaValue* up = find(v, "up")) {
+      const std::string w = childPath(where, "up");
+      d.up = toDirection(*up, w);
+      if (std::abs(d.up.dot(d.normal)) > kPerpendicularTol) fail(w, "up must be perpendicular to normal");
+    } else {
+      // Default reference: z projected into the face, or x when the face looks (nearly) along z.
+      const Vec3 ref = std::abs(d.normal.z()) > kNearZ ? Vec3::UnitX() : Vec3::UnitZ();
+      d.up = (ref - ref.dot(d.normal) * d.normal).normalized();
+    }
+    if (const LuaValue* g = find(v, "gender")) {
+      const std::string w = childPath(where, "gender");
+      const std::string s = toString(*g, w);
+      if (s == "none")
+        d.gender = Gender::None;
+      else if (s == "male")
+        d.gender = Gender::Male;
+      else if (s == "female")
+        d.gender = Gender::Female;
+      else
+        fail(w, "unknown gender '" + s + "' (expected one of: none, male, female)");
+    }
+    if (const LuaValue* s = find(v, "size")) d.size = toPositive(*s, childPath(where, "size"));
+    if (const LuaValue* s = find(v, "symmetry")) {
+      const std::string w = childPath(where, "symmetry");
+      const double n = toNumber(*s, w);
+      if (!s->integral || n < 1 || n > 360) fail(w, "expected a whole number from 1 to 360, got " + formatNumber(n));
+      d.symmetry = int(n);
+    }
+    return d;
+  }
+
+  /// Every link must hang together with the root through joints, or it would fall away.
+  void checkConnected(const ModuleTypeDef& def) const {
+    std::vector<bool> reached(def.links.size(), false);
+    reached[size_t(def.rootLink)] = true;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (const JointDef& j : def.joints) {
+        if (reached[size_t(j.parent)] != reached[size_t(j.child)]) {
+          reached[size_t(j.parent)] = reached[size_t(j.child)] = true;
+          grew = true;
+        }
+      }
+    }
+    for (size_t i = 0; i < reached.size(); ++i)
+      if (!reached[i])
+        fail(indexPath("links", i + 1), "link '" + def.links[i].name + "' is not connected to the root link '" +
+                                            def.links[size_t(def.rootLink)].name + "' by joints");
+  }
+
+  const LuaVm& m_vm;
+  std::string m_file;
+  fs::path m_dir;
+  fs::path m_root;
+  std::map<std::pair<std::string, double>, MeshData> m_meshes;
+};
+
+}  // namespace
+
+ModuleTypeDef loadModuleType(const std::string& path, const std::string& projectRoot) {
+  std::error_code ec;
+  const fs::path root = fs::absolute(projectRoot, ec).lexically_normal();
+  const fs::path file = fs::absolute(path, ec).lexically_normal();
+  const fs::path dir = file.parent_path();
+
+  LuaVm vm(kMemoryLimit);
+  vm.setInstructionBudget(kInstructionBudget);
+  vm.setDisplayRoot(root.string());
+  vm.setRequirePath({dir.string(), (root / "lua").string()});
+  const std::string display = vm.displayName(file.string());
+
+  std::string err;
+  if (!vm.runFile(file.string(), 1, err)) throw InputError(err);  // already "file:line: ..."
+
+  LuaValue top;
+  Copier(vm.L(), display).copy(lua_gettop(vm.L()), "", 0, top);
+  lua_settop(vm.L(), 0);
+  return TypeReader(vm, display, dir, root).read(top);
+}
+
+}  // namespace rm3d

@@ -1,0 +1,231 @@
+// Module and Body handles of the world script.
+#include "script/world_handles.h"
+
+#include <cstring>
+
+#include "assets/mesh_loader.h"
+#include "core/error.h"
+#include "script/lua_options.h"
+#include "script/world_script.h"
+#include "world/world.h"
+
+namespace rm3d {
+
+namespace {
+
+constexpr const char* kModuleMeta = "rm3d.Module";
+constexpr const char* kBodyMeta = "rm3d.Body";
+
+World& world(lua_State* L) { return static_cast<WorldScript*>(LuaVm::from(L)->user())->world(); }
+
+int checkJointName(lua_State* L, int arg, int module) {
+  const char* name = luaL_checkstring(L, arg);
+  const ModuleTypeDef& t = *world(L).module(module).type;
+  const int j = t.findJoint(name);
+  if (j < 0) return luaL_error(L, "no joint named '%s' on a %s", name, t.name.c_str());
+  return j;
+}
+
+/// m:position() -> {x,y,z} of the module frame
+int modulePosition(lua_State* L) {
+  pushVec3(L, world(L).modulePose(checkModule(L, 1)).pos);
+  return 1;
+}
+
+/// m:orientation() -> {w,x,y,z}
+int moduleOrientation(lua_State* L) {
+  pushQuat(L, world(L).modulePose(checkModule(L, 1)).rot);
+  return 1;
+}
+
+/// m:velocity() -> {x,y,z} of the root link's centre of mass
+int moduleVelocity(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const Module& mod = world(L).module(m);
+  pushVec3(L, world(L).physics().partLinearVelocity(mod.parts[size_t(mod.type->rootLink)]));
+  return 1;
+}
+
+/// m:link_position(name) -> {x,y,z} of a link frame
+int moduleLinkPosition(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const char* name = luaL_checkstring(L, 2);
+  const int link = world(L).module(m).type->findLink(name);
+  if (link < 0) return luaL_error(L, "no link named '%s'", name);
+  pushVec3(L, world(L).linkPose(m, link).pos);
+  return 1;
+}
+
+/// m:joint_angle(name) -> radians
+int moduleJointAngle(lua_State* L) {
+  const int m = checkModule(L, 1);
+  lua_pushnumber(L, world(L).jointAngle(m, checkJointName(L, 2, m)));
+  return 1;
+}
+
+/// m:joint_angles() -> {name = radians, ...}
+int moduleJointAngles(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const Module& mod = world(L).module(m);
+  lua_createtable(L, 0, int(mod.type->joints.size()));
+  for (size_t j = 0; j < mod.type->joints.size(); ++j) {
+    lua_pushnumber(L, world(L).jointAngle(m, int(j)));
+    lua_setfield(L, -2, mod.type->joints[j].name.c_str());
+  }
+  return 1;
+}
+
+/// m:dock_state(name) -> {enabled=, engaged=, peer_module= id or nil, peer_dock= name or nil}
+int moduleDockState(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const int d = checkDockName(L, 2, m);
+  const DockState& s = world(L).module(m).docks[size_t(d)];
+  lua_createtable(L, 0, 4);
+  lua_pushboolean(L, s.enabled);
+  lua_setfield(L, -2, "enabled");
+  lua_pushboolean(L, s.engaged);
+  lua_setfield(L, -2, "engaged");
+  if (s.engaged) {
+    const Module& peer = world(L).module(s.peerModule);
+    lua_pushinteger(L, peer.id);
+    lua_setfield(L, -2, "peer_module");
+    lua_pushstring(L, peer.type->docks[size_t(s.peerDock)].name.c_str());
+    lua_setfield(L, -2, "peer_dock");
+  }
+  return 1;
+}
+
+/// m:dock_position(name) -> {x,y,z} of the dock face centre
+int moduleDockPosition(lua_State* L) {
+  const int m = checkModule(L, 1);
+  pushVec3(L, world(L).dockPose(m, checkDockName(L, 2, m)).pos);
+  return 1;
+}
+
+/// m:dock_normal(name) -> {x,y,z} outward normal of the dock face
+int moduleDockNormal(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const Pose p = world(L).dockPose(m, checkDockName(L, 2, m));
+  pushVec3(L, p.rot * Vec3::UnitX());
+  return 1;
+}
+
+/// m:error() -> nil, or the module's fault text
+int moduleError(lua_State* L) {
+  const Module& mod = world(L).module(checkModule(L, 1));
+  if (mod.fault.empty()) return 0;
+  lua_pushstring(L, mod.fault.c_str());
+  return 1;
+}
+
+int moduleIndex(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const char* key = luaL_checkstring(L, 2);
+  const Module& mod = world(L).module(m);
+  if (std::strcmp(key, "id") == 0) lua_pushinteger(L, mod.id);
+  else if (std::strcmp(key, "name") == 0) lua_pushstring(L, mod.name.c_str());
+  else if (std::strcmp(key, "type") == 0) lua_pushstring(L, mod.type->name.c_str());
+  else {
+    lua_getmetatable(L, 1);
+    lua_getfield(L, -1, "methods");
+    lua_getfield(L, -1, key);
+  }
+  return 1;
+}
+
+int moduleToString(lua_State* L) {
+  const Module& mod = world(L).module(checkModule(L, 1));
+  lua_pushfstring(L, "Module(%d %s)", mod.id, mod.name.c_str());
+  return 1;
+}
+
+int moduleEq(lua_State* L) {
+  lua_pushboolean(L, checkModule(L, 1) == checkModule(L, 2));
+  return 1;
+}
+
+int checkBody(lua_State* L) { return *static_cast<int*>(luaL_checkudata(L, 1, kBodyMeta)); }
+
+/// b:position() -> {x,y,z}
+int bodyPosition(lua_State* L) {
+  pushVec3(L, world(L).obstaclePose(checkBody(L)).pos);
+  return 1;
+}
+
+/// b:orientation() -> {w,x,y,z}
+int bodyOrientation(lua_State* L) {
+  pushQuat(L, world(L).obstaclePose(checkBody(L)).rot);
+  return 1;
+}
+
+/// b:velocity() -> {x,y,z}
+int bodyVelocity(lua_State* L) {
+  pushVec3(L, world(L).obstacleVelocity(checkBody(L)));
+  return 1;
+}
+
+}  // namespace
+
+void openWorldHandles(lua_State* L) {
+  static const luaL_Reg moduleMethods[] = {
+      {"position", modulePosition},         {"orientation", moduleOrientation},   {"velocity", moduleVelocity},
+      {"link_position", moduleLinkPosition}, {"joint_angle", moduleJointAngle},    {"joint_angles", moduleJointAngles},
+      {"dock_state", moduleDockState},       {"dock_position", moduleDockPosition}, {"dock_normal", moduleDockNormal},
+      {"error", moduleError},                {nullptr, nullptr}};
+  luaL_newmetatable(L, kModuleMeta);
+  luaL_newlib(L, moduleMethods);
+  lua_setfield(L, -2, "methods");
+  lua_pushcfunction(L, moduleIndex);
+  lua_setfield(L, -2, "__index");
+  lua_pushcfunction(L, moduleToString);
+  lua_setfield(L, -2, "__tostring");
+  lua_pushcfunction(L, moduleEq);
+  lua_setfield(L, -2, "__eq");
+  lua_pop(L, 1);
+
+  static const luaL_Reg bodyMethods[] = {
+      {"position", bodyPosition}, {"orientation", bodyOrientation}, {"velocity", bodyVelocity}, {nullptr, nullptr}};
+  luaL_newmetatable(L, kBodyMeta);
+  luaL_newlib(L, bodyMethods);
+  lua_setfield(L, -2, "__index");
+  lua_pop(L, 1);
+}
+
+void pushModule(lua_State* L, int index) {
+  *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = index;
+  luaL_setmetatable(L, kModuleMeta);
+}
+
+int checkModule(lua_State* L, int arg) { return *static_cast<int*>(luaL_checkudata(L, arg, kModuleMeta)); }
+
+int checkDockName(lua_State* L, int arg, int module) {
+  const char* name = luaL_checkstring(L, arg);
+  const ModuleTypeDef& t = *world(L).module(module).type;
+  const int d = t.findDock(name);
+  if (d >= 0) return d;
+  luaL_where(L, 1);
+  lua_pushfstring(L, "no dock named '%s' on a %s (it has:", name, t.name.c_str());
+  for (size_t i = 0; i < t.docks.size(); ++i) lua_pushfstring(L, "%s%s", i ? ", " : " ", t.docks[i].name.c_str());
+  lua_pushliteral(L, ")");
+  lua_concat(L, int(t.docks.size()) + 3);
+  return lua_error(L);
+}
+
+void pushBody(lua_State* L, int part) {
+  *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = part;
+  luaL_setmetatable(L, kBodyMeta);
+}
+
+void loadHullShape(World& w, const char* file, double scale, ShapeDef& out) {
+  const std::string path = w.resolvePath(file);
+  if (path.empty()) throw InputError(std::string("mesh file '") + file + "' not found (looked in the world's folder and the project root)");
+  MeshData mesh;
+  std::string err;
+  if (!loadMesh(path, scale, mesh, err)) throw InputError(err);
+  out.kind = ShapeKind::Hull;
+  out.points = std::move(mesh.points);
+  out.triangles = std::move(mesh.triangles);
+  out.source = file;
+}
+
+}  // namespace rm3d

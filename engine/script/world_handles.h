@@ -1,0 +1,40 @@
+// World-side handles: Module (a spawned module) and Body (an obstacle), as userdata holding an
+// index, plus the bridge that turns C++ exceptions from World into Lua errors.
+#pragma once
+
+#include <exception>
+
+#include <lua.hpp>
+
+namespace rm3d {
+
+class World;
+struct ShapeDef;
+
+void openWorldHandles(lua_State* L);
+void pushModule(lua_State* L, int index);
+/// The module index held by the Module handle at arg (errors otherwise).
+int checkModule(lua_State* L, int arg);
+/// A dock of module `module` named by the string at arg (errors listing the docks otherwise).
+int checkDockName(lua_State* L, int arg, int module);
+void pushBody(lua_State* L, int part);
+/// Fills a Hull shape from a mesh file (resolved like other world paths). Throws InputError.
+void loadHullShape(World& world, const char* file, double scale, ShapeDef& out);
+
+/// Runs f() (which may throw but must not raise Lua errors) and turns an exception into a Lua
+/// error "file:line: fn: message" raised after every C++ object is gone.
+template <class F>
+int callWorld(lua_State* L, const char* fn, F&& f) {
+  int results = -1;
+  try {
+    results = f();
+  } catch (const std::exception& e) {
+    luaL_where(L, 1);
+    lua_pushfstring(L, "%s: %s", fn, e.what());
+    lua_concat(L, 2);
+  }
+  if (results >= 0) return results;
+  return lua_error(L);
+}
+
+}  // namespace rm3d

@@ -1,0 +1,70 @@
+// The run summary (`--json`): DESIGN.md's fields, module by module, in id order.
+#include <nlohmann/json.hpp>
+
+#include "world/world.h"
+
+namespace rm3d {
+
+nlohmann::json World::summary(double wallSeconds) const {
+  using nlohmann::json;
+  json j;
+  j["world"] = m_worldFile;
+  j["sim_time"] = m_time;
+  j["steps"] = m_steps;
+  j["dt"] = m_settings.dt;
+  j["wall_seconds"] = wallSeconds;
+  j["seed"] = m_settings.seed;
+  json mods = json::array();
+  for (size_t i = 0; i < m_modules.size(); ++i) {
+    const Module& m = m_modules[i];
+    json mj;
+    mj["id"] = m.id;
+    mj["name"] = m.name;
+    mj["type"] = m.type->name;
+    if (m_physics) {
+      const Pose p = modulePose(int(i));
+      mj["position"] = {p.pos.x(), p.pos.y(), p.pos.z()};
+      mj["orientation"] = {p.rot.w(), p.rot.x(), p.rot.y(), p.rot.z()};
+    }
+    json joints = json::object();
+    for (size_t k = 0; k < m.type->joints.size(); ++k) joints[m.type->joints[k].name] = jointAngle(int(i), int(k));
+    mj["joints"] = joints;
+    json docks = json::object();
+    for (size_t k = 0; k < m.docks.size(); ++k) {
+      const DockState& d = m.docks[k];
+      json dj = {{"enabled", d.enabled}, {"engaged", d.engaged}, {"peer_module", nullptr}, {"peer_dock", nullptr}};
+      if (d.engaged) {
+        dj["peer_module"] = m_modules[size_t(d.peerModule)].id;
+        dj["peer_dock"] = m_modules[size_t(d.peerModule)].type->docks[size_t(d.peerDock)].name;
+      }
+      docks[m.type->docks[k].name] = dj;
+    }
+    mj["docks"] = docks;
+    mj["error"] = m.fault.empty() ? json(nullptr) : json(m.fault);
+    mods.push_back(mj);
+  }
+  j["modules"] = mods;
+  auto dockName = [&](int m, int d) { return m_modules[size_t(m)].type->docks[size_t(d)].name; };
+  json conns = json::array();
+  for (const Connection& c : m_connections)
+    conns.push_back({m_modules[size_t(c.moduleA)].id, dockName(c.moduleA, c.dockA), m_modules[size_t(c.moduleB)].id,
+                     dockName(c.moduleB, c.dockB)});
+  j["connections"] = conns;
+  json events = json::array();
+  for (const DockEvent& e : m_events)
+    events.push_back({{"time", e.time},
+                      {"event", e.kind},
+                      {"module_a", m_modules[size_t(e.moduleA)].id},
+                      {"dock_a", dockName(e.moduleA, e.dockA)},
+                      {"module_b", m_modules[size_t(e.moduleB)].id},
+                      {"dock_b", dockName(e.moduleB, e.dockB)}});
+  j["events"] = events;
+  json failures = json::array();
+  for (const Failure& f : m_failures) failures.push_back({{"time", f.time}, {"message", f.message}});
+  j["failures"] = failures;
+  j["faults"] = faultCount();
+  j["error"] = m_scriptError.empty() ? json(nullptr) : json(m_scriptError);
+  return j;
+}
+
+}  // namespace rm3d

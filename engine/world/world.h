@@ -1,0 +1,222 @@
+// The World owns everything of one simulation: physics, module types, modules and their Lua
+// VMs, mailboxes, the connection graph, the world script's VM, RNG and clock. Several worlds
+// can live in one process. The step follows DESIGN.md's order (see World::step).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "core/rng.h"
+#include "core/types.h"
+#include "messaging/mailbox.h"
+#include "modules/module_type.h"
+#include "physics/physics_world.h"
+#include "script/lua_value.h"
+
+namespace rm3d {
+
+class Behaviour;
+class WorldScript;
+class BehaviourPool;
+
+/// How to run: what the command line or a test gives.
+struct RunOptions {
+  std::string projectRoot;                    ///< absolute; lua/, behaviors/, assets/ live here
+  std::map<std::string, std::string> params;  ///< --param key=value, seen as `args`
+  std::optional<uint64_t> seed;               ///< overrides world.set{seed=}
+  bool strict = false;                        ///< a module fault stops the run
+  int threads = 1;                            ///< behaviour worker threads
+  size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
+  int64_t behaviourBudget = 10'000'000;       ///< Lua instructions per callback
+  int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
+  bool echoLog = true;                        ///< print module log lines to stderr
+};
+
+/// world.set{...}: fixed before the first step.
+struct WorldSettings {
+  double dt = 1.0 / 60.0;
+  int substeps = 4;
+  int solverIterations = 30;
+  int jointIterations = 0;
+  Vec3 gravity = Vec3(0, 0, -9.81);
+  uint64_t seed = 1;
+  double duration = 10.0;
+};
+
+enum class JointMode : uint8_t { Off, Servo, Velocity };
+
+struct JointCommand {
+  JointMode mode = JointMode::Servo;  ///< a powered module holds its pose
+  double value = 0;
+};
+
+struct DockState {
+  bool enabled = true;
+  bool engaged = false;
+  int peerModule = -1;
+  int peerDock = -1;
+};
+
+struct Module {
+  int id = 0;
+  std::string name;
+  const ModuleTypeDef* type = nullptr;
+  std::vector<int> parts;   ///< physics part per link
+  std::vector<int> hinges;  ///< physics hinge per joint
+  std::vector<JointCommand> commands;
+  std::vector<DockState> docks;
+  std::string behaviourFile;  ///< absolute, empty: none
+  LuaValue params;
+  Rng rng;
+  std::string fault;  ///< empty: healthy
+  bool faultReported = false;
+  std::vector<std::string> log;  ///< lines written this step, flushed in id order
+};
+
+struct Connection {
+  int moduleA, dockA, moduleB, dockB;
+};
+
+struct DockEvent {
+  double time;
+  std::string kind;  ///< "engaged", "disengaged", "broken"
+  int moduleA, dockA, moduleB, dockB;
+};
+
+struct Failure {
+  double time;
+  std::string message;
+};
+
+/// Joint and dock fidelity figures (bench and tests).
+struct Quality {
+  double hingeGapMm = 0, hingeAngleDeg = 0;
+  double dockGapMm = 0, dockAngleDeg = 0;
+  double trackingRmsDeg = 0;
+};
+
+class World {
+ public:
+  explicit World(RunOptions options);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  /// Runs a world script (throws InputError for bad input: the message names file and line).
+  void loadFile(const std::string& path);
+  /// Runs world-script source held in memory; `chunkName` is what messages call it.
+  void loadString(const std::string& source, const std::string& chunkName = "world");
+  /// Calls init() of every behaviour. Done by the first step() if not called.
+  void start();
+  /// One control step of settings().dt (DESIGN.md's seven phases, then world hooks).
+  void step();
+  /// True after world.stop(), a world-script error, a fatal fault, or the duration.
+  bool finished() const;
+  /// True after world.stop(), a world-script error or a fatal fault (not the duration).
+  bool stopped() const { return m_stopRequested || m_fatal || !m_scriptError.empty(); }
+
+  // --- state ---
+  double time() const { return m_time; }
+  int64_t steps() const { return m_steps; }
+  const WorldSettings& settings() const { return m_settings; }
+  const RunOptions& options() const { return m_options; }
+  const std::vector<Module>& modules() const { return m_modules; }
+  const Module& module(int i) const { return m_modules[size_t(i)]; }
+  const std::vector<Failure>& failures() const { return m_failures; }
+  const std::vector<DockEvent>& events() const { return m_events; }
+  const std::vector<Connection>& connections() const { return m_connections; }
+  /// A world-script error (bad input at run time), or empty.
+  const std::string& scriptError() const { return m_scriptError; }
+  bool fatalFault() const { return m_fatal; }
+  int faultCount() const;
+  std::string worldFile() const { return m_worldFile; }
+
+  Pose modulePose(int m) const;
+  Pose linkPose(int m, int link) const;
+  Pose dockPose(int m, int dock) const;  ///< dock frame in the world
+  double jointAngle(int m, int joint) const;
+  double jointVelocity(int m, int joint) const;
+  Quality quality() const;
+  /// Adds this step's servo tracking error to the running RMS that quality() reports.
+  void sampleTracking();
+  /// Connected components (module indices, each sorted), by the connection graph.
+  std::vector<std::vector<int>> components() const;
+  nlohmann::json summary(double wallSeconds) const;
+  /// Phase timings of the last step, ms.
+  struct StepTimes {
+    double behaviours = 0, physics = 0, other = 0;
+  };
+  const StepTimes& lastStepTimes() const { return m_times; }
+  PhysicsWorld& physics() { return *m_physics; }
+
+  // --- building (world scripts, tests) ---
+  void setSettings(const WorldSettings& s);
+  void addGround(double friction, double restitution);
+  int addObstacle(const ShapeDef& shape, const Pose& pose, double mass, double friction);
+  Pose obstaclePose(int body) const;
+  Vec3 obstacleVelocity(int body) const;
+  const ModuleTypeDef& moduleType(const std::string& name);
+  struct SpawnDef {
+    std::string type;
+    Pose pose;
+    std::string name;
+    std::string behaviour;  ///< path as written; resolved against the world's folder, then root
+    LuaValue params;
+  };
+  /// Throws InputError (without location: the caller adds it).
+  int spawn(const SpawnDef& def);
+  void connect(int a, int dockA, int b, int dockB, int orientation);
+  void addFailure(const std::string& message);
+  void requestStop() { m_stopRequested = true; }
+  /// Resolves a path from a world script: the world's folder first, then the project root.
+  std::string resolvePath(const std::string& path) const;
+
+  // --- used by behaviour bindings (module VMs; may run on worker threads) ---
+  Module& mutableModule(int i) { return m_modules[size_t(i)]; }
+  Mailbox& mailbox(int i) { return m_mailboxes[size_t(i)]; }
+  void faultModule(int i, const std::string& message);
+
+ private:
+  friend class BehaviourPool;
+  void ensurePhysics();
+  void runBehaviours();
+  void reportModuleOutput();
+  void runBehaviour(int i);
+  void routeMessages();
+  void applyActuators();
+  std::vector<int> componentOf(int m) const;
+
+  RunOptions m_options;
+  WorldSettings m_settings;
+  std::string m_worldFile;
+  std::unique_ptr<PhysicsWorld> m_physics;
+  std::map<std::string, std::unique_ptr<ModuleTypeDef>> m_types;
+  std::vector<Module> m_modules;
+  std::vector<std::unique_ptr<Behaviour>> m_behaviours;  ///< one VM per module (null: none)
+  std::vector<Mailbox> m_mailboxes;
+  std::vector<Connection> m_connections;
+  std::vector<DockEvent> m_events;
+  std::vector<Failure> m_failures;
+  std::vector<int> m_obstacles;  ///< physics parts
+  std::unique_ptr<WorldScript> m_script;
+  std::unique_ptr<BehaviourPool> m_pool;
+  bool m_groundAdded = false;
+  double m_groundFriction = 0.8, m_groundRestitution = 0;
+  bool m_started = false;
+  bool m_stopRequested = false;
+  bool m_fatal = false;
+  std::string m_scriptError;
+  double m_time = 0;
+  int64_t m_steps = 0;
+  double m_trackingSum = 0;
+  int64_t m_trackingCount = 0;
+  StepTimes m_times;
+};
+
+}  // namespace rm3d

@@ -1,0 +1,98 @@
+// World: joints (servo, velocity, limits, angle sign), connect, faults and determinism.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "test_world.h"
+
+using namespace rm3d;
+using rm3d::test::makeWorld;
+using rm3d::test::stepFor;
+
+namespace {
+const char* kSingle = R"(
+world.ground{}
+world.spawn("superbot", {at = {0, 0, 0.053}})
+)";
+}
+
+TEST_CASE("a servo reaches a 45 degree target within 2 degrees in 1 s, and the sign is right-handed") {
+  auto w = makeWorld(kSingle);
+  Module& m = w->mutableModule(0);
+  const int pitch = m.type->findJoint("pitch");
+  m.commands[size_t(pitch)] = {JointMode::Servo, kPi / 4};
+  stepFor(*w, 1.0);
+  CHECK(std::abs(w->jointAngle(0, pitch) - kPi / 4) < 2.0 / kDegPerRad);
+  // angle = rotation of the child (front_outer) relative to the parent about +y
+  const double rel = test::relativeAngle(*w, 0, m.type->findLink("front_inner"), m.type->findLink("front_outer"), Vec3::UnitY());
+  CHECK(std::abs(rel - kPi / 4) < 2.0 / kDegPerRad);
+}
+
+TEST_CASE("limits hold when a servo target or a velocity drive goes beyond them") {
+  auto w = makeWorld(kSingle);
+  Module& m = w->mutableModule(0);
+  const int roll = m.type->findJoint("roll"), yaw = m.type->findJoint("yaw");
+  m.commands[size_t(roll)] = {JointMode::Servo, 3.0};
+  m.commands[size_t(yaw)] = {JointMode::Velocity, -3.0};
+  double worstRoll = 0, worstYaw = 0;
+  for (int i = 0; i < 180; ++i) {
+    w->step();
+    worstRoll = std::max(worstRoll, w->jointAngle(0, roll));
+    worstYaw = std::min(worstYaw, w->jointAngle(0, yaw));
+  }
+  CHECK(worstRoll < kPi / 2 + 1.0 / kDegPerRad);
+  CHECK(w->jointAngle(0, roll) > kPi / 2 - 2.0 / kDegPerRad);  // it did drive to the limit
+  CHECK(worstYaw > -kPi / 2 - 2.0 / kDegPerRad);
+  CHECK(w->jointAngle(0, yaw) < -kPi / 2 + 3.0 / kDegPerRad);
+}
+
+TEST_CASE("a velocity drive turns at the commanded speed") {
+  auto w = makeWorld(kSingle);
+  Module& m = w->mutableModule(0);
+  const int yaw = m.type->findJoint("yaw");
+  m.commands[size_t(yaw)] = {JointMode::Velocity, 1.0};
+  stepFor(*w, 0.5);
+  const double a0 = w->jointAngle(0, yaw);
+  stepFor(*w, 0.5);
+  CHECK(w->jointAngle(0, yaw) - a0 == doctest::Approx(0.5).epsilon(0.05));
+  CHECK(w->jointVelocity(0, yaw) == doctest::Approx(1.0).epsilon(0.05));
+}
+
+TEST_CASE("a module rests on the ground at its dock height") {
+  auto w = makeWorld(kSingle);
+  stepFor(*w, 1.0);
+  const Pose p = w->modulePose(0);
+  CHECK(p.pos.z() == doctest::Approx(0.052).epsilon(0.05));
+  CHECK(std::abs(p.pos.x()) < 0.01);
+}
+
+TEST_CASE("spawning an unknown type or a missing behaviour is bad input with file:line") {
+  CHECK_THROWS_WITH_AS(makeWorld("world.spawn('superbat')"), doctest::Contains("test_world.lua:1: world.spawn: unknown module type 'superbat'"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(makeWorld("\nworld.spawn('superbot', {behavior='nope.lua'})"),
+                       doctest::Contains("test_world.lua:2: world.spawn: behavior 'nope.lua' not found"), InputError);
+  CHECK_THROWS_WITH_AS(makeWorld("world.spawn('superbot', {att={0,0,0}})"), doctest::Contains("unknown option 'att'"), InputError);
+  CHECK_THROWS_WITH_AS(makeWorld("world.set{dt='x'}"), doctest::Contains("option 'dt' must be a finite number"), InputError);
+}
+
+TEST_CASE("two worlds with the same seed step identically; several worlds live in one process") {
+  const char* script = R"(
+world.ground{}
+local prev
+for i = 1, 4 do
+  local m = world.spawn("superbot", {behavior = "behaviors/snake.lua", params = {index = i - 1}})
+  if prev then world.connect(prev, "back", m, "front") end
+  prev = m
+end)";
+  auto a = makeWorld(script);
+  auto b = makeWorld(script);
+  for (int i = 0; i < 120; ++i) {
+    a->step();
+    b->step();
+  }
+  nlohmann::json ja = a->summary(0), jb = b->summary(0);
+  CHECK(ja.dump() == jb.dump());
+  CHECK(a->modulePose(0).pos.x() != 0.0);
+}

@@ -18,6 +18,7 @@ struct RunArgs {
   bool strict = false;
   int threads = 1;
   std::string png, video;
+  std::string size;  ///< WxH for pictures
   bool quiet = false;
 };
 

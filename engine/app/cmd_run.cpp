@@ -10,6 +10,8 @@
 #include "app/app.h"
 #include "app/run_world.h"
 #include "core/error.h"
+#include "render/offscreen_renderer.h"
+#include "world/world_snapshot.h"
 
 namespace fs = std::filesystem;
 
@@ -68,16 +70,24 @@ int runCommand(const RunArgs& a, const std::string& root) {
   o.strict = a.strict;
   o.threads = a.threads;
   o.echoLog = !a.quiet;
-  if (!a.video.empty() || !a.png.empty()) {
-    std::fprintf(stderr, "rm3d run: --png and --video need the renderer, which this build does not have yet\n");
+  if (!a.video.empty()) {
+    std::fprintf(stderr, "rm3d run: --video is not in this build yet; use --png FILE for a picture of the last frame\n");
     return 2;
   }
-  if (!a.json.empty()) {
-    const fs::path dir = fs::absolute(a.json).parent_path();
+  // Check output paths before a long run, not after it.
+  for (const auto& [flag, path] : {std::pair{"--json", a.json}, std::pair{"--png", a.png}}) {
+    if (path.empty()) continue;
+    const fs::path dir = fs::absolute(path).parent_path();
     if (!fs::is_directory(dir)) {
-      std::fprintf(stderr, "rm3d run: --json %s: folder %s does not exist\n", a.json.c_str(), dir.string().c_str());
+      std::fprintf(stderr, "rm3d run: %s %s: folder %s does not exist\n", flag, path.c_str(), dir.string().c_str());
       return 2;
     }
+  }
+  int width = 1280, height = 720;
+  if (!a.size.empty() && (std::sscanf(a.size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||
+                          width > 8192 || height > 8192)) {
+    std::fprintf(stderr, "rm3d run: --size %s: expected WIDTHxHEIGHT, e.g. 1280x720\n", a.size.c_str());
+    return 2;
   }
   WorldRun r = runWorldFile(a.world, o, a.steps, a.seconds);
   World& w = *r.world;
@@ -96,6 +106,19 @@ int runCommand(const RunArgs& a, const std::string& root) {
     f << j.dump(2) << "\n";
     if (!f) {
       std::fprintf(stderr, "rm3d run: cannot write %s\n", a.json.c_str());
+      return 2;
+    }
+  }
+  if (!a.png.empty() && r.loadError.empty()) {
+    OffscreenRenderer renderer;
+    std::string perr;
+    if (!renderer.init(width, height, perr)) {
+      std::fprintf(stderr, "rm3d run: --png: %s\n", perr.c_str());
+      return 2;
+    }
+    renderer.draw(buildSnapshot(w), worldCamera(w));
+    if (!renderer.writePng(a.png, perr)) {
+      std::fprintf(stderr, "rm3d run: %s\n", perr.c_str());
       return 2;
     }
   }

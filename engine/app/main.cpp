@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   runCmd->add_option("--threads", run.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
   runCmd->add_option("--png", run.png, "write the last frame as PNG");
   runCmd->add_option("--video", run.video, "write a video (MP4)");
+  runCmd->add_option("--size", run.size, "picture size WxH (default 1280x720)");
   runCmd->add_flag("--quiet", run.quiet, "no module log lines");
 
   rm3d::TestArgs test;
@@ -61,6 +62,13 @@ int main(int argc, char** argv) {
   CLI::App* viewCmd = app.add_subcommand("view", "interactive window with hot reload");
   viewCmd->add_option("world", viewWorld, "world script")->required();
 
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string cmd = argv[1];
+    if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view") {
+      std::fprintf(stderr, "rm3d: unknown command '%s' (expected run, test, bench or view; see rm3d --help)\n", cmd.c_str());
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

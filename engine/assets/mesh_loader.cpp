@@ -67,7 +67,8 @@ bool loadMesh(const std::string& path, double scale, MeshData& out, std::string&
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
   if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || scene->mRootNode == nullptr) {
     const char* why = importer.GetErrorString();
-    err = path + ": cannot read mesh (" + std::string(why && *why ? why : "unknown format or empty scene") + ")";
+    err = path + ": cannot read mesh (" + std::string(why && *why ? why : "unknown format or empty scene") +
+          ")";
     return false;
   }
   collectNode(scene, scene->mRootNode, aiMatrix4x4(), scale, out);

@@ -143,6 +143,23 @@ int worldConnect(lua_State* L) {
   });
 }
 
+/// world.camera{eye={x,y,z}, target={x,y,z}, follow=module, fov=degrees}: the picture's view;
+/// with `follow`, the camera looks at that module and `eye` is an offset from it
+int worldCamera(lua_State* L) {
+  const char* fn = "world.camera";
+  checkOptionKeys(L, 1, fn, {"eye", "target", "follow", "fov"});
+  World::CameraDef c;
+  if (lua_getfield(L, 1, "eye") != LUA_TNIL) c.eye = optVec3Field(L, 1, fn, "eye", Vec3::Zero());
+  if (lua_getfield(L, 1, "target") != LUA_TNIL) c.target = optVec3Field(L, 1, fn, "target", Vec3::Zero());
+  if (lua_getfield(L, 1, "follow") != LUA_TNIL) c.follow = checkModule(L, -1);
+  lua_pop(L, 3);
+  c.fovDeg = optNumberField(L, 1, fn, "fov", 45.0);
+  if (c.fovDeg <= 1 || c.fovDeg >= 170) return luaL_error(L, "%s: fov must be between 1 and 170 degrees", fn);
+  if (c.follow >= 0 && !c.eye) c.eye = Vec3(0.6, -1.0, 0.6);
+  world(L).setCamera(c);
+  return 0;
+}
+
 /// world.modules() -> array of Module handles, in id order
 int worldModules(lua_State* L) {
   const int n = int(world(L).modules().size());
@@ -290,7 +307,7 @@ void openWorldApi(lua_State* L, WorldScript& s) {
   static const luaL_Reg fns[] = {{"set", worldSet},         {"ground", worldGround},   {"box", worldBox},
                                  {"sphere", worldSphere},   {"cylinder", worldCylinder}, {"mesh", worldMesh},
                                  {"spawn", worldSpawn},     {"connect", worldConnect}, {"modules", worldModules},
-                                 {"module", worldModule},   {"components", worldComponents},
+                                 {"module", worldModule},   {"components", worldComponents}, {"camera", worldCamera},
                                  {"on_step", worldOnStep},  {"at", worldAt},           {"every", worldEvery},
                                  {"stop", worldStop},       {"time", worldTime},       {"dt", worldDt},
                                  {nullptr, nullptr}};

@@ -5,13 +5,12 @@
 // InputError that name the file and the place in the data ("links[2].shapes[1]: ...").
 #include "script/module_type_loader.h"
 
-#include <lua.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <initializer_list>
+#include <lua.hpp>
 #include <map>
 #include <utility>
 
@@ -66,18 +65,33 @@ std::string childPath(const std::string& where, const std::string& key) {
   return where.empty() ? key : where + "." + key;
 }
 
-std::string indexPath(const std::string& where, int64_t i) { return where + "[" + std::to_string(i) + "]"; }
+std::string indexPath(const std::string& where, int64_t i) {
+  return where + "[" + std::to_string(i) + "]";
+}
 
 /// What a value is, for "expected X, got Y" messages.
 std::string describe(const LuaValue& v) {
   switch (v.type) {
-    case LUA_TNIL: return "nil";
-    case LUA_TBOOLEAN: return v.boolean ? "true" : "false";
-    case LUA_TNUMBER: return "the number " + formatNumber(v.number);
-    case LUA_TSTRING: return "the string '" + v.string + "'";
-    case LUA_TTABLE: return "a table";
-    case LUA_TFUNCTION: return "a function";
-    default: return "a value of an unsupported type";
+    case LUA_TNIL:
+      return "nil";
+    case LUA_TBOOLEAN:
+      return v.boolean ? "true" : "false";
+    case LUA_TNUMBER:
+      return "the number " + formatNumber(v.number);
+    case LUA_TSTRING:
+      return "the string '" + v.string + "'";
+    case LUA_TTABLE: {
+      std::string names;
+      for (const LuaEntry& e : v.entries)
+        if (!e.isIndex) names += (names.empty() ? "" : ", ") + e.key;
+      if (!names.empty()) return "a table with named fields (" + names + ")";
+      return v.entries.empty() ? "an empty table"
+                               : "a list of " + std::to_string(v.entries.size()) + " values";
+    }
+    case LUA_TFUNCTION:
+      return "a function";
+    default:
+      return "a value of an unsupported type";
   }
 }
 
@@ -94,7 +108,8 @@ class Copier {
         break;
       case LUA_TNUMBER:
         out.number = lua_tonumberx(m_L, idx, nullptr);
-        out.integral = lua_isinteger(m_L, idx) || (std::isfinite(out.number) && out.number == std::floor(out.number));
+        out.integral =
+            lua_isinteger(m_L, idx) || (std::isfinite(out.number) && out.number == std::floor(out.number));
         break;
       case LUA_TSTRING: {
         size_t len = 0;
@@ -118,11 +133,12 @@ class Copier {
   void copyTable(int idx, const std::string& where, int depth, LuaValue& out) {
     if (depth > kMaxDepth) fail(where, "tables nested too deeply");
     const void* id = lua_topointer(m_L, idx);
-    if (std::find(m_open.begin(), m_open.end(), id) != m_open.end()) fail(where, "a table that contains itself");
+    if (std::find(m_open.begin(), m_open.end(), id) != m_open.end())
+      fail(where, "a table that contains itself");
     if (!lua_checkstack(m_L, 4)) fail(where, "out of Lua stack space");
     m_open.push_back(id);
     lua_pushnil(m_L);
-    while (lua_next(m_L, idx) != 0) {  // raw traversal: metatables are ignored
+    while (lua_next(m_L, idx) != 0) {   // raw traversal: metatables are ignored
       const int top = lua_gettop(m_L);  // key at top - 1, value at top
       LuaEntry e;
       const int keyType = lua_type(m_L, top - 1);
@@ -164,7 +180,8 @@ class TypeReader {
 
   ModuleTypeDef read(const LuaValue& top) {
     if (top.type != LUA_TTABLE)
-      fail("", "expected the file to return a table { name = ..., links = { ... }, ... }, got " + describe(top));
+      fail("",
+           "expected the file to return a table { name = ..., links = { ... }, ... }, got " + describe(top));
     checkRecord(top, "", {"name", "root", "links", "joints", "docks"});
     ModuleTypeDef def;
     def.name = toName(require(top, "", "name"), "name");
@@ -172,7 +189,8 @@ class TypeReader {
 
     const auto links = toList(require(top, "", "links"), "links");
     if (links.empty()) fail("links", "a module type needs at least one link");
-    for (size_t i = 0; i < links.size(); ++i) def.links.push_back(readLink(*links[i], indexPath("links", i + 1)));
+    for (size_t i = 0; i < links.size(); ++i)
+      def.links.push_back(readLink(*links[i], indexPath("links", i + 1)));
     checkUnique(def.links, "links", "link");
 
     def.rootLink = 0;
@@ -186,7 +204,8 @@ class TypeReader {
     }
     if (const LuaValue* ds = find(top, "docks")) {
       const auto docks = toList(*ds, "docks");
-      for (size_t i = 0; i < docks.size(); ++i) def.docks.push_back(readDock(def, *docks[i], indexPath("docks", i + 1)));
+      for (size_t i = 0; i < docks.size(); ++i)
+        def.docks.push_back(readDock(def, *docks[i], indexPath("docks", i + 1)));
       checkUnique(def.docks, "docks", "dock");
     }
     checkConnected(def);
@@ -213,13 +232,16 @@ class TypeReader {
   }
 
   /// A table of named fields, each one of `allowed`.
-  void checkRecord(const LuaValue& v, const std::string& where, std::initializer_list<const char*> allowed) const {
+  void checkRecord(const LuaValue& v, const std::string& where,
+                   std::initializer_list<const char*> allowed) const {
     std::string expected;
     for (const char* k : allowed) expected += std::string(expected.empty() ? "" : ", ") + k;
-    if (v.type != LUA_TTABLE) fail(where, "expected a table with fields " + expected + ", got " + describe(v));
+    if (v.type != LUA_TTABLE)
+      fail(where, "expected a table with fields " + expected + ", got " + describe(v));
     for (const LuaEntry& e : v.entries) {
       if (e.isIndex)
-        fail(where, "unexpected list entry [" + std::to_string(e.index) + "] (expected named fields: " + expected + ")");
+        fail(where, "unexpected list entry [" + std::to_string(e.index) +
+                        "] (expected named fields: " + expected + ")");
       if (std::none_of(allowed.begin(), allowed.end(), [&](const char* k) { return e.key == k; }))
         fail(where, "unknown key '" + e.key + "' (expected one of: " + expected + ")");
     }
@@ -286,7 +308,8 @@ class TypeReader {
     }
     if (!ok) fail(where, "expected " + shape + ", got " + describe(v));
     std::vector<double> out;
-    for (size_t i = 0; i < v.entries.size(); ++i) out.push_back(toNumber(v.entries[i].value, indexPath(where, i + 1)));
+    for (size_t i = 0; i < v.entries.size(); ++i)
+      out.push_back(toNumber(v.entries[i].value, indexPath(where, i + 1)));
     return out;
   }
 
@@ -308,8 +331,9 @@ class TypeReader {
     for (size_t i = 0; i < items.size(); ++i) {
       const auto [it, fresh] = seen.emplace(items[i].name, i);
       if (!fresh)
-        fail(childPath(indexPath(list, i + 1), "name"), std::string("duplicate ") + what + " name '" + items[i].name +
-                                                             "' (also " + indexPath(list, it->second + 1) + ")");
+        fail(childPath(indexPath(list, i + 1), "name"), std::string("duplicate ") + what + " name '" +
+                                                            items[i].name + "' (also " +
+                                                            indexPath(list, it->second + 1) + ")");
     }
   }
 
@@ -335,11 +359,13 @@ class TypeReader {
       const std::string w = childPath(where, "color");
       const auto rgba = toNumbers(*c, w, 3, 4, "{r, g, b} or {r, g, b, a} (numbers from 0 to 1)");
       for (size_t i = 0; i < rgba.size(); ++i) {
-        if (rgba[i] < 0 || rgba[i] > 1) fail(indexPath(w, i + 1), "must be between 0 and 1 (got " + formatNumber(rgba[i]) + ")");
+        if (rgba[i] < 0 || rgba[i] > 1)
+          fail(indexPath(w, i + 1), "must be between 0 and 1 (got " + formatNumber(rgba[i]) + ")");
         link.color[i] = float(rgba[i]);
       }
     }
-    if (const LuaValue* f = find(v, "friction")) link.friction = toNonNegative(*f, childPath(where, "friction"));
+    if (const LuaValue* f = find(v, "friction"))
+      link.friction = toNonNegative(*f, childPath(where, "friction"));
     const std::string ws = childPath(where, "shapes");
     const auto shapes = toList(require(v, where, "shapes"), ws);
     if (shapes.empty()) fail(ws, "a link needs at least one shape");
@@ -356,7 +382,8 @@ class TypeReader {
   }
 
   ShapeDef readShape(const LuaValue& v, const std::string& where) {
-    checkRecord(v, where, {"box", "sphere", "cylinder", "mesh", "at", "rot", "quat", "mass", "scale", "axis"});
+    checkRecord(v, where,
+                {"box", "sphere", "cylinder", "mesh", "at", "rot", "quat", "mass", "scale", "axis"});
     ShapeDef s;
     const LuaValue* box = find(v, "box");
     const LuaValue* sphere = find(v, "sphere");
@@ -380,7 +407,8 @@ class TypeReader {
       s.kind = ShapeKind::Box;
       s.size = toVec3(*box, w);
       for (int i = 0; i < 3; ++i)
-        if (s.size[i] <= 0) fail(indexPath(w, i + 1), "box sides must be greater than 0 (got " + formatNumber(s.size[i]) + ")");
+        if (s.size[i] <= 0)
+          fail(indexPath(w, i + 1), "box sides must be greater than 0 (got " + formatNumber(s.size[i]) + ")");
     } else if (sphere) {
       s.kind = ShapeKind::Sphere;
       s.radius = toPositive(*sphere, childPath(where, "sphere"));
@@ -388,8 +416,10 @@ class TypeReader {
       const std::string w = childPath(where, "cylinder");
       s.kind = ShapeKind::Cylinder;
       const auto rl = toNumbers(*cylinder, w, 2, 2, "{radius, length} (2 numbers)");
-      if (rl[0] <= 0) fail(indexPath(w, 1), "radius must be greater than 0 (got " + formatNumber(rl[0]) + ")");
-      if (rl[1] <= 0) fail(indexPath(w, 2), "length must be greater than 0 (got " + formatNumber(rl[1]) + ")");
+      if (rl[0] <= 0)
+        fail(indexPath(w, 1), "radius must be greater than 0 (got " + formatNumber(rl[0]) + ")");
+      if (rl[1] <= 0)
+        fail(indexPath(w, 2), "length must be greater than 0 (got " + formatNumber(rl[1]) + ")");
       s.radius = rl[0];
       s.length = rl[1];
     } else {
@@ -400,7 +430,8 @@ class TypeReader {
 
     if (const LuaValue* at = find(v, "at")) s.pose.pos = toVec3(*at, childPath(where, "at"));
     if (rot) {
-      const auto rpy = toNumbers(*rot, childPath(where, "rot"), 3, 3, "{roll, pitch, yaw} (3 numbers, radians)");
+      const auto rpy =
+          toNumbers(*rot, childPath(where, "rot"), 3, 3, "{roll, pitch, yaw} (3 numbers, radians)");
       s.pose.rot = quatFromRpy(rpy[0], rpy[1], rpy[2]);
     } else if (quat) {
       const std::string w = childPath(where, "quat");
@@ -442,8 +473,9 @@ class TypeReader {
     }
     if (path.empty())
       fail(where, "mesh file '" + name + "' not found" +
-                      (given.is_absolute() ? std::string()
-                                           : " (looked in " + m_vm.displayName(m_dir.string()) + "/ and the project root)"));
+                      (given.is_absolute()
+                           ? std::string()
+                           : " (looked in " + m_vm.displayName(m_dir.string()) + "/ and the project root)"));
     const std::string display = m_vm.displayName(path);
     auto key = std::make_pair(path, scale);
     auto it = m_meshes.find(key);
@@ -464,7 +496,8 @@ class TypeReader {
 
   JointDef readJoint(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
     checkRecord(v, where,
-                {"name", "parent", "child", "pivot", "axis", "lower", "upper", "continuous", "torque", "speed", "gain"});
+                {"name", "parent", "child", "pivot", "axis", "lower", "upper", "continuous", "torque",
+                 "speed", "gain"});
     JointDef j;
     j.name = toName(require(v, where, "name"), childPath(where, "name"));
     j.parent = linkIndex(def, require(v, where, "parent"), childPath(where, "parent"));
@@ -485,7 +518,8 @@ class TypeReader {
       j.lower = toNumber(*lower, childPath(where, "lower"));
       j.upper = toNumber(*upper, childPath(where, "upper"));
       if (j.lower > j.upper)
-        fail(where, "lower (" + formatNumber(j.lower) + ") is greater than upper (" + formatNumber(j.upper) + ")");
+        fail(where,
+             "lower (" + formatNumber(j.lower) + ") is greater than upper (" + formatNumber(j.upper) + ")");
     }
     j.maxTorque = toNonNegative(require(v, where, "torque"), childPath(where, "torque"));
     j.maxSpeed = toNonNegative(require(v, where, "speed"), childPath(where, "speed"));
@@ -525,7 +559,8 @@ class TypeReader {
     if (const LuaValue* s = find(v, "symmetry")) {
       const std::string w = childPath(where, "symmetry");
       const double n = toNumber(*s, w);
-      if (!s->integral || n < 1 || n > 360) fail(w, "expected a whole number from 1 to 360, got " + formatNumber(n));
+      if (!s->integral || n < 1 || n > 360)
+        fail(w, "expected a whole number from 1 to 360, got " + formatNumber(n));
       d.symmetry = int(n);
     }
     return d;
@@ -546,7 +581,8 @@ class TypeReader {
     }
     for (size_t i = 0; i < reached.size(); ++i)
       if (!reached[i])
-        fail(indexPath("links", i + 1), "link '" + def.links[i].name + "' is not connected to the root link '" +
+        fail(indexPath("links", i + 1), "link '" + def.links[i].name +
+                                            "' is not connected to the root link '" +
                                             def.links[size_t(def.rootLink)].name + "' by joints");
   }
 
@@ -572,7 +608,11 @@ ModuleTypeDef loadModuleType(const std::string& path, const std::string& project
   const std::string display = vm.displayName(file.string());
 
   std::string err;
-  if (!vm.runFile(file.string(), 1, err)) throw InputError(err);  // already "file:line: ..."
+  if (!vm.runFile(file.string(), 1, err)) {
+    // Syntax and runtime errors already read "file:line: ..."; out-of-memory ones do not.
+    if (err.rfind(display + ":", 0) != 0) err = display + ": " + err;
+    throw InputError(err);
+  }
 
   LuaValue top;
   Copier(vm.L(), display).copy(lua_gettop(vm.L()), "", 0, top);

@@ -113,8 +113,8 @@ int moduleDockNormal(lua_State* L) {
 /// m:error() -> nil, or the module's fault text
 int moduleError(lua_State* L) {
   const Module& mod = world(L).module(checkModule(L, 1));
-  if (mod.fault.empty()) return 0;
-  lua_pushstring(L, mod.fault.c_str());
+  if (mod.fault.empty()) lua_pushnil(L);
+  else lua_pushstring(L, mod.fault.c_str());
   return 1;
 }
 

@@ -101,7 +101,7 @@ int World::addObstacle(const ShapeDef& shape, const Pose& pose, double mass, dou
   d.pose = pose;
   d.friction = friction;
   const int part = m_physics->addPart(d);
-  m_obstacles.push_back(part);
+  m_obstacles.push_back({part, shape, mass});
   return part;
 }
 
@@ -300,7 +300,7 @@ void World::reportModuleOutput() {
     }
     if (!m.fault.empty() && !m.faultReported) {
       m.faultReported = true;
-      std::fprintf(stderr, "fault in %s at t=%.3f: %s\n", m.name.c_str(), m_time, m.fault.c_str());
+      if (m_options.echoLog) std::fprintf(stderr, "fault in %s at t=%.3f: %s\n", m.name.c_str(), m_time, m.fault.c_str());
       if (m_options.strict) m_fatal = true;
     }
   }

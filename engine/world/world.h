@@ -33,7 +33,7 @@ struct RunOptions {
   bool strict = false;                        ///< a module fault stops the run
   int threads = 1;                            ///< behaviour worker threads
   size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
-  int64_t behaviourBudget = 10'000'000;       ///< Lua instructions per callback
+  int64_t behaviourBudget = 10'000'000;      ///< Lua instructions per callback
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
   bool echoLog = true;                        ///< print module log lines to stderr
 };
@@ -159,6 +159,20 @@ class World {
   void setSettings(const WorldSettings& s);
   void addGround(double friction, double restitution);
   int addObstacle(const ShapeDef& shape, const Pose& pose, double mass, double friction);
+  struct Obstacle {
+    int part;
+    ShapeDef shape;
+    double mass;
+  };
+  const std::vector<Obstacle>& obstacles() const { return m_obstacles; }
+  /// world.camera{...}: where pictures are taken from.
+  struct CameraDef {
+    std::optional<Vec3> eye, target;  ///< with `follow`, eye is an offset from the module
+    int follow = -1;                  ///< module index, or -1
+    double fovDeg = 45;
+  };
+  const CameraDef& camera() const { return m_camera; }
+  void setCamera(const CameraDef& c) { m_camera = c; }
   Pose obstaclePose(int body) const;
   Vec3 obstacleVelocity(int body) const;
   const ModuleTypeDef& moduleType(const std::string& name);
@@ -203,7 +217,8 @@ class World {
   std::vector<Connection> m_connections;
   std::vector<DockEvent> m_events;
   std::vector<Failure> m_failures;
-  std::vector<int> m_obstacles;  ///< physics parts
+  std::vector<Obstacle> m_obstacles;
+  CameraDef m_camera;
   std::unique_ptr<WorldScript> m_script;
   std::unique_ptr<BehaviourPool> m_pool;
   bool m_groundAdded = false;

@@ -1,6 +1,8 @@
 // Checks loadMesh: the generated SuperBot meshes load closed and outward-wound (positive volume,
 // exact for the side plate), scale applies, meshes merge, node transforms (mirrors included)
 // apply, and errors name the file.
+#include "assets/mesh_loader.h"
+
 #include <doctest/doctest.h>
 #include <unistd.h>
 
@@ -12,7 +14,6 @@
 #include <string>
 #include <utility>
 
-#include "assets/mesh_loader.h"
 #include "physics/shape_def.h"
 
 namespace fs = std::filesystem;
@@ -40,7 +41,9 @@ struct TempDir {
   }
 };
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 
 double meshVolume(const rm3d::MeshData& m) {
   rm3d::ShapeDef s;
@@ -92,7 +95,8 @@ std::string triangleGltf(const std::string& parentTransform) {
   buf.append(reinterpret_cast<const char*>(pos), sizeof pos);
   buf.append(reinterpret_cast<const char*>(idx), sizeof idx);
   return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
-  "nodes": [{)" + parentTransform + R"(, "children": [1]}, {"scale": [2, 2, 2], "mesh": 0}],
+  "nodes": [{)" +
+         parentTransform + R"(, "children": [1]}, {"scale": [2, 2, 2], "mesh": 0}],
   "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}]}],
   "accessors": [
     {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},

@@ -1,5 +1,7 @@
 // Checks loadModuleType: the shipped SuperBot (links, joints, docks, mass, docks on the link
 // surfaces) and the errors for bad module-type files, which must name the file and the place.
+#include "script/module_type_loader.h"
+
 #include <doctest/doctest.h>
 #include <unistd.h>
 
@@ -12,7 +14,6 @@
 #include <vector>
 
 #include "core/error.h"
-#include "script/module_type_loader.h"
 
 namespace fs = std::filesystem;
 using rm3d::Vec3;
@@ -41,7 +42,9 @@ struct TempDir {
   }
 };
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 
 /// The InputError message of loading `path`, or "" when it loads (any other exception fails).
 std::string loadError(const std::string& path, const std::string& root = kRoot) {
@@ -60,12 +63,18 @@ std::string twoLinks(const std::string& shape = "box = {0.1, 0.1, 0.1}", const s
   return "return {\n"
          "  name = 'pair',\n"
          "  links = {\n"
-         "    { name = 'a', mass = 1, shapes = { { " + shape + " } } },\n"
+         "    { name = 'a', mass = 1, shapes = { { " +
+         shape +
+         " } } },\n"
          "    { name = 'b', mass = 1, shapes = { { sphere = 0.05, at = {0.2, 0, 0} } } },\n"
          "  },\n"
          "  joints = { { name = 'j', parent = 'a', child = 'b', pivot = {0.1, 0, 0}, axis = {0, 0, 1},\n"
-         "               lower = -1, upper = 1, torque = 1, speed = 1" + joint + " } },\n"
-         "  docks = { { name = 'd', link = 'a', at = {0.05, 0, 0}, normal = {1, 0, 0}" + dock + " } },\n"
+         "               lower = -1, upper = 1, torque = 1, speed = 1" +
+         joint +
+         " } },\n"
+         "  docks = { { name = 'd', link = 'a', at = {0.05, 0, 0}, normal = {1, 0, 0}" +
+         dock +
+         " } },\n"
          "}\n";
 }
 
@@ -190,7 +199,8 @@ TEST_CASE("SuperBot dock faces lie on the surface of their link's shapes") {
       for (double a : {-0.5, 0.5})
         for (double b : {-0.5, 0.5}) {
           const Vec3 corner = d.pos + d.size * (a * d.up + b * side);
-          inside = inside && (corner.array() >= lo.array() - 1e-3).all() && (corner.array() <= hi.array() + 1e-3).all();
+          inside = inside && (corner.array() >= lo.array() - 1e-3).all() &&
+                   (corner.array() <= hi.array() + 1e-3).all();
         }
       carried = carried || inside;
     }
@@ -202,26 +212,28 @@ TEST_CASE("SuperBot dock faces lie on the surface of their link's shapes") {
 TEST_CASE("module-type details: defaults, normalising, cylinder axis, require, local meshes") {
   TempDir dir;
   dir.write("helper.lua", "return { size = 0.1 }\n");
-  std::ofstream(dir.path / "tet.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
-  const std::string path = dir.write("good.lua",
-                                     "local h = require('helper')\n"
-                                     "return {\n"
-                                     "  name = 'good',\n"
-                                     "  root = 'b',\n"
-                                     "  links = {\n"
-                                     "    { name = 'a', mass = 1, color = {1, 0, 0},\n"
-                                     "      shapes = { { cylinder = {0.02, h.size}, axis = 'x', mass = 0.25 },\n"
-                                     "                 { mesh = 'tet.obj', scale = 0.1, at = {0, 0, 1} } } },\n"
-                                     "    { name = 'b', mass = 2, shapes = { { box = {h.size, 0.1, 0.1}, rot = {0, 0, 0.5} } } },\n"
-                                     "  },\n"
-                                     "  joints = { { name = 'spin', parent = 'b', child = 'a', pivot = {0, 0, 0},\n"
-                                     "               axis = {0, 0, 2}, continuous = true, torque = 0, speed = 1 } },\n"
-                                     "  docks = {\n"
-                                     "    { name = 'side', link = 'a', at = {0, 0.02, 0}, normal = {0, 3, 0} },\n"
-                                     "    { name = 'top', link = 'b', at = {0, 0, 0.05}, normal = {0, 0, 1}, gender = 'male',\n"
-                                     "      size = 0.02, symmetry = 2 },\n"
-                                     "  },\n"
-                                     "}\n");
+  std::ofstream(dir.path / "tet.obj")
+      << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  const std::string path = dir.write(
+      "good.lua",
+      "local h = require('helper')\n"
+      "return {\n"
+      "  name = 'good',\n"
+      "  root = 'b',\n"
+      "  links = {\n"
+      "    { name = 'a', mass = 1, color = {1, 0, 0},\n"
+      "      shapes = { { cylinder = {0.02, h.size}, axis = 'x', mass = 0.25 },\n"
+      "                 { mesh = 'tet.obj', scale = 0.1, at = {0, 0, 1} } } },\n"
+      "    { name = 'b', mass = 2, shapes = { { box = {h.size, 0.1, 0.1}, rot = {0, 0, 0.5} } } },\n"
+      "  },\n"
+      "  joints = { { name = 'spin', parent = 'b', child = 'a', pivot = {0, 0, 0},\n"
+      "               axis = {0, 0, 2}, continuous = true, torque = 0, speed = 1 } },\n"
+      "  docks = {\n"
+      "    { name = 'side', link = 'a', at = {0, 0.02, 0}, normal = {0, 3, 0} },\n"
+      "    { name = 'top', link = 'b', at = {0, 0, 0.05}, normal = {0, 0, 1}, gender = 'male',\n"
+      "      size = 0.02, symmetry = 2 },\n"
+      "  },\n"
+      "}\n");
   const rm3d::ModuleTypeDef t = rm3d::loadModuleType(path, kRoot);
   CHECK(t.rootLink == 1);
   const rm3d::ShapeDef& cyl = t.links[0].shapes[0];
@@ -243,8 +255,8 @@ TEST_CASE("module-type details: defaults, normalising, cylinder axis, require, l
   CHECK(t.joints[0].axis.isApprox(Vec3::UnitZ()));
   CHECK(t.joints[0].maxTorque == 0);
   CHECK(t.docks[0].normal.isApprox(Vec3::UnitY()));
-  CHECK(t.docks[0].up.isApprox(Vec3::UnitZ()));       // default: z projected
-  CHECK(t.docks[1].up.isApprox(Vec3::UnitX()));       // default when the normal is along z
+  CHECK(t.docks[0].up.isApprox(Vec3::UnitZ()));  // default: z projected
+  CHECK(t.docks[1].up.isApprox(Vec3::UnitX()));  // default when the normal is along z
   CHECK(t.docks[1].gender == rm3d::Gender::Male);
   CHECK(t.docks[1].symmetry == 2);
   CHECK(t.docks[0].gender == rm3d::Gender::None);
@@ -254,7 +266,9 @@ TEST_CASE("module-type details: defaults, normalising, cylinder axis, require, l
 TEST_CASE("bad module-type files throw InputError naming the file and the place") {
   TempDir dir;
 
-  SUBCASE("the baseline file is fine") { CHECK(loadError(dir.write("ok.lua", twoLinks())) == ""); }
+  SUBCASE("the baseline file is fine") {
+    CHECK(loadError(dir.write("ok.lua", twoLinks())) == "");
+  }
   SUBCASE("unknown key") {
     const std::string msg = loadError(dir.write("bad_key.lua", twoLinks("box = {0.1, 0.1, 0.1}, sise = 2")));
     CHECK_MESSAGE(contains(msg, "bad_key.lua: links[1].shapes[1]: unknown key 'sise'"), msg);
@@ -288,7 +302,8 @@ TEST_CASE("bad module-type files throw InputError naming the file and the place"
     CHECK_MESSAGE(contains(msg, "empty.obj"), msg);
   }
   SUBCASE("Lua syntax error carries file and line") {
-    const std::string msg = loadError(dir.write("syntax.lua", "return {\n  name = 'x',\n  links = { { name = } },\n}\n"));
+    const std::string msg =
+        loadError(dir.write("syntax.lua", "return {\n  name = 'x',\n  links = { { name = } },\n}\n"));
     CHECK_MESSAGE(contains(msg, "syntax.lua:3:"), msg);
   }
   SUBCASE("Lua runtime error carries file and line") {
@@ -361,7 +376,8 @@ TEST_CASE("bad module-type files throw InputError naming the file and the place"
     CHECK_MESSAGE(contains(msg, "kinds.lua: links[1].shapes[1]: expected exactly one of box, sphere"), msg);
   }
   SUBCASE("bad gender") {
-    const std::string msg = loadError(dir.write("gender.lua", twoLinks("sphere = 0.1", "", ", gender = 'both'")));
+    const std::string msg =
+        loadError(dir.write("gender.lua", twoLinks("sphere = 0.1", "", ", gender = 'both'")));
     CHECK_MESSAGE(contains(msg, "gender.lua: docks[1].gender: unknown gender 'both'"), msg);
   }
   SUBCASE("up not perpendicular to the normal") {
@@ -385,8 +401,8 @@ TEST_CASE("bad module-type files throw InputError naming the file and the place"
   }
   SUBCASE("file names are shown relative to the project root") {
     const std::string root = (dir.path / "proj").string();
-    const std::string msg =
-        loadError(dir.write("proj/assets/modules/rel.lua", twoLinks("box = {0.1, 0.1, 0.1}, sise = 2")), root);
+    const std::string msg = loadError(
+        dir.write("proj/assets/modules/rel.lua", twoLinks("box = {0.1, 0.1, 0.1}, sise = 2")), root);
     CHECK_MESSAGE(msg.rfind("assets/modules/rel.lua: links[1].shapes[1]: unknown key 'sise'", 0) == 0, msg);
   }
 }

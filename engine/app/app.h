@@ -37,6 +37,8 @@ struct BenchArgs {
   std::optional<int> modules;
   std::optional<int> iterations;
   std::optional<int> substeps;
+  std::optional<int> jointIterations;
+  std::string type = "superbot";
   std::string json;
 };
 

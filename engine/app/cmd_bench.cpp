@@ -25,21 +25,23 @@ struct Scene {
 // The paper's scalability scenes (section IV.G), with one VM per module running a behaviour.
 const Scene kScenes[] = {
     {"snake_1000", "N SuperBots docked in one chain, each VM running the travelling-wave gait",
-     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations, duration = 1e9}
+     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,
+           joint_iterations = args.joint_iterations, duration = 1e9}
 world.ground{}
 local prev
 for i = 1, args.n do
-  local m = world.spawn("superbot", {at = {-(i - 1) * 0.19, 0, 0.053}, behavior = "behaviors/snake.lua",
+  local m = world.spawn(args.type, {at = {-(i - 1) * 0.19, 0, 0.053}, behavior = "behaviors/snake.lua",
                                      params = {index = i - 1}})
   if prev then world.connect(prev, "back", m, "front") end
   prev = m
 end)"},
     {"superbots_1000", "N separate SuperBots, every motor alternating between two targets",
-     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations, duration = 1e9}
+     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,
+           joint_iterations = args.joint_iterations, duration = 1e9}
 world.ground{}
 local side = math.ceil(math.sqrt(args.n))
 for i = 0, args.n - 1 do
-  world.spawn("superbot", {at = {(i % side) * 0.35, (i // side) * 0.30, 0.053}, behavior = "behaviors/alternate.lua"})
+  world.spawn(args.type, {at = {(i % side) * 0.35, (i // side) * 0.30, 0.053}, behavior = "behaviors/alternate.lua"})
 end)"},
 };
 
@@ -62,7 +64,9 @@ bool runScene(const Scene& s, double dt, const BenchArgs& a, const std::string& 
   o.params = {{"n", std::to_string(n)},
               {"dt", std::to_string(dt)},
               {"substeps", std::to_string(a.substeps.value_or(1))},
-              {"iterations", std::to_string(a.iterations.value_or(10))}};
+              {"iterations", std::to_string(a.iterations.value_or(10))},
+              {"joint_iterations", std::to_string(a.jointIterations.value_or(0))},
+              {"type", a.type}};
   World w(o);
   try {
     w.loadString(s.script, std::string("bench/") + s.name + ".lua");
@@ -131,6 +135,8 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   nlohmann::json out = {{"threads", a.threads},
                         {"iterations", a.iterations.value_or(10)},
                         {"substeps", a.substeps.value_or(1)},
+                        {"joint_iterations", a.jointIterations.value_or(0)},
+                        {"module_type", a.type},
                         {"scenes", nlohmann::json::array()}};
   for (const Scene* s : scenes)
     for (double dt : dts) {

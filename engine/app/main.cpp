@@ -56,6 +56,8 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--modules", bench.modules, "modules per scene (default 1000)")->check(CLI::PositiveNumber);
   benchCmd->add_option("--iterations", bench.iterations, "solver iterations (default 10, as the reference)")->check(CLI::PositiveNumber);
   benchCmd->add_option("--substeps", bench.substeps, "physics substeps per step (default 1)")->check(CLI::PositiveNumber);
+  benchCmd->add_option("--joint-iterations", bench.jointIterations, "solver iterations for hinge rows (default: as --iterations)")->check(CLI::NonNegativeNumber);
+  benchCmd->add_option("--type", bench.type, "module type (default superbot; superbot_box: brackets as boxes)");
   benchCmd->add_option("--json", bench.json, "write results as JSON");
 
   std::string viewWorld;

@@ -118,6 +118,7 @@ struct PhysicsWorld::Impl {
   explicit Impl(const PhysicsSettings& s) : settings(s) {
     world.setGravity(toBt(s.gravity));
     world.getSolverInfo().m_numIterations = s.solverIterations;
+    world.getSolverInfo().m_erp = btScalar(s.erp);
     filter.bodies = &bodies;
     world.getPairCache()->setOverlapFilterCallback(&filter);
   }
@@ -317,6 +318,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
   m->settings = s;
   m->world.setGravity(toBt(s.gravity));
   m->world.getSolverInfo().m_numIterations = s.solverIterations;
+  m->world.getSolverInfo().m_erp = btScalar(s.erp);
   for (Impl::Hinge& h : m->hinges)
     if (h.c) h.c->setOverrideNumSolverIterations(s.jointIterations > 0 ? s.jointIterations : -1);
 }

@@ -19,6 +19,9 @@ struct PhysicsSettings {
   Vec3 gravity = Vec3(0, 0, -9.81);
   int solverIterations = 10;  ///< sequential-impulse iterations per substep
   int jointIterations = 0;    ///< per-hinge override (0: use solverIterations)
+  /// Share of a joint's position error corrected per substep. Bullet's 0.2 lets SuperBot hinges
+  /// open by millimetres; 0.8 keeps them under 0.5 mm at the same cost (measured, README).
+  double erp = 0.8;
 };
 
 struct PartDesc {

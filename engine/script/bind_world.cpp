@@ -20,10 +20,10 @@ namespace {
 WorldScript& script(lua_State* L) { return *static_cast<WorldScript*>(LuaVm::from(L)->user()); }
 World& world(lua_State* L) { return script(L).world(); }
 
-/// world.set{dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=, joint_iterations=}
+/// world.set{dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=, joint_iterations=, erp=}
 int worldSet(lua_State* L) {
   const char* fn = "world.set";
-  checkOptionKeys(L, 1, fn, {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations"});
+  checkOptionKeys(L, 1, fn, {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations", "erp"});
   WorldSettings s = world(L).settings();
   const double dt = optNumberField(L, 1, fn, "dt", s.dt);
   if (dt <= 0 || dt > 1) return luaL_error(L, "%s: dt must be in (0, 1] seconds, got %f", fn, dt);
@@ -33,6 +33,8 @@ int worldSet(lua_State* L) {
   if (iters < 1 || iters > 10000) return luaL_error(L, "%s: solver_iterations must be 1..10000", fn);
   const long long jiters = optIntegerField(L, 1, fn, "joint_iterations", s.jointIterations);
   if (jiters < 0 || jiters > 10000) return luaL_error(L, "%s: joint_iterations must be 0..10000", fn);
+  const double erp = optNumberField(L, 1, fn, "erp", s.erp);
+  if (erp <= 0 || erp > 1) return luaL_error(L, "%s: erp must be in (0, 1]", fn);
   const double duration = optNumberField(L, 1, fn, "duration", s.duration);
   if (duration <= 0) return luaL_error(L, "%s: duration must be positive", fn);
   const long long seed = optIntegerField(L, 1, fn, "seed", (long long)s.seed);
@@ -43,6 +45,7 @@ int worldSet(lua_State* L) {
   s.solverIterations = int(iters);
   s.jointIterations = int(jiters);
   s.duration = duration;
+  s.erp = erp;
   s.seed = uint64_t(seed);
   s.gravity = optVec3Field(L, 1, fn, "gravity", s.gravity);
   world(L).setSettings(s);

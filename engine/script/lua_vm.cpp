@@ -100,7 +100,8 @@ bool LuaVm::loadFile(const std::string& path, std::string& err) {
     err = displayName(path) + ": cannot read file (" + std::strerror(errno) + ")";
     return false;
   }
-  const std::string chunk = "@" + displayName(path);
+  std::string chunk = "@";
+  chunk += displayName(path);
   if (luaL_loadbufferx(m_L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK) {
     err = lua_tostring(m_L, -1);
     lua_pop(m_L, 1);
@@ -167,7 +168,8 @@ int LuaVm::require(lua_State* L) {
           continue;
         }
         std::string text;
-        const std::string chunk = "@" + vm->displayName(path);
+        std::string chunk = "@";
+        chunk += vm->displayName(path);
         if (!readTextFile(path, text)) {
           lua_pushfstring(L, "require: cannot read '%s'", chunk.c_str() + 1);
         } else if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") == LUA_OK) {

@@ -71,6 +71,7 @@ void World::setSettings(const WorldSettings& s) {
     ps.gravity = s.gravity;
     ps.solverIterations = s.solverIterations;
     ps.jointIterations = s.jointIterations;
+    ps.erp = s.erp;
     m_physics->configure(ps);
   }
 }
@@ -81,6 +82,7 @@ void World::ensurePhysics() {
   ps.gravity = m_settings.gravity;
   ps.solverIterations = m_settings.solverIterations;
   ps.jointIterations = m_settings.jointIterations;
+  ps.erp = m_settings.erp;
   m_physics = std::make_unique<PhysicsWorld>(ps);
 }
 

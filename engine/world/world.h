@@ -44,6 +44,7 @@ struct WorldSettings {
   int substeps = 4;
   int solverIterations = 30;
   int jointIterations = 0;
+  double erp = 0.8;
   Vec3 gravity = Vec3(0, 0, -9.81);
   uint64_t seed = 1;
   double duration = 10.0;

@@ -8,6 +8,7 @@
 --   period     seconds per wave (default 1.5)
 --   lag        phase lag between neighbours, radians (default 2*pi/5)
 
+local gaits = require("gaits")
 local joint = module.joint(params.joint or "pitch")
 local amplitude = params.amplitude or 0.6
 local period = params.period or 1.5
@@ -15,6 +16,5 @@ local lag = params.lag or (2 * math.pi / 5)
 local index = params.index or 0
 
 function step(dt)
-  local t = sim.time()
-  joint:set_target(amplitude * math.sin(2 * math.pi * t / period + index * lag))
+  joint:set_target(gaits.wave(sim.time(), index, amplitude, period, lag))
 end

@@ -1,0 +1,22 @@
+# The README's Lua API reference names every function the bindings register (luaL_Reg tables in
+# engine/script/*.cpp), so the reference cannot silently fall behind the code.
+# Run as: cmake -DSRC=<source dir> -P api_reference.cmake
+file(GLOB sources ${SRC}/engine/script/*.cpp)
+file(READ ${SRC}/README.md readme)
+set(missing "")
+foreach(f ${sources})
+  file(READ ${f} text)
+  string(REGEX MATCHALL "\\{\"[a-z_]+\", [A-Za-z]+\\}" regs "${text}")
+  foreach(r ${regs})
+    string(REGEX REPLACE "\\{\"([a-z_]+)\".*" "\\1" name "${r}")
+    string(FIND "${readme}" "${name}(" at1)
+    string(FIND "${readme}" "${name}{" at2)
+    if(at1 EQUAL -1 AND at2 EQUAL -1)
+      list(APPEND missing "${name} (${f})")
+    endif()
+  endforeach()
+endforeach()
+if(missing)
+  message(FATAL_ERROR "README.md's Lua API reference does not mention: ${missing}")
+endif()
+message(STATUS "every bound Lua function is in the README")

@@ -73,8 +73,8 @@
 -- Dock `up` references: +z for front, back, left and right; -x (towards the back of the
 -- module) for up and down.
 
-local kEndPlate = "../meshes/superbot_end_plate.obj"
-local kSidePlate = "../meshes/superbot_side_plate.obj"
+local kEndPlate = "assets/meshes/superbot_end_plate.obj"  -- from the project root, so variants
+local kSidePlate = "assets/meshes/superbot_side_plate.obj" -- elsewhere can require this file
 local kOuterColor = { 0.95, 0.55, 0.1 }  -- orange brackets
 local kInnerColor = { 0.25, 0.25, 0.28 } -- dark grey halves
 local kLimit = math.pi / 2

@@ -1,7 +1,9 @@
 // Dock-routed messages. A message sent on a dock in step t is routed over the connection in
-// the same step and delivered into the receiver's mailbox at the start of step t+1.
+// the same step and becomes readable by the receiver at step t+1 (plus the channel's delay).
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
 #include <deque>
 #include <vector>
 
@@ -10,23 +12,29 @@
 namespace rm3d {
 
 struct Message {
-  int dock = -1;     ///< receiving dock (index in the receiver's type)
+  int dock = -1;     ///< sending dock in an outbox; receiving dock once routed
   double time = 0;   ///< sim time it was sent
+  int64_t due = 0;   ///< step at whose start it becomes readable
   LuaValue data;
 };
 
 /// One module's message queues. The outbox is written only by the module's own behaviour
-/// (safe to fill from worker threads); inbox and pending are touched only between phases.
+/// (safe to fill from worker threads); pending and inbox are touched only between phases.
 struct Mailbox {
-  std::vector<Message> outbox;  ///< dock = sending dock
-  std::vector<Message> pending; ///< routed to this module, visible next step
-  std::deque<Message> inbox;    ///< readable now, oldest first
+  std::vector<Message> outbox;   ///< this step's sends, in order
+  std::vector<Message> pending;  ///< routed to this module, in flight, in routing order
+  std::deque<Message> inbox;     ///< readable now, oldest first
   size_t sent = 0, received = 0, dropped = 0;
 
-  /// Step phase 1: what was routed last step becomes readable.
-  void deliver() {
-    for (Message& m : pending) inbox.push_back(std::move(m));
-    pending.clear();
+  /// Step phase 1: messages due by `step` become readable, keeping their order.
+  void deliver(int64_t step) {
+    if (pending.empty()) return;
+    size_t kept = 0;
+    for (Message& m : pending) {
+      if (m.due <= step) inbox.push_back(std::move(m));
+      else pending[kept++] = std::move(m);
+    }
+    pending.resize(kept);
   }
   /// Oldest message (on `dock`, or on any dock when dock < 0); false when none.
   bool take(int dock, Message& out) {
@@ -38,6 +46,14 @@ struct Mailbox {
         return true;
       }
     return false;
+  }
+  /// Drops messages still in flight towards `dock` (its connection is gone); returns how many.
+  size_t dropInFlight(int dock) {
+    const size_t before = pending.size();
+    pending.erase(std::remove_if(pending.begin(), pending.end(), [dock](const Message& m) { return m.dock == dock; }),
+                  pending.end());
+    dropped += before - pending.size();
+    return before - pending.size();
   }
 };
 

@@ -41,6 +41,16 @@ struct DockDef {
   Gender gender = Gender::None;
   double size = 0.034;         ///< face side, m
   int symmetry = 4;            ///< ways the face can mate about its normal (4: square)
+  // Run-time docking: a free, enabled dock attracts a compatible one within `captureRadius`
+  // whose face looks back within `captureAngle`, and latches when the faces are within
+  // `latchDistance` and `latchAngle` (normals and one of the `symmetry` orientations).
+  double captureRadius = 0.03;     ///< m
+  double captureAngle = 0.5236;    ///< rad (30 deg)
+  double latchDistance = 0.004;    ///< m
+  double latchAngle = 0.0873;      ///< rad (5 deg)
+  double pull = 2.0;               ///< N, the magnet's pull inside the capture radius
+  double strength = 100.0;         ///< N: a connection breaks above this transmitted force
+  double strengthTorque = 10.0;    ///< N m: ... or above this transmitted torque
 };
 
 struct ModuleTypeDef {

@@ -63,12 +63,14 @@ struct PhysicsWorld::Impl {
     double friction = 0.8, restitution = 0;
     int owner = -1;
     std::vector<int> hinges;
+    std::vector<int> locks;  // parts locked to this one
   };
   struct Body {
     btRigidBody* rb = nullptr;
     btCompoundShape* compound = nullptr;  // owned when the body has several shapes
     std::vector<int> parts;
-    std::vector<int> owners;  // sorted module indices
+    std::vector<int> owners;     // sorted module indices
+    std::vector<int> childPart;  // compound child index -> part
   };
   struct Hinge {
     HingeDesc d;
@@ -78,6 +80,11 @@ struct PhysicsWorld::Impl {
     double value = 0;
     double angle = 0;   // unwrapped
     double rawLast = 0;
+    std::unique_ptr<btJointFeedback> feedback;  // reactions, when load tracking is on
+  };
+  struct Force {
+    int part;
+    Vec3 force, point, torque;
   };
 
   /// Pairs whose bodies share a module never collide (a module's own links, docked neighbours).
@@ -114,6 +121,12 @@ struct PhysicsWorld::Impl {
   std::vector<btCollisionShape*> extraShapes;  // ground plane
   std::vector<btRigidBody*> extraBodies;
   int liveBodies = 0;
+  std::vector<Force> forces;
+  // Load tracking (dock breakage): state at the start of the last substep, and the contact and
+  // hinge forces on each part during it (torques about the world origin).
+  bool tracking = false;
+  double lastH = 0;
+  std::vector<Vec3> partVelBefore, bodyOmegaBefore, partExtForce, partExtTorque;
 
   explicit Impl(const PhysicsSettings& s) : settings(s) {
     world.setGravity(toBt(s.gravity));
@@ -155,8 +168,10 @@ struct PhysicsWorld::Impl {
   Pose partPose(int p) const { return bodyPose(parts[p].body) * parts[p].inBody; }
 
   /// Builds one rigid body from parts placed at the given world poses, with the given momentum.
+  /// Builds one rigid body from parts placed at the given world poses. With `angIsVelocity`,
+  /// `ang` is the angular velocity, else the angular momentum about the new centre of mass.
   int buildBody(const std::vector<int>& ids, const std::vector<Pose>& world_, const Vec3& linMomentum,
-                const Vec3& angMomentum) {
+                const Vec3& ang, bool angIsVelocity = false) {
     double mass = 0;
     bool isStatic = false;
     Vec3 com = Vec3::Zero();
@@ -211,6 +226,7 @@ struct PhysicsWorld::Impl {
       if (p.owner >= 0) b.owners.push_back(p.owner);
       for (size_t k = 0; k < p.shapes.size(); ++k) {
         const Pose childPose = p.inBody * p.shapePoses[k];
+        b.childPart.push_back(ids[i]);
         if (shapeCount == 1 && isIdentity(childPose)) {
           shape = p.shapes[k];
         } else {
@@ -236,7 +252,7 @@ struct PhysicsWorld::Impl {
       // world inertia = R diag R^T
       const Eigen::Matrix3d r = frame.rot.toRotationMatrix();
       const Eigen::Matrix3d iw = r * principal.asDiagonal() * r.transpose();
-      b.rb->setAngularVelocity(toBt(iw.ldlt().solve(angMomentum)));
+      b.rb->setAngularVelocity(toBt(angIsVelocity ? ang : Vec3(iw.ldlt().solve(ang))));
     }
     world.addRigidBody(b.rb);
     ++liveBodies;
@@ -257,6 +273,10 @@ struct PhysicsWorld::Impl {
     // right-handed rotations of B about the axis, so limits, angles and speeds change sign here.
     if (h.d.limited) h.c->setLimit(btScalar(-h.d.upper), btScalar(-h.d.lower));
     if (settings.jointIterations > 0) h.c->setOverrideNumSolverIterations(settings.jointIterations);
+    if (tracking) {
+      if (!h.feedback) h.feedback = std::make_unique<btJointFeedback>();
+      h.c->setJointFeedback(h.feedback.get());
+    }
     world.addConstraint(h.c, true);
   }
 
@@ -265,6 +285,71 @@ struct PhysicsWorld::Impl {
     world.removeConstraint(h.c);
     delete h.c;
     h.c = nullptr;
+  }
+
+  /// Hinges attached to any of the parts, sorted.
+  std::vector<int> hingesOf(const std::vector<int>& ids) const {
+    std::vector<int> out;
+    for (int id : ids)
+      for (int h : parts[id].hinges) out.push_back(h);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  Vec3 partComWorld(int p) const { return partPose(p) * parts[p].com; }
+
+  Vec3 partComVelocity(int p) const {
+    const btRigidBody* rb = bodies[parts[p].body].rb;
+    return fromBt(rb->getVelocityInLocalPoint(toBt(partComWorld(p)) - rb->getCenterOfMassPosition()));
+  }
+
+  void snapshotVelocities() {
+    partVelBefore.resize(parts.size());
+    bodyOmegaBefore.resize(bodies.size());
+    for (size_t b = 0; b < bodies.size(); ++b)
+      if (bodies[b].rb) bodyOmegaBefore[b] = fromBt(bodies[b].rb->getAngularVelocity());
+    for (size_t p = 0; p < parts.size(); ++p) partVelBefore[p] = partComVelocity(int(p));
+  }
+
+  int partOfChild(int body, int child) const {
+    const Body& b = bodies[size_t(body)];
+    if (b.childPart.size() == 1 || child < 0 || child >= int(b.childPart.size())) return b.childPart.empty() ? -1 : b.childPart[0];
+    return b.childPart[size_t(child)];
+  }
+
+  /// Contact and hinge forces on each part during the substep just taken.
+  void accumulateLoads(double h) {
+    lastH = h;
+    partExtForce.assign(parts.size(), Vec3::Zero());
+    partExtTorque.assign(parts.size(), Vec3::Zero());
+    auto add = [&](int part, const Vec3& f, const Vec3& at) {
+      if (part < 0) return;
+      partExtForce[size_t(part)] += f;
+      partExtTorque[size_t(part)] += at.cross(f);
+    };
+    for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+      const btPersistentManifold* man = dispatcher.getManifoldByIndexInternal(m);
+      const int b0 = man->getBody0()->getUserIndex(), b1 = man->getBody1()->getUserIndex();
+      for (int k = 0; k < man->getNumContacts(); ++k) {
+        const btManifoldPoint& pt = man->getContactPoint(k);
+        const btVector3 j = pt.m_normalWorldOnB * pt.m_appliedImpulse + pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
+                            pt.m_lateralFrictionDir2 * pt.m_appliedImpulseLateral2;
+        const Vec3 f = fromBt(j) / h;  // on body 0; the opposite on body 1
+        if (b0 >= 0) add(partOfChild(b0, pt.m_index0), f, fromBt(pt.getPositionWorldOnA()));
+        if (b1 >= 0) add(partOfChild(b1, pt.m_index1), -f, fromBt(pt.getPositionWorldOnB()));
+      }
+    }
+    for (const Hinge& hg : hinges) {
+      if (!hg.c || !hg.feedback) continue;
+      const btJointFeedback& fb = *hg.feedback;
+      const Vec3 ca = fromBt(hg.c->getRigidBodyA().getCenterOfMassPosition());
+      const Vec3 cb = fromBt(hg.c->getRigidBodyB().getCenterOfMassPosition());
+      partExtForce[size_t(hg.d.partA)] += fromBt(fb.m_appliedForceBodyA);
+      partExtTorque[size_t(hg.d.partA)] += fromBt(fb.m_appliedTorqueBodyA) + ca.cross(fromBt(fb.m_appliedForceBodyA));
+      partExtForce[size_t(hg.d.partB)] += fromBt(fb.m_appliedForceBodyB);
+      partExtTorque[size_t(hg.d.partB)] += fromBt(fb.m_appliedTorqueBodyB) + cb.cross(fromBt(fb.m_appliedForceBodyB));
+    }
   }
 
   double rawAngle(const Hinge& h) const {
@@ -397,6 +482,11 @@ int PhysicsWorld::addHinge(const HingeDesc& desc) {
 }
 
 void PhysicsWorld::lockParts(int a, int b) {
+  auto& la = m->parts[a].locks;
+  if (a != b && std::find(la.begin(), la.end(), b) == la.end()) {
+    la.push_back(b);
+    m->parts[b].locks.push_back(a);
+  }
   const int ba = m->parts[a].body, bb = m->parts[b].body;
   if (ba == bb) return;
   std::vector<int> ids = m->bodies[ba].parts;
@@ -426,16 +516,112 @@ void PhysicsWorld::lockParts(int a, int b) {
     const Vec3 diag(inv.x() > 0 ? 1 / inv.x() : 0, inv.y() > 0 ? 1 / inv.y() : 0, inv.z() > 0 ? 1 / inv.z() : 0);
     ang += r * diag.asDiagonal() * r.transpose() * w + (c - com).cross(bm * v);
   }
-  std::vector<int> touched;
-  for (int id : ids)
-    for (int h : m->parts[id].hinges) touched.push_back(h);
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  const std::vector<int> touched = m->hingesOf(ids);
   for (int h : touched) m->removeHinge(m->hinges[h]);
   m->destroyBody(m->bodies[ba]);
   m->destroyBody(m->bodies[bb]);
   m->buildBody(ids, poses, lin, ang);
   for (int h : touched) m->makeHinge(m->hinges[h]);
+}
+
+std::vector<int> PhysicsWorld::lockedGroup(int part, int skipA, int skipB) const {
+  std::vector<int> out{part};
+  std::vector<char> seen(m->parts.size(), 0);
+  seen[size_t(part)] = 1;
+  for (size_t k = 0; k < out.size(); ++k)
+    for (int q : m->parts[size_t(out[k])].locks) {
+      if ((out[k] == skipA && q == skipB) || (out[k] == skipB && q == skipA) || seen[size_t(q)]) continue;
+      seen[size_t(q)] = 1;
+      out.push_back(q);
+    }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void PhysicsWorld::unlockParts(int a, int b) {
+  auto drop = [&](int from, int to) {
+    auto& v = m->parts[from].locks;
+    v.erase(std::remove(v.begin(), v.end(), to), v.end());
+  };
+  drop(a, b);
+  drop(b, a);
+  const int body = m->parts[a].body;
+  if (body != m->parts[b].body) return;
+  const std::vector<int> all = m->bodies[body].parts;
+  std::vector<std::vector<int>> groups;
+  std::vector<char> placed(m->parts.size(), 0);
+  for (int p : all) {
+    if (placed[size_t(p)]) continue;
+    groups.push_back(lockedGroup(p));
+    for (int q : groups.back()) placed[size_t(q)] = 1;
+  }
+  if (groups.size() < 2) return;  // still held together another way (a loop)
+  const btRigidBody* rb = m->bodies[body].rb;
+  const Vec3 v = fromBt(rb->getLinearVelocity()), w = fromBt(rb->getAngularVelocity());
+  const Vec3 c = fromBt(rb->getCenterOfMassPosition());
+  std::vector<Pose> poses(m->parts.size());
+  for (int p : all) poses[size_t(p)] = m->partPose(p);
+  const std::vector<int> touched = m->hingesOf(all);
+  for (int h : touched) m->removeHinge(m->hinges[h]);
+  m->destroyBody(m->bodies[body]);
+  for (const std::vector<int>& g : groups) {
+    std::vector<Pose> gp;
+    double mass = 0;
+    Vec3 com = Vec3::Zero();
+    for (int p : g) {
+      gp.push_back(poses[size_t(p)]);
+      mass += m->parts[p].mass;
+      com += m->parts[p].mass * (poses[size_t(p)] * m->parts[p].com);
+    }
+    if (mass > 0) com /= mass;
+    m->buildBody(g, gp, mass * (v + w.cross(com - c)), w, true);
+  }
+  for (int h : touched) m->makeHinge(m->hinges[h]);
+}
+
+void PhysicsWorld::addForce(int part, const Vec3& force, const Vec3& worldPoint) {
+  m->forces.push_back({part, force, worldPoint, Vec3::Zero()});
+}
+
+void PhysicsWorld::addTorque(int part, const Vec3& torque) {
+  m->forces.push_back({part, Vec3::Zero(), Vec3::Zero(), torque});
+}
+
+void PhysicsWorld::setLoadTracking(bool on) {
+  if (m->tracking == on) return;
+  m->tracking = on;
+  for (Impl::Hinge& h : m->hinges) {
+    if (on && !h.feedback) h.feedback = std::make_unique<btJointFeedback>();
+    if (h.c) h.c->setJointFeedback(on ? h.feedback.get() : nullptr);
+  }
+}
+
+Wrench PhysicsWorld::internalLoad(const std::vector<int>& parts, const Vec3& point) const {
+  Wrench w;
+  if (!m->tracking || m->lastH <= 0 || m->partExtForce.size() != m->parts.size() ||
+      m->partVelBefore.size() != m->parts.size())
+    return w;
+  const double h = m->lastH;
+  const Vec3 g = m->settings.gravity;
+  Vec3 torqueOrigin = Vec3::Zero();
+  for (int p : parts) {
+    const Impl::Part& part = m->parts[size_t(p)];
+    if (part.mass <= 0) continue;
+    const int b = part.body;
+    const btRigidBody* rb = m->bodies[size_t(b)].rb;
+    const Vec3 c = m->partComWorld(p);
+    const Vec3 a = (m->partComVelocity(p) - m->partVelBefore[size_t(p)]) / h;
+    const Vec3 omegaBefore = size_t(b) < m->bodyOmegaBefore.size() ? m->bodyOmegaBefore[size_t(b)] : Vec3::Zero();
+    const Vec3 alpha = (fromBt(rb->getAngularVelocity()) - omegaBefore) / h;
+    const Eigen::Matrix3d r = m->partPose(p).rot.toRotationMatrix();
+    const Eigen::Matrix3d iw = r * part.inertia * r.transpose();
+    // Bullet integrates without the gyroscopic term, so dL/dt = I alpha here.
+    const Vec3 dp = part.mass * a;
+    w.force += dp - part.mass * g - m->partExtForce[size_t(p)];
+    torqueOrigin += c.cross(dp) + iw * alpha - c.cross(part.mass * g) - m->partExtTorque[size_t(p)];
+  }
+  w.torque = torqueOrigin - point.cross(w.force);
+  return w;
 }
 
 void PhysicsWorld::transformParts(const std::vector<int>& parts, const Pose& delta) {
@@ -454,6 +640,10 @@ void PhysicsWorld::transformParts(const std::vector<int>& parts, const Pose& del
   }
 }
 
+void PhysicsWorld::setPartVelocity(int part, const Vec3& v) {
+  m->bodies[size_t(m->parts[size_t(part)].body)].rb->setLinearVelocity(toBt(v));
+}
+
 void PhysicsWorld::setMotor(int hinge, MotorMode mode, double value) {
   Impl::Hinge& h = m->hinges[hinge];
   h.mode = mode;
@@ -465,9 +655,17 @@ void PhysicsWorld::step(double dt, int substeps) {
   const double h = dt / n;
   for (int s = 0; s < n; ++s) {
     for (Impl::Hinge& hg : m->hinges) m->applyMotor(hg, h);
+    for (const Impl::Force& f : m->forces) {
+      btRigidBody* rb = m->bodies[size_t(m->parts[size_t(f.part)].body)].rb;
+      rb->applyForce(toBt(f.force), toBt(f.point) - rb->getCenterOfMassPosition());
+      rb->applyTorque(toBt(f.torque));
+    }
+    if (m->tracking && s == n - 1) m->snapshotVelocities();
     m->world.stepSimulation(btScalar(h), 0, btScalar(h));
     for (Impl::Hinge& hg : m->hinges) m->updateAngle(hg);
   }
+  m->forces.clear();
+  if (m->tracking) m->accumulateLoads(h);
 }
 
 Pose PhysicsWorld::partPose(int part) const { return m->partPose(part); }

@@ -45,6 +45,12 @@ struct HingeDesc {
 
 enum class MotorMode { Off, Servo, Velocity };
 
+/// A force and a torque (about a stated point), world frame.
+struct Wrench {
+  Vec3 force = Vec3::Zero();
+  Vec3 torque = Vec3::Zero();
+};
+
 struct HingeQuality {
   double maxGap = 0;    ///< metres between the two pivots
   double maxAngle = 0;  ///< radians between the two axes
@@ -62,13 +68,32 @@ class PhysicsWorld {
   void addGroundPlane(double friction, double restitution);
   int addPart(const PartDesc& desc);
   int addHinge(const HingeDesc& desc);
-  /// Merges the bodies holding a and b into one rigid body (no-op if already one).
+  /// Merges the bodies holding a and b into one rigid body (no-op if already one) and records
+  /// the lock a-b.
   void lockParts(int a, int b);
+  /// Removes the lock a-b; the body splits into one body per group of parts still locked
+  /// together, each keeping the velocity it had as part of the whole.
+  void unlockParts(int a, int b);
+  /// Parts locked to `part` (directly or through others), including itself, without using the
+  /// lock a-b. Deterministic order.
+  std::vector<int> lockedGroup(int part, int skipA = -1, int skipB = -1) const;
+  /// A force (N) at a world point on a part during the next step() (magnets, pushes).
+  void addForce(int part, const Vec3& force, const Vec3& worldPoint);
+  /// A torque (N m, world frame) on a part's body during the next step().
+  void addTorque(int part, const Vec3& torque);
+  /// Turns on what internalLoad needs: hinge reaction feedback and per-part contact forces.
+  void setLoadTracking(bool on);
+  /// The force and torque (about `point`) that the rest of their rigid body exerted on the given
+  /// parts during the last substep, from Newton-Euler on those parts: their rate of change of
+  /// momentum minus gravity, contact forces and hinge reactions acting on them.
+  Wrench internalLoad(const std::vector<int>& parts, const Vec3& point) const;
   /// Moves parts rigidly by `delta` (world frame), keeping their relative poses. For placing
   /// modules before they interact; velocities are kept.
   void transformParts(const std::vector<int>& parts, const Pose& delta);
 
   void setMotor(int hinge, MotorMode mode, double value);
+  /// Sets the linear velocity of the body holding the part (a thrown obstacle).
+  void setPartVelocity(int part, const Vec3& v);
   /// Advances by dt in `substeps` equal steps, updating servos before each one.
   void step(double dt, int substeps);
 

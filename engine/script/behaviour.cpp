@@ -52,6 +52,17 @@ bool Behaviour::callInit(std::string& err) {
   return true;
 }
 
+bool Behaviour::callOnDock(int dock, const char* event, std::string& err) {
+  if (m_ctx.onDockRef == LUA_NOREF) return true;
+  lua_State* L = m_vm.L();
+  lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.onDockRef);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.dockTableRef);
+  lua_getfield(L, -1, m_ctx.world->module(m_ctx.module).type->docks[size_t(dock)].name.c_str());
+  lua_remove(L, -2);
+  lua_pushstring(L, event);
+  return m_vm.call(2, 0, err);
+}
+
 bool Behaviour::callStep(double dt, std::string& err) {
   if (m_ctx.stepRef == LUA_NOREF) return true;
   lua_State* L = m_vm.L();

@@ -16,6 +16,7 @@ struct BehaviourContext {
   World* world = nullptr;
   int module = -1;
   int stepRef = -2, initRef = -2, onDockRef = -2, onReloadRef = -2;  // LUA_NOREF
+  int dockTableRef = -2;  ///< name -> Dock userdata
 };
 
 class Behaviour {
@@ -25,6 +26,8 @@ class Behaviour {
   bool load(const std::string& path, std::string& err);
   bool callInit(std::string& err);
   bool callStep(double dt, std::string& err);
+  /// on_dock(dock, event) if the behaviour defines it.
+  bool callOnDock(int dock, const char* event, std::string& err);
   LuaVm& vm() { return m_vm; }
 
  private:

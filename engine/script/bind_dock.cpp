@@ -10,7 +10,6 @@ namespace rm3d {
 namespace {
 
 constexpr const char* kDockMeta = "rm3d.Dock";
-constexpr size_t kMessageLimit = 64 * 1024;
 
 struct DockUd {
   int index;
@@ -63,7 +62,8 @@ int dockName(lua_State* L) {
   return 1;
 }
 
-/// dock:send(value) -> bool: queue a plain Lua value (<= 64 KiB) for the module docked here;
+/// dock:send(value) -> bool: queue a plain Lua value (<= the channel's max_bytes, 64 KiB by default)
+/// for the module docked here;
 /// it can read it next step. False when nothing is engaged here.
 int dockSend(lua_State* L) {
   const int d = checkDock(L);
@@ -79,7 +79,7 @@ int dockSend(lua_State* L) {
     Message msg;
     msg.dock = d;
     msg.time = c.world->time();
-    ok = readLuaValue(L, 2, msg.data, kMessageLimit, err);
+    ok = readLuaValue(L, 2, msg.data, c.world->channel().maxBytes, err);
     if (ok) c.world->mailbox(c.module).outbox.push_back(std::move(msg));
     else lua_pushfstring(L, "dock:send: %s", err.c_str());
   }

@@ -215,6 +215,8 @@ void openModuleApi(lua_State* L, BehaviourContext& ctx) {
     pushDock(L, int(i));
     lua_setfield(L, -2, m.type->docks[i].name.c_str());
   }
+  lua_pushvalue(L, -1);
+  ctx.dockTableRef = luaL_ref(L, LUA_REGISTRYINDEX);
   lua_pushcclosure(L, moduleDock, 1);
   lua_setfield(L, -2, "dock");
   static const luaL_Reg moduleFns[] = {{"joints", moduleJoints}, {"docks", moduleDocks}, {"receive", moduleReceive},

@@ -67,7 +67,8 @@ int worldGround(lua_State* L) {
 }
 
 int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
-  checkOptionKeys(L, 1, fn, {"size", "radius", "length", "file", "scale", "at", "rot", "quat", "mass", "friction"});
+  checkOptionKeys(L, 1, fn, {"size", "radius", "length", "file", "scale", "at", "rot", "quat", "mass", "friction", "velocity"});
+  const Vec3 velocity = optVec3Field(L, 1, fn, "velocity", Vec3::Zero());
   const Pose pose = optPoseFields(L, 1, fn);
   const double mass = optNumberField(L, 1, fn, "mass", 0.0);
   const double friction = optNumberField(L, 1, fn, "friction", 0.8);
@@ -88,12 +89,13 @@ int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
     s.length = length;
     if (kind == ShapeKind::Hull) loadHullShape(world(L), file, scale, s);
     const int part = world(L).addObstacle(s, pose, mass, friction);
+    if (mass > 0 && velocity.squaredNorm() > 0) world(L).physics().setPartVelocity(part, velocity);
     pushBody(L, part);
     return 1;
   });
 }
 
-/// world.box{size={x,y,z}, at=, rot=, mass=, friction=} -> Body (mass 0: static)
+/// world.box{size={x,y,z}, at=, rot=, mass=, friction=, velocity=} -> Body (mass 0: static)
 int worldBox(lua_State* L) { return addObstacle(L, "world.box", ShapeKind::Box); }
 /// world.sphere{radius=, at=, mass=, friction=} -> Body
 int worldSphere(lua_State* L) { return addObstacle(L, "world.sphere", ShapeKind::Sphere); }
@@ -102,7 +104,8 @@ int worldCylinder(lua_State* L) { return addObstacle(L, "world.cylinder", ShapeK
 /// world.mesh{file=, scale=, at=, rot=, mass=, friction=} -> Body (convex hull of the mesh)
 int worldMesh(lua_State* L) { return addObstacle(L, "world.mesh", ShapeKind::Hull); }
 
-/// world.spawn(type, {at=, rot=, name=, behavior=, params=}) -> Module
+/// world.spawn(type, {at=, rot=, name=, behavior=, params=, fixed=}) -> Module; type is a name
+/// in assets/modules or a path to a module-type file; fixed = true holds the root link in place
 int worldSpawn(lua_State* L) {
   const char* fn = "world.spawn";
   const char* type = luaL_checkstring(L, 1);
@@ -110,7 +113,8 @@ int worldSpawn(lua_State* L) {
     lua_settop(L, 1);
     lua_newtable(L);
   }
-  checkOptionKeys(L, 2, fn, {"at", "rot", "quat", "name", "behavior", "behaviour", "params"});
+  checkOptionKeys(L, 2, fn, {"at", "rot", "quat", "name", "behavior", "behaviour", "params", "fixed"});
+  const bool fixed = optBoolField(L, 2, fn, "fixed", false);
   const Pose pose = optPoseFields(L, 2, fn);
   const char* name = optStringField(L, 2, fn, "name");
   const char* behaviour = optStringField(L, 2, fn, "behavior");
@@ -121,6 +125,7 @@ int worldSpawn(lua_State* L) {
     World::SpawnDef def;
     def.type = type;
     def.pose = pose;
+    def.fixed = fixed;
     if (name) def.name = name;
     if (behaviour) def.behaviour = behaviour;
     std::string err;
@@ -161,6 +166,37 @@ int worldCamera(lua_State* L) {
   if (c.follow >= 0 && !c.eye) c.eye = Vec3(0.6, -1.0, 0.6);
   world(L).setCamera(c);
   return 0;
+}
+
+/// world.channel{loss=, delay=, rate=, max_bytes=}: how messages travel over connections
+int worldChannel(lua_State* L) {
+  const char* fn = "world.channel";
+  checkOptionKeys(L, 1, fn, {"loss", "delay", "rate", "max_bytes"});
+  ChannelDef c = world(L).channel();
+  c.loss = optNumberField(L, 1, fn, "loss", c.loss);
+  if (c.loss < 0 || c.loss > 1) return luaL_error(L, "%s: loss must be a probability in [0, 1]", fn);
+  const long long delay = optIntegerField(L, 1, fn, "delay", c.delay);
+  const long long rate = optIntegerField(L, 1, fn, "rate", c.rate);
+  const long long bytes = optIntegerField(L, 1, fn, "max_bytes", (long long)c.maxBytes);
+  if (delay < 0 || delay > 1000000) return luaL_error(L, "%s: delay must be 0 or more steps", fn);
+  if (rate < 0) return luaL_error(L, "%s: rate must be 0 (unlimited) or more messages per step", fn);
+  if (bytes < 16) return luaL_error(L, "%s: max_bytes must be at least 16", fn);
+  c.delay = int(delay);
+  c.rate = int(rate);
+  c.maxBytes = size_t(bytes);
+  world(L).setChannel(c);
+  return 0;
+}
+
+/// world.graph([format]) -> the connection graph now, as "json" (default) or "dot" text
+int worldGraph(lua_State* L) {
+  static const char* const formats[] = {"json", "dot", nullptr};
+  const int f = luaL_checkoption(L, 1, "json", formats);
+  return callWorld(L, "world.graph", [&] {
+    const std::string text = f == 0 ? world(L).graphJson() : world(L).graphDot();
+    lua_pushlstring(L, text.data(), text.size());
+    return 1;
+  });
 }
 
 /// world.modules() -> array of Module handles, in id order
@@ -311,6 +347,7 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"sphere", worldSphere},   {"cylinder", worldCylinder}, {"mesh", worldMesh},
                                  {"spawn", worldSpawn},     {"connect", worldConnect}, {"modules", worldModules},
                                  {"module", worldModule},   {"components", worldComponents}, {"camera", worldCamera},
+                                 {"channel", worldChannel}, {"graph", worldGraph},
                                  {"on_step", worldOnStep},  {"at", worldAt},           {"every", worldEvery},
                                  {"stop", worldStop},       {"time", worldTime},       {"dt", worldDt},
                                  {nullptr, nullptr}};

@@ -528,7 +528,8 @@ class TypeReader {
   }
 
   DockDef readDock(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
-    checkRecord(v, where, {"name", "link", "at", "normal", "up", "gender", "size", "symmetry"});
+    checkRecord(v, where, {"name", "link", "at", "normal", "up", "gender", "size", "symmetry", "capture_radius",
+                           "capture_angle", "latch_distance", "latch_angle", "pull", "strength", "strength_torque"});
     DockDef d;
     d.name = toName(require(v, where, "name"), childPath(where, "name"));
     d.link = linkIndex(def, require(v, where, "link"), childPath(where, "link"));
@@ -563,6 +564,18 @@ class TypeReader {
         fail(w, "expected a whole number from 1 to 360, got " + formatNumber(n));
       d.symmetry = int(n);
     }
+    struct Field {
+      const char* key;
+      double* value;
+      bool positive;
+    };
+    for (const Field& f : {Field{"capture_radius", &d.captureRadius, true}, Field{"capture_angle", &d.captureAngle, true},
+                           Field{"latch_distance", &d.latchDistance, true}, Field{"latch_angle", &d.latchAngle, true},
+                           Field{"pull", &d.pull, false}, Field{"strength", &d.strength, true},
+                           Field{"strength_torque", &d.strengthTorque, true}})
+      if (const LuaValue* x = find(v, f.key))
+        *f.value = f.positive ? toPositive(*x, childPath(where, f.key)) : toNonNegative(*x, childPath(where, f.key));
+    if (d.latchDistance > d.captureRadius) fail(childPath(where, "latch_distance"), "must not exceed capture_radius");
     return d;
   }
 
@@ -604,7 +617,7 @@ ModuleTypeDef loadModuleType(const std::string& path, const std::string& project
   LuaVm vm(kMemoryLimit);
   vm.setInstructionBudget(kInstructionBudget);
   vm.setDisplayRoot(root.string());
-  vm.setRequirePath({dir.string(), (root / "lua").string()});
+  vm.setRequirePath({dir.string(), (root / "assets" / "modules").string(), (root / "lua").string()});
   const std::string display = vm.displayName(file.string());
 
   std::string err;

@@ -1,6 +1,7 @@
 // Module and Body handles of the world script.
 #include "script/world_handles.h"
 
+#include <cmath>
 #include <cstring>
 
 #include "assets/mesh_loader.h"
@@ -95,6 +96,14 @@ int moduleDockState(lua_State* L) {
   return 1;
 }
 
+/// m:dock_gender(name) -> "none" | "male" | "female"
+int moduleDockGender(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const int d = checkDockName(L, 2, m);
+  lua_pushstring(L, genderName(world(L).module(m).type->docks[size_t(d)].gender));
+  return 1;
+}
+
 /// m:dock_position(name) -> {x,y,z} of the dock face centre
 int moduleDockPosition(lua_State* L) {
   const int m = checkModule(L, 1);
@@ -108,6 +117,55 @@ int moduleDockNormal(lua_State* L) {
   const Pose p = world(L).dockPose(m, checkDockName(L, 2, m));
   pushVec3(L, p.rot * Vec3::UnitX());
   return 1;
+}
+
+/// m:dock_load(name) -> {force=, torque=} through the connection at that dock in the last step
+/// (N, N m about the dock face), or nil when nothing is engaged there
+int moduleDockLoad(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const int d = checkDockName(L, 2, m);
+  for (const Connection& c : world(L).connections())
+    if ((c.moduleA == m && c.dockA == d) || (c.moduleB == m && c.dockB == d)) {
+      const Wrench w = world(L).connectionLoad(c);
+      lua_createtable(L, 0, 2);
+      lua_pushnumber(L, w.force.norm());
+      lua_setfield(L, -2, "force");
+      lua_pushnumber(L, w.torque.norm());
+      lua_setfield(L, -2, "torque");
+      return 1;
+    }
+  lua_pushnil(L);
+  return 1;
+}
+
+/// m:set_dock(name, enabled): enable or disable a dock from the world (a fault injection, a
+/// supervisor); a disabled dock releases its connection in the next step
+int moduleSetDock(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const int d = checkDockName(L, 2, m);
+  luaL_checktype(L, 3, LUA_TBOOLEAN);
+  const Module& mod = world(L).module(m);
+  if (!mod.fault.empty()) return luaL_error(L, "set_dock: %s is faulted; its docks cannot change", mod.name.c_str());
+  world(L).mutableModule(m).docks[size_t(d)].enabled = lua_toboolean(L, 3);
+  return 0;
+}
+
+/// m:push({x,y,z}) : a force (N) on the module's root link during the next step
+int modulePush(lua_State* L) {
+  const int m = checkModule(L, 1);
+  double v[3];
+  luaL_checktype(L, 2, LUA_TTABLE);
+  for (int i = 0; i < 3; ++i) {
+    lua_rawgeti(L, 2, i + 1);
+    int isnum = 0;
+    v[i] = lua_tonumberx(L, -1, &isnum);
+    if (!isnum || !std::isfinite(v[i])) return luaL_argerror(L, 2, "expected a force {x, y, z} in newtons");
+    lua_pop(L, 1);
+  }
+  const Module& mod = world(L).module(m);
+  const int part = mod.parts[size_t(mod.type->rootLink)];
+  world(L).physics().addForce(part, Vec3(v[0], v[1], v[2]), world(L).physics().partPose(part).pos);
+  return 0;
 }
 
 /// m:error() -> nil, or the module's fault text
@@ -171,7 +229,8 @@ void openWorldHandles(lua_State* L) {
       {"position", modulePosition},         {"orientation", moduleOrientation},   {"velocity", moduleVelocity},
       {"link_position", moduleLinkPosition}, {"joint_angle", moduleJointAngle},    {"joint_angles", moduleJointAngles},
       {"dock_state", moduleDockState},       {"dock_position", moduleDockPosition}, {"dock_normal", moduleDockNormal},
-      {"error", moduleError},                {nullptr, nullptr}};
+      {"error", moduleError},                {"dock_load", moduleDockLoad},         {"set_dock", moduleSetDock},
+      {"push", modulePush},                  {"dock_gender", moduleDockGender},     {nullptr, nullptr}};
   luaL_newmetatable(L, kModuleMeta);
   luaL_newlib(L, moduleMethods);
   lua_setfield(L, -2, "methods");

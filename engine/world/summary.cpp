@@ -51,13 +51,18 @@ nlohmann::json World::summary(double wallSeconds) const {
                      dockName(c.moduleB, c.dockB)});
   j["connections"] = conns;
   json events = json::array();
-  for (const DockEvent& e : m_events)
-    events.push_back({{"time", e.time},
-                      {"event", e.kind},
-                      {"module_a", m_modules[size_t(e.moduleA)].id},
-                      {"dock_a", dockName(e.moduleA, e.dockA)},
-                      {"module_b", m_modules[size_t(e.moduleB)].id},
-                      {"dock_b", dockName(e.moduleB, e.dockB)}});
+  for (const DockEvent& e : m_events) {
+    json ej = {{"time", e.time},
+               {"event", e.kind},
+               {"module_a", m_modules[size_t(e.moduleA)].id},
+               {"dock_a", dockName(e.moduleA, e.dockA)},
+               {"module_b", m_modules[size_t(e.moduleB)].id},
+               {"dock_b", dockName(e.moduleB, e.dockB)}};
+    if (e.force >= 0) ej["load"] = {{"force", e.force}, {"torque", e.torque}};
+    events.push_back(ej);
+  }
+  const MessageStats ms = messageStats();
+  j["messages"] = {{"sent", ms.sent}, {"received", ms.received}, {"dropped", ms.dropped}};
   j["events"] = events;
   json failures = json::array();
   for (const Failure& f : m_failures) failures.push_back({{"time", f.time}, {"message", f.message}});

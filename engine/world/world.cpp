@@ -7,6 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <numeric>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "docking/dock_frame.h"
@@ -124,6 +127,15 @@ std::string World::resolvePath(const std::string& path) const {
 const ModuleTypeDef& World::moduleType(const std::string& name) {
   auto it = m_types.find(name);
   if (it != m_types.end()) return *it->second;
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".lua") == 0) {
+    // A module-type file given by path (a variant kept next to a world, say).
+    const std::string path = resolvePath(name);
+    if (path.empty()) throw InputError("module type file '" + name + "' not found (looked in the world's folder and the project root)");
+    auto def = std::make_unique<ModuleTypeDef>(loadModuleType(path, m_options.projectRoot));
+    const ModuleTypeDef& ref = *def;
+    m_types.emplace(name, std::move(def));
+    return ref;
+  }
   const bool plain = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
   });
@@ -164,10 +176,12 @@ int World::spawn(const SpawnDef& def) {
   m.behaviourFile = behaviourPath;
   m.params = def.params;
   m.rng.seed(m_settings.seed, uint64_t(m.id));
-  for (const LinkDef& link : type.links) {
+  m.fixed = def.fixed;
+  for (size_t l = 0; l < type.links.size(); ++l) {
+    const LinkDef& link = type.links[l];
     PartDesc d;
     d.shapes = link.shapes;
-    d.mass = link.mass;
+    d.mass = def.fixed && int(l) == type.rootLink ? 0.0 : link.mass;  // mass 0: static
     d.pose = def.pose;  // every link frame is the module frame at zero joint angles
     d.friction = link.friction;
     d.owner = index;
@@ -227,26 +241,94 @@ void World::connect(int a, int da, int b, int db, int orientation) {
   if (orientation < 0 || orientation >= sym)
     throw InputError("orientation must be 0.." + std::to_string(sym - 1) + ", got " + std::to_string(orientation));
   const std::vector<int> comp = componentOf(b);
-  if (std::find(comp.begin(), comp.end(), a) != comp.end()) {
+  const DockError e = dockError(dockPose(a, da), dockPose(b, db));
+  const bool facing = e.gap <= 0.001 && e.angle <= 1.0 / kDegPerRad;
+  if (std::find(comp.begin(), comp.end(), a) != comp.end() && !facing) {
     // Closing a loop: both docks are placed already; they must face each other.
-    const DockError e = dockError(dockPose(a, da), dockPose(b, db));
-    if (e.gap > 0.005 || e.angle > 3.0 / kDegPerRad)
-      throw InputError("" + ma.name + " and " + mb.name +
-                       " are already connected another way and these docks do not face each other (gap " +
-                       std::to_string(e.gap * 1000) + " mm, angle " + std::to_string(e.angle * kDegPerRad) + " deg)");
-  } else {
-    const Pose want = matingFrame(dockPose(a, da), orientation, sym);
-    const Pose delta = want * dockPose(b, db).inverse();
-    std::vector<int> parts;
-    for (int m : comp)
-      for (int p : m_modules[size_t(m)].parts) parts.push_back(p);
-    m_physics->transformParts(parts, delta);
+    throw InputError(ma.name + " and " + mb.name +
+                     " are already connected another way and these docks do not face each other (gap " +
+                     std::to_string(e.gap * 1000) + " mm, angle " + std::to_string(e.angle * kDegPerRad) +
+                     " deg; at most 1 mm and 1 deg)");
+  }
+  // Docks that already face each other are locked where they are (closing a loop, or modules
+  // placed by hand); otherwise b's side is moved so the faces mate exactly.
+  lock(a, da, b, db, orientation, !facing);
+}
+
+void World::lock(int a, int da, int b, int db, int orientation, bool snap) {
+  Module& ma = m_modules[size_t(a)];
+  Module& mb = m_modules[size_t(b)];
+  const DockDef& defA = ma.type->docks[size_t(da)];
+  const DockDef& defB = mb.type->docks[size_t(db)];
+  if (snap) {
+    // Move the side that is free to move (not holding a fixed module, not already joined to
+    // the other) so the two faces mate exactly.
+    std::vector<int> compB = componentOf(b), compA = componentOf(a);
+    const bool loop = std::find(compB.begin(), compB.end(), a) != compB.end();
+    auto holdsFixed = [&](const std::vector<int>& c) {
+      return std::any_of(c.begin(), c.end(), [&](int m) { return m_modules[size_t(m)].fixed; });
+    };
+    if (!loop) {
+      const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
+      if (!holdsFixed(compB)) {
+        const Pose delta = matingFrame(dockPose(a, da), orientation, sym) * dockPose(b, db).inverse();
+        std::vector<int> parts;
+        for (int m : compB)
+          for (int p : m_modules[size_t(m)].parts) parts.push_back(p);
+        m_physics->transformParts(parts, delta);
+      } else if (!holdsFixed(compA)) {
+        const Pose delta = matingFrame(dockPose(b, db), orientation, sym) * dockPose(a, da).inverse();
+        std::vector<int> parts;
+        for (int m : compA)
+          for (int p : m_modules[size_t(m)].parts) parts.push_back(p);
+        m_physics->transformParts(parts, delta);
+      }
+    }
   }
   m_physics->lockParts(ma.parts[size_t(defA.link)], mb.parts[size_t(defB.link)]);
   ma.docks[size_t(da)] = {ma.docks[size_t(da)].enabled, true, b, db};
   mb.docks[size_t(db)] = {mb.docks[size_t(db)].enabled, true, a, da};
-  m_connections.push_back({a, da, b, db});
+  Connection c{a, da, b, db, m_time};
+  m_connections.push_back(c);
   m_events.push_back({m_time, "engaged", a, da, b, db});
+  if (m_started) {
+    ma.dockEvents.emplace_back(da, "engaged");
+    mb.dockEvents.emplace_back(db, "engaged");
+  }
+}
+
+void World::release(size_t index, const char* kind, double force, double torque) {
+  const Connection c = m_connections[index];
+  m_connections.erase(m_connections.begin() + std::ptrdiff_t(index));
+  Module& ma = m_modules[size_t(c.moduleA)];
+  Module& mb = m_modules[size_t(c.moduleB)];
+  m_physics->unlockParts(ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)],
+                         mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)]);
+  const bool broken = std::string_view(kind) == "broken";
+  ma.docks[size_t(c.dockA)].brokeFromModule = broken ? c.moduleB : -1;
+  ma.docks[size_t(c.dockA)].brokeFromDock = broken ? c.dockB : -1;
+  mb.docks[size_t(c.dockB)].brokeFromModule = broken ? c.moduleA : -1;
+  mb.docks[size_t(c.dockB)].brokeFromDock = broken ? c.dockA : -1;
+  for (auto [m, d] : {std::pair<Module*, int>{&ma, c.dockA}, std::pair<Module*, int>{&mb, c.dockB}}) {
+    DockState& st = m->docks[size_t(d)];
+    st.engaged = false;
+    st.peerModule = st.peerDock = -1;
+    m->dockEvents.emplace_back(d, kind);
+  }
+  m_mailboxes[size_t(c.moduleA)].dropInFlight(c.dockA);  // counted as dropped by the receiver
+  m_mailboxes[size_t(c.moduleB)].dropInFlight(c.dockB);
+  m_events.push_back({m_time, kind, c.moduleA, c.dockA, c.moduleB, c.dockB, force, torque});
+}
+
+bool World::disconnect(int m, int dock) {
+  for (size_t i = 0; i < m_connections.size(); ++i) {
+    const Connection& c = m_connections[i];
+    if ((c.moduleA == m && c.dockA == dock) || (c.moduleB == m && c.dockB == dock)) {
+      release(i, "disengaged", -1, -1);
+      return true;
+    }
+  }
+  return false;
 }
 
 void World::addFailure(const std::string& message) { m_failures.push_back({m_time, message}); }
@@ -264,6 +346,9 @@ void World::start() {
   if (m_started) return;
   ensurePhysics();
   m_started = true;
+  m_channelRng.seed(m_settings.seed, 0xC4A77E1ull);
+  for (const auto& [name, type] : m_types)
+    for (const DockDef& d : type->docks) m_captureCell = std::max(m_captureCell, d.captureRadius);
   for (size_t i = 0; i < m_modules.size(); ++i) {
     Behaviour* b = m_behaviours[i].get();
     if (!b || !m_modules[i].fault.empty()) continue;
@@ -279,10 +364,23 @@ bool World::finished() const {
 
 void World::runBehaviour(int i) {
   Behaviour* b = m_behaviours[size_t(i)].get();
-  if (!b) return;
+  if (!b) {
+    m_modules[size_t(i)].dockEvents.clear();
+    return;
+  }
   Module& m = m_modules[size_t(i)];
-  if (!m.fault.empty()) return;
+  if (!m.fault.empty()) {
+    m.dockEvents.clear();
+    return;
+  }
   std::string err;
+  for (const auto& [dock, kind] : m.dockEvents)
+    if (!b->callOnDock(dock, kind, err)) {
+      m.fault = err.empty() ? "fault" : err;
+      m.dockEvents.clear();
+      return;
+    }
+  m.dockEvents.clear();
   if (!b->callStep(m_settings.dt, err)) m.fault = err.empty() ? "fault" : err;
 }
 
@@ -313,17 +411,172 @@ void World::routeMessages() {
     Mailbox& box = m_mailboxes[i];
     if (box.outbox.empty()) continue;
     const Module& m = m_modules[i];
-    for (Message& msg : box.outbox) {
+    if (m_channel.rate > 0) m_dockSent.assign(m.docks.size(), 0);
+    size_t kept = 0;
+    for (size_t k = 0; k < box.outbox.size(); ++k) {
+      Message& msg = box.outbox[k];
       const DockState& d = m.docks[size_t(msg.dock)];
       if (!d.engaged) {
         ++box.dropped;
         continue;
       }
-      msg.dock = d.peerDock;
-      m_mailboxes[size_t(d.peerModule)].pending.push_back(std::move(msg));
+      if (m_channel.rate > 0 && m_dockSent[size_t(msg.dock)]++ >= m_channel.rate) {
+        // Bandwidth: at most `rate` messages leave a dock per step; the rest wait, in order.
+        if (kept != k) box.outbox[kept] = std::move(msg);
+        ++kept;
+        continue;
+      }
       ++box.sent;
+      if (m_channel.loss > 0 && m_channelRng.uniform() < m_channel.loss) {
+        ++m_lostMessages;
+        continue;
+      }
+      msg.dock = d.peerDock;
+      msg.due = m_steps + 1 + m_channel.delay;
+      m_mailboxes[size_t(d.peerModule)].pending.push_back(std::move(msg));
     }
-    box.outbox.clear();
+    box.outbox.resize(kept);
+  }
+}
+
+void World::undockPhase() {
+  for (size_t i = 0; i < m_connections.size();) {
+    const Connection& c = m_connections[i];
+    if (!m_modules[size_t(c.moduleA)].docks[size_t(c.dockA)].enabled ||
+        !m_modules[size_t(c.moduleB)].docks[size_t(c.dockB)].enabled)
+      release(i, "disengaged", -1, -1);
+    else
+      ++i;
+  }
+}
+
+int World::bestOrientation(int a, int da, int b, int db) const {
+  const DockDef& defA = m_modules[size_t(a)].type->docks[size_t(da)];
+  const DockDef& defB = m_modules[size_t(b)].type->docks[size_t(db)];
+  const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
+  const Pose pa = dockPose(a, da), pb = dockPose(b, db);
+  int best = 0;
+  double bestAngle = 1e9;
+  for (int k = 0; k < sym; ++k) {
+    const Pose want = matingFrame(pa, k, sym);
+    const double ang = angleBetween(want.rot * Vec3::UnitZ(), pb.rot * Vec3::UnitZ());
+    if (ang < bestAngle) {
+      bestAngle = ang;
+      best = k;
+    }
+  }
+  return best;
+}
+
+void World::dockPhase() {
+  // Free, enabled docks, hashed into cells of the largest capture radius; only docks in the
+  // same or neighbouring cells are compared (no all-pairs search).
+  m_freeDocks.clear();
+  for (size_t i = 0; i < m_modules.size(); ++i) {
+    Module& m = m_modules[i];
+    for (size_t d = 0; d < m.docks.size(); ++d) {
+      DockState& st = m.docks[d];
+      if (!st.enabled || st.engaged) continue;
+      const Pose pose = dockPose(int(i), int(d));
+      if (st.brokeFromModule >= 0 &&
+          (pose.pos - dockPose(st.brokeFromModule, st.brokeFromDock).pos).norm() > m.type->docks[d].captureRadius)
+        st.brokeFromModule = st.brokeFromDock = -1;
+      m_freeDocks.push_back({int(i), int(d), pose});
+    }
+  }
+  if (m_freeDocks.size() < 2) return;
+  const double cell = m_captureCell;
+  auto cellOf = [cell](const Vec3& p) {
+    return Eigen::Vector3i(int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell)), int(std::floor(p.z() / cell)));
+  };
+  auto key = [](const Eigen::Vector3i& c) {
+    return (uint64_t(uint32_t(c.x())) * 73856093ull) ^ (uint64_t(uint32_t(c.y())) * 19349663ull) ^
+           (uint64_t(uint32_t(c.z())) * 83492791ull);
+  };
+  m_dockCells.clear();
+  for (size_t i = 0; i < m_freeDocks.size(); ++i) m_dockCells.emplace_back(key(cellOf(m_freeDocks[i].pose.pos)), int(i));
+  std::sort(m_dockCells.begin(), m_dockCells.end());
+  m_latches.clear();
+  for (size_t i = 0; i < m_freeDocks.size(); ++i) {
+    const FreeDock& fa = m_freeDocks[i];
+    const Eigen::Vector3i c = cellOf(fa.pose.pos);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const uint64_t k = key(c + Eigen::Vector3i(dx, dy, dz));
+          auto it = std::lower_bound(m_dockCells.begin(), m_dockCells.end(), std::make_pair(k, int(i) + 1));
+          for (; it != m_dockCells.end() && it->first == k; ++it) {
+            const FreeDock& fb = m_freeDocks[size_t(it->second)];
+            if (fb.module == fa.module) continue;
+            const DockState& sa = m_modules[size_t(fa.module)].docks[size_t(fa.dock)];
+            if (sa.brokeFromModule == fb.module && sa.brokeFromDock == fb.dock) continue;
+            const DockDef& da = m_modules[size_t(fa.module)].type->docks[size_t(fa.dock)];
+            const DockDef& db = m_modules[size_t(fb.module)].type->docks[size_t(fb.dock)];
+            if (!gendersMate(da.gender, db.gender)) continue;
+            const Vec3 gapVec = fb.pose.pos - fa.pose.pos;
+            const double gap = gapVec.norm();
+            if (gap > std::min(da.captureRadius, db.captureRadius)) continue;
+            const Vec3 na = fa.pose.rot * Vec3::UnitX(), nb = fb.pose.rot * Vec3::UnitX();
+            const double facing = angleBetween(na, -nb);
+            if (facing > std::min(da.captureAngle, db.captureAngle)) continue;
+            const double latchAngle = std::min(da.latchAngle, db.latchAngle);
+            if (gap <= std::min(da.latchDistance, db.latchDistance) && facing <= latchAngle) {
+              const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
+              const Pose want = matingFrame(fa.pose, bestOrientation(fa.module, fa.dock, fb.module, fb.dock), sym);
+              if (angleBetween(want.rot * Vec3::UnitZ(), fb.pose.rot * Vec3::UnitZ()) <= latchAngle) {
+                m_latches.push_back(fa.module < fb.module ? Latch{fa.module, fa.dock, fb.module, fb.dock}
+                                                          : Latch{fb.module, fb.dock, fa.module, fa.dock});
+                continue;
+              }
+            }
+            // The magnet: equal and opposite pulls at the two faces, plus a torque turning the
+            // faces towards each other.
+            const double pull = std::min(da.pull, db.pull);
+            if (pull <= 0) continue;
+            const Vec3 dir = gap > 1e-9 ? Vec3(gapVec / gap) : Vec3(-na);
+            const Module& ma = m_modules[size_t(fa.module)];
+            const Module& mb = m_modules[size_t(fb.module)];
+            const int pa = ma.parts[size_t(da.link)], pb = mb.parts[size_t(db.link)];
+            m_physics->addForce(pa, pull * dir, fa.pose.pos);
+            m_physics->addForce(pb, -pull * dir, fb.pose.pos);
+            const Vec3 turn = na.cross(-nb) * (pull * std::min(da.size, db.size));
+            m_physics->addTorque(pa, turn);
+            m_physics->addTorque(pb, -turn);
+          }
+        }
+  }
+  std::sort(m_latches.begin(), m_latches.end());
+  for (const Latch& l : m_latches) {
+    const Module& ma = m_modules[size_t(l.a)];
+    const Module& mb = m_modules[size_t(l.b)];
+    if (ma.docks[size_t(l.da)].engaged || mb.docks[size_t(l.db)].engaged) continue;  // took another this step
+    lock(l.a, l.da, l.b, l.db, bestOrientation(l.a, l.da, l.b, l.db), true);
+  }
+}
+
+Wrench World::connectionLoad(const Connection& c) const {
+  const Module& ma = m_modules[size_t(c.moduleA)];
+  const Module& mb = m_modules[size_t(c.moduleB)];
+  const int pa = ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)];
+  const int pb = mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)];
+  // B's side: the parts locked to B's link without crossing this connection. In a closed loop
+  // that reaches A's side too, so only B's own link is counted.
+  std::vector<int> side = m_physics->lockedGroup(pb, pa, pb);
+  if (std::find(side.begin(), side.end(), pa) != side.end()) side = {pb};
+  return m_physics->internalLoad(side, dockPose(c.moduleB, c.dockB).pos);
+}
+
+void World::breakagePhase() {
+  for (size_t i = 0; i < m_connections.size();) {
+    const Connection& c = m_connections[i];
+    const DockDef& da = m_modules[size_t(c.moduleA)].type->docks[size_t(c.dockA)];
+    const DockDef& db = m_modules[size_t(c.moduleB)].type->docks[size_t(c.dockB)];
+    const Wrench w = connectionLoad(c);
+    const double f = w.force.norm(), t = w.torque.norm();
+    if (f > std::min(da.strength, db.strength) || t > std::min(da.strengthTorque, db.strengthTorque))
+      release(i, "broken", f, t);
+    else
+      ++i;
   }
 }
 
@@ -337,21 +590,26 @@ void World::step() {
   if (!m_started) start();
   if (m_fatal || !m_scriptError.empty()) return;
   const auto t0 = Clock::now();
-  // 1. Deliver what was routed last step.
-  for (Mailbox& box : m_mailboxes) box.deliver();
+  // 1. Deliver what was routed earlier and is due now.
+  for (Mailbox& box : m_mailboxes) box.deliver(m_steps);
   // 2. Behaviours (in parallel when --threads > 1).
   const auto t1 = Clock::now();
   runBehaviours();
   const auto t2 = Clock::now();
   // 3. Route messages over engaged docks (readable next step).
   routeMessages();
-  // 4. Undock and 5. dock: connections change only through world.connect in this version.
+  // 4. Undock: connections where either dock is now disabled are released.
+  undockPhase();
+  // 5. Dock: free compatible docks attract; aligned ones latch.
+  dockPhase();
   // 6. Actuators, then physics.
   applyActuators();
+  m_physics->setLoadTracking(!m_connections.empty());
   const auto t3 = Clock::now();
   m_physics->step(m_settings.dt, m_settings.substeps);
   const auto t4 = Clock::now();
-  // 7. Breakage detection comes with run-time docking.
+  // 7. Connections whose transmitted load exceeds the docks' strength break.
+  breakagePhase();
   ++m_steps;
   m_time = double(m_steps) * m_settings.dt;
   std::string err;
@@ -405,6 +663,52 @@ Quality World::quality() const {
   }
   q.trackingRmsDeg = m_trackingCount ? std::sqrt(m_trackingSum / double(m_trackingCount)) * kDegPerRad : 0;
   return q;
+}
+
+std::string World::graphJson() const {
+  nlohmann::json j;
+  j["time"] = m_time;
+  j["modules"] = nlohmann::json::array();
+  for (const Module& m : m_modules) j["modules"].push_back({{"id", m.id}, {"name", m.name}, {"type", m.type->name}});
+  j["connections"] = nlohmann::json::array();
+  for (const Connection& c : m_connections)
+    j["connections"].push_back({m_modules[size_t(c.moduleA)].id, m_modules[size_t(c.moduleA)].type->docks[size_t(c.dockA)].name,
+                                m_modules[size_t(c.moduleB)].id, m_modules[size_t(c.moduleB)].type->docks[size_t(c.dockB)].name});
+  j["components"] = nlohmann::json::array();
+  for (const auto& comp : components()) {
+    nlohmann::json ids = nlohmann::json::array();
+    for (int m : comp) ids.push_back(m_modules[size_t(m)].id);
+    j["components"].push_back(ids);
+  }
+  return j.dump();
+}
+
+std::string World::graphDot() const {
+  std::string out = "graph rm3d {\n  node [shape=box];\n";
+  char line[256];
+  for (const Module& m : m_modules) {
+    std::snprintf(line, sizeof line, "  m%d [label=\"%s\\n%s\"];\n", m.id, m.name.c_str(), m.type->name.c_str());
+    out += line;
+  }
+  for (const Connection& c : m_connections) {
+    const Module& a = m_modules[size_t(c.moduleA)];
+    const Module& b = m_modules[size_t(c.moduleB)];
+    std::snprintf(line, sizeof line, "  m%d -- m%d [taillabel=\"%s\", headlabel=\"%s\"];\n", a.id, b.id,
+                  a.type->docks[size_t(c.dockA)].name.c_str(), b.type->docks[size_t(c.dockB)].name.c_str());
+    out += line;
+  }
+  return out + "}\n";
+}
+
+World::MessageStats World::messageStats() const {
+  MessageStats st;
+  for (const Mailbox& b : m_mailboxes) {
+    st.sent += b.sent;
+    st.received += b.received;
+    st.dropped += b.dropped;
+  }
+  st.dropped += m_lostMessages;
+  return st;
 }
 
 std::vector<std::vector<int>> World::components() const {

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
@@ -62,6 +63,10 @@ struct DockState {
   bool engaged = false;
   int peerModule = -1;
   int peerDock = -1;
+  /// After a break, the dock ignores that peer until the two faces are farther apart than the
+  /// capture radius (else the magnet would latch the broken pair again at once).
+  int brokeFromModule = -1;
+  int brokeFromDock = -1;
 };
 
 struct Module {
@@ -77,17 +82,30 @@ struct Module {
   Rng rng;
   std::string fault;  ///< empty: healthy
   bool faultReported = false;
+  bool fixed = false;  ///< root link held in place (a base)
+  /// on_dock events for the module's next step: (dock, "engaged" | "disengaged" | "broken").
+  std::vector<std::pair<int, const char*>> dockEvents;
   std::vector<std::string> log;  ///< lines written this step, flushed in id order
 };
 
 struct Connection {
   int moduleA, dockA, moduleB, dockB;
+  double time = 0;  ///< when it was made
 };
 
 struct DockEvent {
   double time;
   std::string kind;  ///< "engaged", "disengaged", "broken"
   int moduleA, dockA, moduleB, dockB;
+  double force = -1, torque = -1;  ///< measured load for "broken" (N, N m), else -1
+};
+
+/// world.channel{...}: how messages travel over a connection (seeded, deterministic).
+struct ChannelDef {
+  double loss = 0;           ///< probability that a message is lost
+  int delay = 0;             ///< extra steps in flight (a message sent at t is read at t+1+delay)
+  int rate = 0;              ///< messages per step per dock (0: unlimited); the rest wait their turn
+  size_t maxBytes = 65536;   ///< payload size limit
 };
 
 struct Failure {
@@ -183,10 +201,25 @@ class World {
     std::string name;
     std::string behaviour;  ///< path as written; resolved against the world's folder, then root
     LuaValue params;
+    bool fixed = false;     ///< the root link does not move
   };
   /// Throws InputError (without location: the caller adds it).
   int spawn(const SpawnDef& def);
   void connect(int a, int dockA, int b, int dockB, int orientation);
+  /// Releases the connection at module m's dock (as if a dock were disabled). False if none.
+  bool disconnect(int m, int dock);
+  void setChannel(const ChannelDef& c) { m_channel = c; }
+  const ChannelDef& channel() const { return m_channel; }
+  /// The connection graph now, as JSON ({"modules": [...], "connections": [...]}) or Graphviz DOT.
+  std::string graphJson() const;
+  std::string graphDot() const;
+  /// Load through a connection during the last step (force N, torque N m about the dock face).
+  Wrench connectionLoad(const Connection& c) const;
+  /// Messages counted over the run: sent, delivered (read), lost in flight.
+  struct MessageStats {
+    size_t sent = 0, received = 0, dropped = 0;
+  };
+  MessageStats messageStats() const;
   void addFailure(const std::string& message);
   void requestStop() { m_stopRequested = true; }
   /// Resolves a path from a world script: the world's folder first, then the project root.
@@ -204,7 +237,14 @@ class World {
   void reportModuleOutput();
   void runBehaviour(int i);
   void routeMessages();
+  void undockPhase();
+  void dockPhase();
+  void breakagePhase();
   void applyActuators();
+  /// Locks two docks: optionally moves b's component so the faces mate exactly first.
+  void lock(int a, int da, int b, int db, int orientation, bool snap);
+  void release(size_t connection, const char* kind, double force, double torque);
+  int bestOrientation(int a, int da, int b, int db) const;
   std::vector<int> componentOf(int m) const;
 
   RunOptions m_options;
@@ -220,6 +260,26 @@ class World {
   std::vector<Failure> m_failures;
   std::vector<Obstacle> m_obstacles;
   CameraDef m_camera;
+  ChannelDef m_channel;
+  Rng m_channelRng;
+  size_t m_lostMessages = 0;
+  std::vector<int> m_dockSent;  ///< per dock, this step (channel rate)
+  /// Reused every step by the dock phase (no allocation once warm).
+  struct FreeDock {
+    int module, dock;
+    Pose pose;
+  };
+  std::vector<FreeDock> m_freeDocks;
+  std::vector<std::pair<uint64_t, int>> m_dockCells;
+  struct Latch {
+    int a, da, b, db;
+    bool operator<(const Latch& o) const {
+      return std::tie(a, da, b, db) < std::tie(o.a, o.da, o.b, o.db);
+    }
+  };
+  std::vector<Latch> m_latches;
+  double m_captureCell = 0.03;
+  bool m_anyBreakable = false;
   std::unique_ptr<WorldScript> m_script;
   std::unique_ptr<BehaviourPool> m_pool;
   bool m_groundAdded = false;

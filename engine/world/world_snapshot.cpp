@@ -108,7 +108,7 @@ Eigen::Matrix4f toMatrix(const Pose& p, const Eigen::Vector3f& scale) {
 
 Snapshot buildSnapshot(const World& w) {
   Snapshot snap;
-  MeshTable table{snap};
+  MeshTable table{snap, -1, -1, -1, {}};
   for (size_t i = 0; i < w.modules().size(); ++i) {
     const Module& m = w.modules()[i];
     const bool faulted = !m.fault.empty();

@@ -16,7 +16,7 @@ TEST_CASE("pending messages become readable on deliver, oldest first, and readin
   }
   Message out;
   CHECK_FALSE(box.take(-1, out));
-  box.deliver();
+  box.deliver(1);
   CHECK(box.take(1, out));
   CHECK(out.data.integer == 1);
   CHECK(box.take(-1, out));

@@ -84,8 +84,8 @@ class PhysicsWorld {
   /// Turns on what internalLoad needs: hinge reaction feedback and per-part contact forces.
   void setLoadTracking(bool on);
   /// The force and torque (about `point`) that the rest of their rigid body exerted on the given
-  /// parts during the last substep, from Newton-Euler on those parts: their rate of change of
-  /// momentum minus gravity, contact forces and hinge reactions acting on them.
+  /// parts, averaged over the last step(), from Newton-Euler on those parts: their change of
+  /// momentum over the step minus the impulses of gravity, contacts and hinge reactions on them.
   Wrench internalLoad(const std::vector<int>& parts, const Vec3& point) const;
   /// Moves parts rigidly by `delta` (world frame), keeping their relative poses. For placing
   /// modules before they interact; velocities are kept.

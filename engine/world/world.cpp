@@ -539,9 +539,14 @@ void World::dockPhase() {
             const int pa = ma.parts[size_t(da.link)], pb = mb.parts[size_t(db.link)];
             m_physics->addForce(pa, pull * dir, fa.pose.pos);
             m_physics->addForce(pb, -pull * dir, fb.pose.pos);
-            const Vec3 turn = na.cross(-nb) * (pull * std::min(da.size, db.size));
-            m_physics->addTorque(pa, turn);
-            m_physics->addTorque(pb, -turn);
+            // Torques of the order pull x face size turn the faces square to each other and
+            // twist them about the normal into the nearest of their mating orientations.
+            const double arm = pull * std::min(da.size, db.size);
+            const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
+            const Vec3 wantUp = matingFrame(fa.pose, bestOrientation(fa.module, fa.dock, fb.module, fb.dock), sym).rot * Vec3::UnitZ();
+            const Vec3 turn = na.cross(-nb) * arm + (fb.pose.rot * Vec3::UnitZ()).cross(wantUp).dot(nb) * nb * arm;
+            m_physics->addTorque(pa, -turn);
+            m_physics->addTorque(pb, turn);
           }
         }
   }

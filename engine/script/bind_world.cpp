@@ -199,6 +199,42 @@ int worldGraph(lua_State* L) {
   });
 }
 
+/// world.events([since]) -> array of {time=, event=, module_a=, dock_a=, module_b=, dock_b=,
+/// force=, torque=} dock events (engaged, disengaged, broken; loads for broken), optionally only
+/// those at or after time `since`
+int worldEvents(lua_State* L) {
+  const double since = luaL_optnumber(L, 1, -1.0);
+  const World& w = world(L);
+  lua_newtable(L);
+  lua_Integer n = 0;
+  for (const DockEvent& e : w.events()) {
+    if (e.time < since) continue;
+    const Module& a = w.module(e.moduleA);
+    const Module& b = w.module(e.moduleB);
+    lua_createtable(L, 0, 8);
+    lua_pushnumber(L, e.time);
+    lua_setfield(L, -2, "time");
+    lua_pushstring(L, e.kind.c_str());
+    lua_setfield(L, -2, "event");
+    lua_pushinteger(L, a.id);
+    lua_setfield(L, -2, "module_a");
+    lua_pushstring(L, a.type->docks[size_t(e.dockA)].name.c_str());
+    lua_setfield(L, -2, "dock_a");
+    lua_pushinteger(L, b.id);
+    lua_setfield(L, -2, "module_b");
+    lua_pushstring(L, b.type->docks[size_t(e.dockB)].name.c_str());
+    lua_setfield(L, -2, "dock_b");
+    if (e.force >= 0) {
+      lua_pushnumber(L, e.force);
+      lua_setfield(L, -2, "force");
+      lua_pushnumber(L, e.torque);
+      lua_setfield(L, -2, "torque");
+    }
+    lua_rawseti(L, -2, ++n);
+  }
+  return 1;
+}
+
 /// world.modules() -> array of Module handles, in id order
 int worldModules(lua_State* L) {
   const int n = int(world(L).modules().size());
@@ -347,7 +383,7 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"sphere", worldSphere},   {"cylinder", worldCylinder}, {"mesh", worldMesh},
                                  {"spawn", worldSpawn},     {"connect", worldConnect}, {"modules", worldModules},
                                  {"module", worldModule},   {"components", worldComponents}, {"camera", worldCamera},
-                                 {"channel", worldChannel}, {"graph", worldGraph},
+                                 {"channel", worldChannel}, {"graph", worldGraph}, {"events", worldEvents},
                                  {"on_step", worldOnStep},  {"at", worldAt},           {"every", worldEvery},
                                  {"stop", worldStop},       {"time", worldTime},       {"dt", worldDt},
                                  {nullptr, nullptr}};

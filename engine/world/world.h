@@ -191,6 +191,7 @@ class World {
     double fovDeg = 45;
   };
   const CameraDef& camera() const { return m_camera; }
+  bool hasGround() const { return m_groundAdded; }
   void setCamera(const CameraDef& c) { m_camera = c; }
   Pose obstaclePose(int body) const;
   Vec3 obstacleVelocity(int body) const;

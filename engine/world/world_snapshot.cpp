@@ -149,6 +149,7 @@ Snapshot buildSnapshot(const World& w) {
     item.color = o.mass > 0 ? std::array<float, 4>{0.35f, 0.55f, 0.85f, 1} : std::array<float, 4>{0.6f, 0.6f, 0.62f, 1};
     snap.items.push_back(item);
   }
+  snap.ground = w.hasGround();
   char line[160];
   std::snprintf(line, sizeof line, "t = %.2f s   step %lld   %zu modules   %d faults", w.time(), (long long)w.steps(),
                 w.modules().size(), w.faultCount());

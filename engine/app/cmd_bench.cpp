@@ -43,6 +43,23 @@ local side = math.ceil(math.sqrt(args.n))
 for i = 0, args.n - 1 do
   world.spawn(args.type, {at = {(i % side) * 0.35, (i // side) * 0.30, 0.053}, behavior = "behaviors/alternate.lua"})
 end)"},
+    {"docking_1000", "N SuperBots in zero gravity packed 1 cm apart, every dock enabled, latching at run time",
+     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,
+           joint_iterations = args.joint_iterations, duration = 1e9, gravity = {0, 0, 0}}
+local side = math.ceil(math.sqrt(args.n))
+for i = 0, args.n - 1 do
+  world.spawn(args.type, {at = {-(i % side) * 0.20, (i // side) * 0.114, 0}})
+end)"},
+    {"relay_1000", "N SuperBots in one chain on the ground relaying a message per step from head to tail",
+     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,
+           joint_iterations = args.joint_iterations, duration = 1e9}
+world.ground{}
+local prev
+for i = 1, args.n do
+  local m = world.spawn(args.type, {at = {-(i - 1) * 0.19, 0, 0.053}, behavior = "behaviors/relay.lua"})
+  if prev then world.connect(prev, "back", m, "front") end
+  prev = m
+end)"},
 };
 
 struct Result {
@@ -53,6 +70,8 @@ struct Result {
   double stepsPerSecond = 0, realtime = 0;
   double msBehaviours = 0, msPhysics = 0, msOther = 0;
   Quality quality;
+  int connections = 0;
+  size_t messages = 0;
 };
 
 bool runScene(const Scene& s, double dt, const BenchArgs& a, const std::string& root, Result& out) {
@@ -106,6 +125,9 @@ bool runScene(const Scene& s, double dt, const BenchArgs& a, const std::string& 
   out.msPhysics = phys / double(a.steps);
   out.msOther = other / double(a.steps);
   out.quality = worst;
+  out.connections = int(w.connections().size());
+  const World::MessageStats ms = w.messageStats();
+  out.messages = ms.sent;
   return true;
 }
 
@@ -130,8 +152,9 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
     }
   }
   std::vector<double> dts = a.dt ? std::vector<double>{*a.dt} : std::vector<double>{1.0 / 30.0, 1.0 / 60.0};
-  std::printf("%-16s %7s %8s %9s %7s %8s %8s %8s | %8s %8s %8s %8s %9s\n", "scene", "modules", "dt", "steps/s", "RTF",
-              "ms beh", "ms phys", "ms other", "hinge mm", "hinge deg", "dock mm", "dock deg", "track deg");
+  std::printf("%-16s %7s %8s %9s %7s %8s %8s %8s | %8s %8s %8s %8s %9s | %6s %9s\n", "scene", "modules", "dt", "steps/s", "RTF",
+              "ms beh", "ms phys", "ms other", "hinge mm", "hinge deg", "dock mm", "dock deg", "track deg", "conns", "messages");
+  std::printf("%s\n", "  (last two columns: connections at the end, messages sent)");
   nlohmann::json out = {{"threads", a.threads},
                         {"iterations", a.iterations.value_or(10)},
                         {"substeps", a.substeps.value_or(1)},
@@ -142,9 +165,10 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
     for (double dt : dts) {
       Result r;
       if (!runScene(*s, dt, a, root, r)) return 2;
-      std::printf("%-16s %7d %8.5f %9.1f %7.2f %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f\n", r.name.c_str(), r.modules,
-                  r.dt, r.stepsPerSecond, r.realtime, r.msBehaviours, r.msPhysics, r.msOther, r.quality.hingeGapMm,
-                  r.quality.hingeAngleDeg, r.quality.dockGapMm, r.quality.dockAngleDeg, r.quality.trackingRmsDeg);
+      std::printf("%-16s %7d %8.5f %9.1f %7.2f %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f | %6d %9zu\n", r.name.c_str(),
+                  r.modules, r.dt, r.stepsPerSecond, r.realtime, r.msBehaviours, r.msPhysics, r.msOther, r.quality.hingeGapMm,
+                  r.quality.hingeAngleDeg, r.quality.dockGapMm, r.quality.dockAngleDeg, r.quality.trackingRmsDeg,
+                  r.connections, r.messages);
       std::fflush(stdout);
       out["scenes"].push_back({{"name", r.name},
                                {"modules", r.modules},
@@ -158,7 +182,9 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
                                  {"hinge_angle_deg", r.quality.hingeAngleDeg},
                                  {"dock_gap_mm", r.quality.dockGapMm},
                                  {"dock_angle_deg", r.quality.dockAngleDeg},
-                                 {"tracking_rms_deg", r.quality.trackingRmsDeg}}}});
+                                 {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
+                               {"connections", r.connections},
+                               {"messages_sent", r.messages}});
     }
   if (!a.json.empty()) {
     std::ofstream f(a.json);

@@ -30,9 +30,13 @@ struct Mailbox {
   void deliver(int64_t step) {
     if (pending.empty()) return;
     size_t kept = 0;
-    for (Message& m : pending) {
-      if (m.due <= step) inbox.push_back(std::move(m));
-      else pending[kept++] = std::move(m);
+    for (size_t i = 0; i < pending.size(); ++i) {
+      if (pending[i].due <= step) {
+        inbox.push_back(std::move(pending[i]));
+      } else {
+        if (kept != i) pending[kept] = std::move(pending[i]);  // never move onto itself
+        ++kept;
+      }
     }
     pending.resize(kept);
   }

@@ -51,6 +51,7 @@ struct DockDef {
   double pull = 2.0;               ///< N, the magnet's pull inside the capture radius
   double strength = 100.0;         ///< N: a connection breaks above this transmitted force
   double strengthTorque = 10.0;    ///< N m: ... or above this transmitted torque
+  Pose frame;                      ///< derived: the dock frame in its link (docking/dock_frame.h)
 };
 
 struct ModuleTypeDef {

@@ -235,6 +235,19 @@ int worldEvents(lua_State* L) {
   return 1;
 }
 
+/// world.messages() -> {sent=, received=, dropped=}: message counts over the run so far
+int worldMessages(lua_State* L) {
+  const World::MessageStats st = world(L).messageStats();
+  lua_createtable(L, 0, 3);
+  lua_pushinteger(L, lua_Integer(st.sent));
+  lua_setfield(L, -2, "sent");
+  lua_pushinteger(L, lua_Integer(st.received));
+  lua_setfield(L, -2, "received");
+  lua_pushinteger(L, lua_Integer(st.dropped));
+  lua_setfield(L, -2, "dropped");
+  return 1;
+}
+
 /// world.modules() -> array of Module handles, in id order
 int worldModules(lua_State* L) {
   const int n = int(world(L).modules().size());
@@ -383,7 +396,7 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"sphere", worldSphere},   {"cylinder", worldCylinder}, {"mesh", worldMesh},
                                  {"spawn", worldSpawn},     {"connect", worldConnect}, {"modules", worldModules},
                                  {"module", worldModule},   {"components", worldComponents}, {"camera", worldCamera},
-                                 {"channel", worldChannel}, {"graph", worldGraph}, {"events", worldEvents},
+                                 {"channel", worldChannel}, {"graph", worldGraph}, {"events", worldEvents}, {"messages", worldMessages},
                                  {"on_step", worldOnStep},  {"at", worldAt},           {"every", worldEvery},
                                  {"stop", worldStop},       {"time", worldTime},       {"dt", worldDt},
                                  {nullptr, nullptr}};

@@ -132,6 +132,7 @@ const ModuleTypeDef& World::moduleType(const std::string& name) {
     const std::string path = resolvePath(name);
     if (path.empty()) throw InputError("module type file '" + name + "' not found (looked in the world's folder and the project root)");
     auto def = std::make_unique<ModuleTypeDef>(loadModuleType(path, m_options.projectRoot));
+    for (DockDef& d : def->docks) d.frame = dockFrame(d);
     const ModuleTypeDef& ref = *def;
     m_types.emplace(name, std::move(def));
     return ref;
@@ -152,6 +153,7 @@ const ModuleTypeDef& World::moduleType(const std::string& name) {
     throw InputError("unknown module type '" + name + "' (expected one of: " + known + ")");
   }
   auto def = std::make_unique<ModuleTypeDef>(loadModuleType(file.string(), m_options.projectRoot));
+  for (DockDef& d : def->docks) d.frame = dockFrame(d);
   const ModuleTypeDef& ref = *def;
   m_types.emplace(name, std::move(def));
   return ref;
@@ -485,7 +487,9 @@ void World::dockPhase() {
     }
   }
   if (m_freeDocks.size() < 2) return;
-  const double cell = m_captureCell;
+  // Cells twice the largest capture radius: every dock within reach of a point lies in the 2x2x2
+  // block of cells on the point's side of its own cell (8 look-ups, not 27).
+  const double cell = 2.0 * m_captureCell;
   auto cellOf = [cell](const Vec3& p) {
     return Eigen::Vector3i(int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell)), int(std::floor(p.z() / cell)));
   };
@@ -496,17 +500,35 @@ void World::dockPhase() {
   m_dockCells.clear();
   for (size_t i = 0; i < m_freeDocks.size(); ++i) m_dockCells.emplace_back(key(cellOf(m_freeDocks[i].pose.pos)), int(i));
   std::sort(m_dockCells.begin(), m_dockCells.end());
+  // Open-addressing table: cell key -> first entry of that cell in m_dockCells (reused arrays).
+  size_t cap = 16;
+  while (cap < 2 * m_dockCells.size()) cap <<= 1;
+  m_cellSlots.assign(cap, -1);
+  for (size_t e = 0; e < m_dockCells.size(); ++e) {
+    if (e > 0 && m_dockCells[e].first == m_dockCells[e - 1].first) continue;
+    size_t h = size_t(m_dockCells[e].first * 0x9E3779B97F4A7C15ull) & (cap - 1);
+    while (m_cellSlots[h] >= 0) h = (h + 1) & (cap - 1);
+    m_cellSlots[h] = int(e);
+  }
+  auto firstInCell = [&](uint64_t k) -> size_t {
+    size_t h = size_t(k * 0x9E3779B97F4A7C15ull) & (cap - 1);
+    for (; m_cellSlots[h] >= 0; h = (h + 1) & (cap - 1))
+      if (m_dockCells[size_t(m_cellSlots[h])].first == k) return size_t(m_cellSlots[h]);
+    return m_dockCells.size();
+  };
   m_latches.clear();
   for (size_t i = 0; i < m_freeDocks.size(); ++i) {
     const FreeDock& fa = m_freeDocks[i];
     const Eigen::Vector3i c = cellOf(fa.pose.pos);
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const uint64_t k = key(c + Eigen::Vector3i(dx, dy, dz));
-          auto it = std::lower_bound(m_dockCells.begin(), m_dockCells.end(), std::make_pair(k, int(i) + 1));
-          for (; it != m_dockCells.end() && it->first == k; ++it) {
-            const FreeDock& fb = m_freeDocks[size_t(it->second)];
+    Eigen::Vector3i side;
+    for (int a = 0; a < 3; ++a) side[a] = fa.pose.pos[a] / cell - double(c[a]) < 0.5 ? -1 : 1;
+    for (int dx = 0; dx < 2; ++dx)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dz = 0; dz < 2; ++dz) {
+          const uint64_t k = key(c + Eigen::Vector3i(dx * side.x(), dy * side.y(), dz * side.z()));
+          for (size_t e = firstInCell(k); e < m_dockCells.size() && m_dockCells[e].first == k; ++e) {
+            if (m_dockCells[e].second <= int(i)) continue;  // each pair once
+            const FreeDock& fb = m_freeDocks[size_t(m_dockCells[e].second)];
             if (fb.module == fa.module) continue;
             const DockState& sa = m_modules[size_t(fa.module)].docks[size_t(fa.dock)];
             if (sa.brokeFromModule == fb.module && sa.brokeFromDock == fb.dock) continue;
@@ -555,6 +577,11 @@ void World::dockPhase() {
     const Module& ma = m_modules[size_t(l.a)];
     const Module& mb = m_modules[size_t(l.b)];
     if (ma.docks[size_t(l.da)].engaged || mb.docks[size_t(l.db)].engaged) continue;  // took another this step
+    // An earlier latch this step may have moved one side: check the faces again.
+    const DockDef& da = ma.type->docks[size_t(l.da)];
+    const DockDef& db = mb.type->docks[size_t(l.db)];
+    const DockError e = dockError(dockPose(l.a, l.da), dockPose(l.b, l.db));
+    if (e.gap > std::min(da.latchDistance, db.latchDistance) || e.angle > std::min(da.latchAngle, db.latchAngle)) continue;
     lock(l.a, l.da, l.b, l.db, bestOrientation(l.a, l.da, l.b, l.db), true);
   }
 }
@@ -630,7 +657,7 @@ Pose World::modulePose(int m) const { return linkPose(m, m_modules[size_t(m)].ty
 
 Pose World::dockPose(int m, int dock) const {
   const DockDef& d = m_modules[size_t(m)].type->docks[size_t(dock)];
-  return linkPose(m, d.link) * dockFrame(d);
+  return linkPose(m, d.link) * d.frame;
 }
 
 double World::jointAngle(int m, int joint) const {

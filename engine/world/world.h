@@ -272,6 +272,7 @@ class World {
   };
   std::vector<FreeDock> m_freeDocks;
   std::vector<std::pair<uint64_t, int>> m_dockCells;
+  std::vector<int> m_cellSlots;
   struct Latch {
     int a, da, b, db;
     bool operator<(const Latch& o) const {

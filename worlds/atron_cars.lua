@@ -51,40 +51,14 @@ world.ground{friction = 1.0}
 local kR = 0.056                 -- a wheel's centre height: radius 0.055 + the 1 mm hull margin
 local kA = 0.11 / math.sqrt(2)   -- lattice unit: neighbours' centres differ by two steps of kA
 local kH = math.sqrt(0.5)
-local kDocks = {"n0", "n1", "n2", "n3", "s0", "s1", "s2", "s3"}
-local kMale = {n0 = true, n2 = true, s0 = true, s2 = true}
+local kDocks = require("atron").docks
+local kMale = require("atron").male
 local kBehavior = "behaviors/atron_coupling.lua"
 
-local function v3(t) return {t.x, t.y, t.z} end
-local function dot(a, b) return a[1] * b[1] + a[2] * b[2] + a[3] * b[3] end
-local function dist(a, b) local d = {a[1] - b[1], a[2] - b[2], a[3] - b[3]} return math.sqrt(dot(d, d)) end
-local function qmul(a, b)
-  return {a[1] * b[1] - a[2] * b[2] - a[3] * b[3] - a[4] * b[4],
-          a[1] * b[2] + a[2] * b[1] + a[3] * b[4] - a[4] * b[3],
-          a[1] * b[3] - a[2] * b[4] + a[3] * b[1] + a[4] * b[2],
-          a[1] * b[4] + a[2] * b[3] - a[3] * b[2] + a[4] * b[1]}
-end
-local function qrot(q, v)
-  local p = qmul(qmul({q.w, q.x, q.y, q.z}, {0, v[1], v[2], v[3]}), {q.w, -q.x, -q.y, -q.z})
-  return {p[2], p[3], p[4]}
-end
-
--- The dock of m whose outward normal points along dir.
-local function dockToward(m, dir)
-  local n = math.sqrt(dot(dir, dir))
-  for _, d in ipairs(kDocks) do
-    if dot(v3(m:dock_normal(d)), dir) / n > 0.999 then return d end
-  end
-  error("no dock of " .. m.name .. " points that way")
-end
-
--- Where the outer pole of a module docked at a's dock da will point (worlds/atron_car.lua).
-local function outerPole(a, da)
-  local n = v3(a:dock_normal(da))
-  local z = qrot(a:orientation(), {0, 0, 1})
-  local s = da:sub(1, 1) == "n" and 1 or -1
-  return {math.sqrt(2) * n[1] - s * z[1], math.sqrt(2) * n[2] - s * z[2], math.sqrt(2) * n[3] - s * z[3]}
-end
+local vec = require("vec")
+local atron = require("atron")
+local v3, dot, dist, qmul, qrot = vec.v3, vec.dot, vec.dist, vec.qmul, vec.qrot
+local dockToward, outerPole = atron.dock_toward, atron.outer_pole
 
 -- Connections made here with world.connect, by "id:dock" of either end.
 local made = {}

@@ -79,18 +79,9 @@ local kOuterColor = { 0.95, 0.55, 0.1 }  -- orange brackets
 local kInnerColor = { 0.25, 0.25, 0.28 } -- dark grey halves
 local kLimit = math.pi / 2
 
--- Quaternions {w, x, y, z}: just enough to turn the front bracket into the back one.
-local function quatAxisAngle(axis, angle)
-  local s = math.sin(angle / 2)
-  return { math.cos(angle / 2), axis[1] * s, axis[2] * s, axis[3] * s }
-end
-
-local function quatMul(a, b)
-  return { a[1] * b[1] - a[2] * b[2] - a[3] * b[3] - a[4] * b[4],
-           a[1] * b[2] + a[2] * b[1] + a[3] * b[4] - a[4] * b[3],
-           a[1] * b[3] - a[2] * b[4] + a[3] * b[1] + a[4] * b[2],
-           a[1] * b[4] + a[2] * b[3] - a[3] * b[2] + a[4] * b[1] }
-end
+-- Quaternions {w, x, y, z} (lua/vec.lua): just enough to turn the front bracket into the back one.
+local vec = require("vec")
+local quatAxisAngle, quatMul = vec.qaxis, vec.qmul
 
 local function quatRotate(q, v)
   local p = quatMul(quatMul(q, { 0, v[1], v[2], v[3] }), { q[1], -q[2], -q[3], -q[4] })

@@ -19,6 +19,7 @@ struct RunArgs {
   int threads = 1;
   std::string png, video;
   std::string size;  ///< WxH for pictures
+  std::string graph; ///< connection graph at the end (.dot: Graphviz, else JSON)
   bool quiet = false;
 };
 

@@ -75,7 +75,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
     return 2;
   }
   // Check output paths before a long run, not after it.
-  for (const auto& [flag, path] : {std::pair{"--json", a.json}, std::pair{"--png", a.png}}) {
+  for (const auto& [flag, path] : {std::pair{"--json", a.json}, std::pair{"--png", a.png}, std::pair{"--graph", a.graph}}) {
     if (path.empty()) continue;
     const fs::path dir = fs::absolute(path).parent_path();
     if (!fs::is_directory(dir)) {
@@ -106,6 +106,15 @@ int runCommand(const RunArgs& a, const std::string& root) {
     f << j.dump(2) << "\n";
     if (!f) {
       std::fprintf(stderr, "rm3d run: cannot write %s\n", a.json.c_str());
+      return 2;
+    }
+  }
+  if (!a.graph.empty() && r.loadError.empty()) {
+    const bool dot = fs::path(a.graph).extension() == ".dot" || fs::path(a.graph).extension() == ".gv";
+    std::ofstream f(a.graph);
+    f << (dot ? w.graphDot() : w.graphJson() + "\n");
+    if (!f) {
+      std::fprintf(stderr, "rm3d run: cannot write %s\n", a.graph.c_str());
       return 2;
     }
   }

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   runCmd->add_option("--png", run.png, "write the last frame as PNG");
   runCmd->add_option("--video", run.video, "write a video (MP4)");
   runCmd->add_option("--size", run.size, "picture size WxH (default 1280x720)");
+  runCmd->add_option("--graph", run.graph, "write the connection graph at the end (FILE.dot: Graphviz, else JSON)");
   runCmd->add_flag("--quiet", run.quiet, "no module log lines");
 
   rm3d::TestArgs test;

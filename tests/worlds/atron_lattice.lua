@@ -23,24 +23,9 @@ local kGender = {n0 = "male", n1 = "female", n2 = "male", n3 = "female",
                  s0 = "male", s1 = "female", s2 = "male", s3 = "female"}
 
 -- Small vector and quaternion helpers ({x, y, z} and {w, x, y, z} arrays).
-local function v3(t) return {t[1] or t.x, t[2] or t.y, t[3] or t.z} end
-local function add(a, b) return {a[1] + b[1], a[2] + b[2], a[3] + b[3]} end
-local function sub(a, b) return {a[1] - b[1], a[2] - b[2], a[3] - b[3]} end
-local function scale(a, s) return {a[1] * s, a[2] * s, a[3] * s} end
-local function dot(a, b) return a[1] * b[1] + a[2] * b[2] + a[3] * b[3] end
-local function norm(a) return math.sqrt(dot(a, a)) end
-local function q4(t) return {t[1] or t.w, t[2] or t.x, t[3] or t.y, t[4] or t.z} end
-local function qmul(a, b)
-  return {a[1] * b[1] - a[2] * b[2] - a[3] * b[3] - a[4] * b[4],
-          a[1] * b[2] + a[2] * b[1] + a[3] * b[4] - a[4] * b[3],
-          a[1] * b[3] - a[2] * b[4] + a[3] * b[1] + a[4] * b[2],
-          a[1] * b[4] + a[2] * b[3] - a[3] * b[2] + a[4] * b[1]}
-end
-local function qconj(q) return {q[1], -q[2], -q[3], -q[4]} end
-local function qrot(q, v)
-  local p = qmul(qmul(q, {0, v[1], v[2], v[3]}), qconj(q))
-  return {p[2], p[3], p[4]}
-end
+local vec = require("vec")
+local v3, add, sub, scale, dot, norm = vec.v3, vec.add, vec.sub, vec.scale, vec.dot, vec.norm
+local q4, qmul, qconj, qrot = vec.q4, vec.qmul, vec.qconj, vec.qrot
 local function fmt(v) return string.format("(%.4f, %.4f, %.4f)", v[1], v[2], v[3]) end
 
 -- The lattice rule, for a frame q seen from a frame of reference qref (both module

@@ -60,8 +60,18 @@
 --             gender = "none",          -- optional: "none" (mates any "none"), "male" or
 --                                       -- "female" (mate each other) (default "none")
 --             size = 0.034,             -- optional, side of the square face, m (default 0.034)
---             symmetry = 4 }            -- optional, how many ways the face mates about its
+--             symmetry = 4,             -- optional, how many ways the face mates about its
 --                                       -- normal (default 4: square)
+--             -- run-time docking (all optional): a free, enabled dock pulls a compatible one
+--             -- whose face is within capture_radius and looks back within capture_angle, and
+--             -- latches once within latch_distance and latch_angle
+--             capture_radius = 0.03,    -- m
+--             capture_angle = 0.5236,   -- rad (30 deg)
+--             latch_distance = 0.004,   -- m (at most capture_radius)
+--             latch_angle = 0.0873,     -- rad (5 deg), for the normals and the orientation
+--             pull = 2,                 -- N, the magnet's pull (0: no attraction)
+--             strength = 100,           -- N: the connection breaks above this force ...
+--             strength_torque = 10 }    -- N m: ... or above this torque through it
 --
 -- ===== SuperBot =====
 --

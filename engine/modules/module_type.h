@@ -61,6 +61,7 @@ struct ModuleTypeDef {
   std::vector<LinkDef> links;
   std::vector<JointDef> joints;
   std::vector<DockDef> docks;
+  double dockReach = 0;  ///< derived: farthest a dock's capture zone gets from the root origin
 
   int findLink(const std::string& n) const;
   int findJoint(const std::string& n) const;

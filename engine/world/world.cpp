@@ -40,6 +40,30 @@ Pose jointFrame(const JointDef& j) {
   return {j.pivot, Quat::FromTwoVectors(Vec3::UnitZ(), j.axis.normalized())};
 }
 
+/// Derived fields of a freshly loaded type: dock frames, and how far any dock face (plus its
+/// capture radius) can be from the root link's origin in any pose: along the joint path from the
+/// root, the distances between successive pivots and from the last pivot to the dock, which no
+/// joint angle changes.
+void prepareType(ModuleTypeDef& t) {
+  for (DockDef& d : t.docks) d.frame = dockFrame(d);
+  std::vector<double> path(t.links.size(), -1);
+  std::vector<Vec3> lastPivot(t.links.size(), Vec3::Zero());
+  path[size_t(t.rootLink)] = 0;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const JointDef& j : t.joints)
+      for (auto [from, to] : {std::pair{j.parent, j.child}, std::pair{j.child, j.parent}})
+        if (path[size_t(from)] >= 0 && path[size_t(to)] < 0) {
+          path[size_t(to)] = path[size_t(from)] + (j.pivot - lastPivot[size_t(from)]).norm();
+          lastPivot[size_t(to)] = j.pivot;
+          grew = true;
+        }
+  }
+  t.dockReach = 0;
+  for (const DockDef& d : t.docks)
+    t.dockReach = std::max(t.dockReach, std::max(0.0, path[size_t(d.link)]) + (d.pos - lastPivot[size_t(d.link)]).norm() + d.captureRadius);
+}
+
 }  // namespace
 
 World::World(RunOptions options) : m_options(std::move(options)) {
@@ -132,7 +156,7 @@ const ModuleTypeDef& World::moduleType(const std::string& name) {
     const std::string path = resolvePath(name);
     if (path.empty()) throw InputError("module type file '" + name + "' not found (looked in the world's folder and the project root)");
     auto def = std::make_unique<ModuleTypeDef>(loadModuleType(path, m_options.projectRoot));
-    for (DockDef& d : def->docks) d.frame = dockFrame(d);
+    prepareType(*def);
     const ModuleTypeDef& ref = *def;
     m_types.emplace(name, std::move(def));
     return ref;
@@ -153,7 +177,7 @@ const ModuleTypeDef& World::moduleType(const std::string& name) {
     throw InputError("unknown module type '" + name + "' (expected one of: " + known + ")");
   }
   auto def = std::make_unique<ModuleTypeDef>(loadModuleType(file.string(), m_options.projectRoot));
-  for (DockDef& d : def->docks) d.frame = dockFrame(d);
+  prepareType(*def);
   const ModuleTypeDef& ref = *def;
   m_types.emplace(name, std::move(def));
   return ref;
@@ -288,6 +312,7 @@ void World::lock(int a, int da, int b, int db, int orientation, bool snap) {
     }
   }
   m_physics->lockParts(ma.parts[size_t(defA.link)], mb.parts[size_t(defB.link)]);
+  ++m_topology;
   ma.docks[size_t(da)] = {ma.docks[size_t(da)].enabled, true, b, db};
   mb.docks[size_t(db)] = {mb.docks[size_t(db)].enabled, true, a, da};
   Connection c{a, da, b, db, m_time};
@@ -300,12 +325,13 @@ void World::lock(int a, int da, int b, int db, int orientation, bool snap) {
 }
 
 void World::release(size_t index, const char* kind, double force, double torque) {
-  const Connection c = m_connections[index];
+  const Connection c = std::move(m_connections[index]);
   m_connections.erase(m_connections.begin() + std::ptrdiff_t(index));
   Module& ma = m_modules[size_t(c.moduleA)];
   Module& mb = m_modules[size_t(c.moduleB)];
   m_physics->unlockParts(ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)],
                          mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)]);
+  ++m_topology;
   const bool broken = std::string_view(kind) == "broken";
   ma.docks[size_t(c.dockA)].brokeFromModule = broken ? c.moduleB : -1;
   ma.docks[size_t(c.dockA)].brokeFromDock = broken ? c.dockB : -1;
@@ -471,19 +497,54 @@ int World::bestOrientation(int a, int da, int b, int db) const {
 }
 
 void World::dockPhase() {
-  // Free, enabled docks, hashed into cells of the largest capture radius; only docks in the
-  // same or neighbouring cells are compared (no all-pairs search).
-  m_freeDocks.clear();
+  // Coarse pass: each module with a free dock is a box around its root link, as large as its
+  // docks can reach (ModuleTypeDef::dockReach); a sweep along x finds the boxes that overlap.
+  // Only those modules' docks are posed and searched below, so isolated modules cost one pose.
+  m_dockBoxes.clear();
   for (size_t i = 0; i < m_modules.size(); ++i) {
-    Module& m = m_modules[i];
+    const Module& m = m_modules[i];
+    bool anyFree = false;
+    for (const DockState& st : m.docks) anyFree |= st.enabled && !st.engaged;
+    if (!anyFree) continue;
+    const Vec3 c = modulePose(int(i)).pos;
+    const Vec3 r = Vec3::Constant(m.type->dockReach);
+    m_dockBoxes.push_back({c - r, c + r, i, false});
+  }
+  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(), [](const DockBox& a, const DockBox& b) {
+    return a.lo.x() < b.lo.x() || (a.lo.x() == b.lo.x() && a.module < b.module);
+  });
+  for (size_t a = 0; a < m_dockBoxes.size(); ++a)
+    for (size_t b = a + 1; b < m_dockBoxes.size() && m_dockBoxes[b].lo.x() <= m_dockBoxes[a].hi.x(); ++b) {
+      DockBox& ba = m_dockBoxes[a];
+      DockBox& bb = m_dockBoxes[b];
+      if (ba.lo.y() <= bb.hi.y() && bb.lo.y() <= ba.hi.y() && ba.lo.z() <= bb.hi.z() && bb.lo.z() <= ba.hi.z())
+        ba.near = bb.near = true;
+    }
+  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(), [](const DockBox& a, const DockBox& b) { return a.module < b.module; });
+  // Fine pass: the free docks of modules near another, hashed into cells.
+  m_freeDocks.clear();
+  for (const DockBox& box : m_dockBoxes) {
+    const int i = int(box.module);
+    Module& m = m_modules[box.module];
+    if (!box.near) {  // nothing within reach: any broken partner is far away by now
+      for (DockState& st : m.docks) st.brokeFromModule = st.brokeFromDock = -1;
+      continue;
+    }
+    m_linkPoseValid.assign(m.type->links.size(), 0);
+    if (m_linkPoses.size() < m.type->links.size()) m_linkPoses.resize(m.type->links.size());
     for (size_t d = 0; d < m.docks.size(); ++d) {
       DockState& st = m.docks[d];
       if (!st.enabled || st.engaged) continue;
-      const Pose pose = dockPose(int(i), int(d));
+      const DockDef& def = m.type->docks[d];
+      if (!m_linkPoseValid[size_t(def.link)]) {  // one pose per link, not per dock
+        m_linkPoses[size_t(def.link)] = linkPose(i, def.link);
+        m_linkPoseValid[size_t(def.link)] = 1;
+      }
+      const Pose pose = m_linkPoses[size_t(def.link)] * def.frame;
       if (st.brokeFromModule >= 0 &&
-          (pose.pos - dockPose(st.brokeFromModule, st.brokeFromDock).pos).norm() > m.type->docks[d].captureRadius)
+          (pose.pos - dockPose(st.brokeFromModule, st.brokeFromDock).pos).norm() > def.captureRadius)
         st.brokeFromModule = st.brokeFromDock = -1;
-      m_freeDocks.push_back({int(i), int(d), pose});
+      m_freeDocks.push_back({i, int(d), pose});
     }
   }
   if (m_freeDocks.size() < 2) return;
@@ -497,25 +558,24 @@ void World::dockPhase() {
     return (uint64_t(uint32_t(c.x())) * 73856093ull) ^ (uint64_t(uint32_t(c.y())) * 19349663ull) ^
            (uint64_t(uint32_t(c.z())) * 83492791ull);
   };
-  m_dockCells.clear();
-  for (size_t i = 0; i < m_freeDocks.size(); ++i) m_dockCells.emplace_back(key(cellOf(m_freeDocks[i].pose.pos)), int(i));
-  std::sort(m_dockCells.begin(), m_dockCells.end());
-  // Open-addressing table: cell key -> first entry of that cell in m_dockCells (reused arrays).
+  // Open-addressing table of cells, each holding a chain of docks (head per slot, next per dock).
   size_t cap = 16;
-  while (cap < 2 * m_dockCells.size()) cap <<= 1;
-  m_cellSlots.assign(cap, -1);
-  for (size_t e = 0; e < m_dockCells.size(); ++e) {
-    if (e > 0 && m_dockCells[e].first == m_dockCells[e - 1].first) continue;
-    size_t h = size_t(m_dockCells[e].first * 0x9E3779B97F4A7C15ull) & (cap - 1);
-    while (m_cellSlots[h] >= 0) h = (h + 1) & (cap - 1);
-    m_cellSlots[h] = int(e);
-  }
-  auto firstInCell = [&](uint64_t k) -> size_t {
-    size_t h = size_t(k * 0x9E3779B97F4A7C15ull) & (cap - 1);
-    for (; m_cellSlots[h] >= 0; h = (h + 1) & (cap - 1))
-      if (m_dockCells[size_t(m_cellSlots[h])].first == k) return size_t(m_cellSlots[h]);
-    return m_dockCells.size();
+  while (cap < 2 * m_freeDocks.size()) cap <<= 1;
+  m_cellKeys.resize(cap);
+  m_cellHead.assign(cap, -1);
+  m_cellNext.resize(m_freeDocks.size());
+  auto slotOf = [&](uint64_t k) {
+    size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
+    while (m_cellHead[h] >= 0 && m_cellKeys[h] != k) h = (h + 1) & (cap - 1);
+    return h;
   };
+  for (size_t i = 0; i < m_freeDocks.size(); ++i) {
+    const uint64_t k = key(cellOf(m_freeDocks[i].pose.pos));
+    const size_t h = slotOf(k);
+    m_cellKeys[h] = k;
+    m_cellNext[i] = m_cellHead[h];
+    m_cellHead[h] = int(i);
+  }
   m_latches.clear();
   for (size_t i = 0; i < m_freeDocks.size(); ++i) {
     const FreeDock& fa = m_freeDocks[i];
@@ -526,9 +586,9 @@ void World::dockPhase() {
       for (int dy = 0; dy < 2; ++dy)
         for (int dz = 0; dz < 2; ++dz) {
           const uint64_t k = key(c + Eigen::Vector3i(dx * side.x(), dy * side.y(), dz * side.z()));
-          for (size_t e = firstInCell(k); e < m_dockCells.size() && m_dockCells[e].first == k; ++e) {
-            if (m_dockCells[e].second <= int(i)) continue;  // each pair once
-            const FreeDock& fb = m_freeDocks[size_t(m_dockCells[e].second)];
+          for (int e = m_cellHead[slotOf(k)]; e >= 0; e = m_cellNext[size_t(e)]) {
+            if (e <= int(i)) continue;  // each pair once
+            const FreeDock& fb = m_freeDocks[size_t(e)];
             if (fb.module == fa.module) continue;
             const DockState& sa = m_modules[size_t(fa.module)].docks[size_t(fa.dock)];
             if (sa.brokeFromModule == fb.module && sa.brokeFromDock == fb.dock) continue;
@@ -592,10 +652,14 @@ Wrench World::connectionLoad(const Connection& c) const {
   const int pa = ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)];
   const int pb = mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)];
   // B's side: the parts locked to B's link without crossing this connection. In a closed loop
-  // that reaches A's side too, so only B's own link is counted.
-  std::vector<int> side = m_physics->lockedGroup(pb, pa, pb);
-  if (std::find(side.begin(), side.end(), pa) != side.end()) side = {pb};
-  return m_physics->internalLoad(side, dockPose(c.moduleB, c.dockB).pos);
+  // that reaches A's side too, so only B's own link is counted. Recomputed only when the lock
+  // graph has changed.
+  if (c.sideOf != m_topology) {
+    c.side = m_physics->lockedGroup(pb, pa, pb);
+    if (std::find(c.side.begin(), c.side.end(), pa) != c.side.end()) c.side = {pb};
+    c.sideOf = m_topology;
+  }
+  return m_physics->internalLoad(c.side, dockPose(c.moduleB, c.dockB).pos);
 }
 
 void World::breakagePhase() {

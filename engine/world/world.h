@@ -91,6 +91,9 @@ struct Module {
 struct Connection {
   int moduleA, dockA, moduleB, dockB;
   double time = 0;  ///< when it was made
+  /// Cache for load measurement: the parts on B's side, valid for topology version `sideOf`.
+  mutable std::vector<int> side;
+  mutable uint64_t sideOf = 0;
 };
 
 struct DockEvent {
@@ -271,8 +274,17 @@ class World {
     Pose pose;
   };
   std::vector<FreeDock> m_freeDocks;
-  std::vector<std::pair<uint64_t, int>> m_dockCells;
-  std::vector<int> m_cellSlots;
+  struct DockBox {
+    Vec3 lo, hi;  ///< where a module's docks can reach
+    size_t module;
+    bool near;
+  };
+  std::vector<DockBox> m_dockBoxes;
+  std::vector<uint64_t> m_cellKeys;  ///< dock hash: slot -> cell key
+  std::vector<int> m_cellHead;       ///< slot -> first dock in the cell, or -1
+  std::vector<int> m_cellNext;       ///< dock -> next dock in its cell, or -1
+  std::vector<Pose> m_linkPoses;     ///< one module's link poses, computed once per step
+  std::vector<char> m_linkPoseValid;
   struct Latch {
     int a, da, b, db;
     bool operator<(const Latch& o) const {
@@ -281,7 +293,7 @@ class World {
   };
   std::vector<Latch> m_latches;
   double m_captureCell = 0.03;
-  bool m_anyBreakable = false;
+  uint64_t m_topology = 1;  ///< bumped whenever a lock is made or released
   std::unique_ptr<WorldScript> m_script;
   std::unique_ptr<BehaviourPool> m_pool;
   bool m_groundAdded = false;

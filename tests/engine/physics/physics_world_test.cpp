@@ -101,3 +101,50 @@ TEST_CASE("a hinge servo drives the child to the target, and transformParts move
   CHECK((w.partPose(pb).pos - pbBefore - Vec3(1, 2, 3)).norm() < 1e-6);
   CHECK(w.hingeAngle(hinge) == doctest::Approx(0.5).epsilon(0.02));
 }
+
+TEST_CASE("unlocking splits a body into its still-locked groups, each keeping its velocity") {
+  PhysicsSettings s;
+  s.gravity = Vec3::Zero();
+  PhysicsWorld w(s);
+  PartDesc d;
+  d.shapes = {box(0.1, 0.1, 0.1)};
+  d.mass = 1.0;
+  std::vector<int> p;
+  for (int i = 0; i < 3; ++i) {
+    d.pose.pos = Vec3(0.1 * i, 0, 0);
+    p.push_back(w.addPart(d));
+  }
+  w.lockParts(p[0], p[1]);
+  w.lockParts(p[1], p[2]);
+  CHECK(w.bodyCount() == 1);
+  CHECK(w.lockedGroup(p[0]) == std::vector<int>{p[0], p[1], p[2]});
+  CHECK(w.lockedGroup(p[2], p[1], p[2]) == std::vector<int>{p[2]});
+  w.setPartVelocity(p[0], Vec3(0.5, 0, 0));
+  w.unlockParts(p[1], p[2]);
+  CHECK(w.bodyCount() == 2);
+  CHECK(w.sameBody(p[0], p[1]));
+  CHECK_FALSE(w.sameBody(p[1], p[2]));
+  CHECK(w.partLinearVelocity(p[2]).x() == doctest::Approx(0.5));
+  CHECK(w.partLinearVelocity(p[0]).x() == doctest::Approx(0.5));
+}
+
+TEST_CASE("internalLoad of a part resting on another reads its weight") {
+  PhysicsWorld w(PhysicsSettings{});
+  w.addGroundPlane(0.8, 0);
+  PartDesc d;
+  d.shapes = {box(0.1, 0.1, 0.1)};
+  d.mass = 2.0;
+  d.pose.pos = Vec3(0, 0, 0.05);
+  const int bottom = w.addPart(d);
+  d.mass = 0.5;
+  d.pose.pos = Vec3(0, 0, 0.15);
+  const int top = w.addPart(d);
+  w.lockParts(bottom, top);
+  w.setLoadTracking(true);
+  run(w, 0.5);
+  // The bottom part holds the top one up: the force on `top` from the rest is its weight, upward.
+  const Wrench load = w.internalLoad({top}, Vec3(0, 0, 0.1));
+  CHECK(load.force.z() == doctest::Approx(0.5 * 9.81).epsilon(0.02));
+  CHECK(std::abs(load.force.x()) + std::abs(load.force.y()) < 0.05);
+  CHECK(load.torque.norm() < 0.05);
+}

@@ -92,4 +92,12 @@ return {
       continuous = true, torque = 1.5, speed = 1, gain = 20 },
   },
   docks = docks,
+  sensors = {
+    { type = "accelerometer", link = "north" },
+    { type = "gyro", link = "north" },
+    { type = "orientation" },
+    { type = "position" },
+    { type = "contact", link = "north" },
+    { type = "contact", link = "south" },
+  },
 }

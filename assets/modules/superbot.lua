@@ -17,6 +17,7 @@
 --     links  = { link, ... },         -- required, at least one
 --     joints = { joint, ... },        -- optional; every link must be joined to the root
 --     docks  = { dock, ... },         -- optional
+--     sensors = { sensor, ... },      -- optional (joint:<name>, dock:<name> need no entry)
 --   }
 --
 --   link  = { name = "...",             -- required, unique among links
@@ -72,6 +73,16 @@
 --             pull = 2,                 -- N, the magnet's pull (0: no attraction)
 --             strength = 100,           -- N: the connection breaks above this force ...
 --             strength_torque = 10 }    -- N m: ... or above this torque through it
+--
+--   sensor = { type = "accelerometer" | "gyro" | "orientation" | "position" | "contact" | "range",
+--              link = "link",           -- where it sits (default: the root; required for contact)
+--              -- range only:
+--              name = "front",          -- read as "range:front"
+--              at = {x, y, z}, dir = {x, y, z},  -- ray origin and direction in the link frame
+--              min = 0.02, max = 2.0 }  -- metres; nearer or farther reads nil
+--   Names read by behaviours: accelerometer (m/s^2, gravity included, link frame), gyro (rad/s,
+--   link frame), orientation ({w,x,y,z}), position ({x,y,z}), contact:<link> (true when the
+--   link touches anything), range:<name> (metres or nil).
 --
 -- ===== SuperBot =====
 --
@@ -158,5 +169,16 @@ return {
     dock("right", "front_outer", { 0.058, -0.052, 0 }, { 0, -1, 0 }, { 0, 0, 1 }),
     dock("up", "back_outer", { -0.058, 0, 0.052 }, { 0, 0, 1 }, { -1, 0, 0 }),
     dock("down", "back_outer", { -0.058, 0, -0.052 }, { 0, 0, -1 }, { -1, 0, 0 }),
+  },
+  -- joint:<name> and dock:<name> sensors exist for every joint and dock without being listed.
+  sensors = {
+    { type = "accelerometer", link = "front_inner" },
+    { type = "gyro", link = "front_inner" },
+    { type = "orientation" },
+    { type = "position" },
+    { type = "contact", link = "front_outer" },
+    { type = "contact", link = "front_inner" },
+    { type = "contact", link = "back_inner" },
+    { type = "contact", link = "back_outer" },
   },
 }

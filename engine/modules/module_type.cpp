@@ -15,6 +15,7 @@ int findByName(const std::vector<T>& v, const std::string& n) {
 int ModuleTypeDef::findLink(const std::string& n) const { return findByName(links, n); }
 int ModuleTypeDef::findJoint(const std::string& n) const { return findByName(joints, n); }
 int ModuleTypeDef::findDock(const std::string& n) const { return findByName(docks, n); }
+int ModuleTypeDef::findSensor(const std::string& n) const { return findByName(sensors, n); }
 
 double ModuleTypeDef::mass() const {
   double m = 0;

@@ -54,6 +54,18 @@ struct DockDef {
   Pose frame;                      ///< derived: the dock frame in its link (docking/dock_frame.h)
 };
 
+enum class SensorKind { Accelerometer, Gyro, Orientation, Position, Range, Contact };
+
+/// A sensor the type carries (joint:<name> and dock:<name> exist for every joint and dock).
+struct SensorDef {
+  SensorKind kind = SensorKind::Accelerometer;
+  std::string name;  ///< what behaviours read: "accelerometer", "range:front", "contact:chassis"
+  int link = 0;      ///< the link it sits on (its frame is the sensor frame)
+  Vec3 pos = Vec3::Zero();     ///< range: ray origin in the link frame
+  Vec3 dir = Vec3::UnitX();    ///< range: ray direction (unit)
+  double minRange = 0.02, maxRange = 2.0;  ///< range, m
+};
+
 struct ModuleTypeDef {
   std::string name;
   std::string file;
@@ -61,11 +73,15 @@ struct ModuleTypeDef {
   std::vector<LinkDef> links;
   std::vector<JointDef> joints;
   std::vector<DockDef> docks;
+  std::vector<SensorDef> sensors;
   double dockReach = 0;  ///< derived: farthest a dock's capture zone gets from the root origin
+  bool hasAccelerometer = false;  ///< derived
+  bool hasContact = false;        ///< derived
 
   int findLink(const std::string& n) const;
   int findJoint(const std::string& n) const;
   int findDock(const std::string& n) const;
+  int findSensor(const std::string& n) const;
   double mass() const;
 };
 

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 namespace rm3d {
 
@@ -143,6 +144,9 @@ struct PhysicsWorld::Impl {
   bool tracking = false;
   double lastH = 0;
   std::vector<Vec3> partVelBefore, bodyOmegaBefore, partExtForce, partExtTorque;
+  bool contactTracking = false;
+  std::vector<char> partTouching;
+  mutable std::mutex rayMutex;  // Debian's Bullet shares one ray-test stack per broadphase
 
   explicit Impl(const PhysicsSettings& s) : settings(s) {
     world.setGravity(toBt(s.gravity));
@@ -643,6 +647,36 @@ Wrench PhysicsWorld::internalLoad(const std::vector<int>& parts, const Vec3& poi
   return w;
 }
 
+double PhysicsWorld::rayCast(const Vec3& from, const Vec3& dir, double length, int ignoreOwner) const {
+  struct Callback : btCollisionWorld::ClosestRayResultCallback {
+    const std::vector<Impl::Body>* bodies;
+    int ignore;
+    Callback(const btVector3& a, const btVector3& b, const std::vector<Impl::Body>* bs, int ig)
+        : ClosestRayResultCallback(a, b), bodies(bs), ignore(ig) {}
+    bool needsCollision(btBroadphaseProxy* proxy) const override {
+      const int b = static_cast<btCollisionObject*>(proxy->m_clientObject)->getUserIndex();
+      if (b >= 0 && ignore >= 0) {
+        const auto& owners = (*bodies)[size_t(b)].owners;
+        if (std::binary_search(owners.begin(), owners.end(), ignore)) return false;
+      }
+      return ClosestRayResultCallback::needsCollision(proxy);
+    }
+  };
+  const btVector3 a = toBt(from), b = toBt(from + dir * length);
+  Callback cb(a, b, &m->bodies, ignoreOwner);
+  {
+    std::lock_guard<std::mutex> lock(m->rayMutex);
+    m->world.rayTest(a, b, cb);
+  }
+  return cb.hasHit() ? double(cb.m_closestHitFraction) * length : -1.0;
+}
+
+void PhysicsWorld::setContactTracking(bool on) { m->contactTracking = on; }
+
+bool PhysicsWorld::partTouching(int part) const {
+  return size_t(part) < m->partTouching.size() && m->partTouching[size_t(part)];
+}
+
 void PhysicsWorld::transformParts(const std::vector<int>& parts, const Pose& delta) {
   std::vector<int> bodies;
   for (int p : parts) bodies.push_back(m->parts[p].body);
@@ -687,6 +721,25 @@ void PhysicsWorld::step(double dt, int substeps) {
     m->world.stepSimulation(btScalar(h), 0, btScalar(h));
     for (Impl::Hinge& hg : m->hinges) m->updateAngle(hg);
     if (m->tracking) m->accumulateLoads(h, s == 0);
+  }
+  if (m->contactTracking) {
+    m->partTouching.assign(m->parts.size(), 0);
+    for (int i = 0; i < m->dispatcher.getNumManifolds(); ++i) {
+      const btPersistentManifold* man = m->dispatcher.getManifoldByIndexInternal(i);
+      const int b0 = man->getBody0()->getUserIndex(), b1 = man->getBody1()->getUserIndex();
+      for (int k = 0; k < man->getNumContacts(); ++k) {
+        const btManifoldPoint& pt = man->getContactPoint(k);
+        if (pt.getDistance() > btScalar(0.002)) continue;  // a touch, not a near miss
+        if (b0 >= 0) {
+          const int p = m->partOfChild(b0, pt.m_index0);
+          if (p >= 0) m->partTouching[size_t(p)] = 1;
+        }
+        if (b1 >= 0) {
+          const int p = m->partOfChild(b1, pt.m_index1);
+          if (p >= 0) m->partTouching[size_t(p)] = 1;
+        }
+      }
+    }
   }
   m->forces.clear();
   if (m->tracking) {

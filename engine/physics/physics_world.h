@@ -101,6 +101,13 @@ class PhysicsWorld {
   Vec3 partLinearVelocity(int part) const;
   Vec3 partAngularVelocity(int part) const;
   bool sameBody(int a, int b) const;
+  /// Distance along a ray to the first body hit, ignoring bodies that hold parts of module
+  /// `ignoreOwner`; negative when nothing is hit within `length`. Safe to call from several
+  /// threads (Bullet's ray test is serialised inside).
+  double rayCast(const Vec3& from, const Vec3& dir, double length, int ignoreOwner) const;
+  /// Keeps, after every step, which parts touch something (for contact sensors).
+  void setContactTracking(bool on);
+  bool partTouching(int part) const;
   double hingeAngle(int hinge) const;
   double hingeVelocity(int hinge) const;
   HingeQuality hingeQuality() const;

@@ -3,6 +3,7 @@
 
 #include <lua.hpp>
 
+#include <cctype>
 #include <filesystem>
 
 #include "script/bindings.h"
@@ -25,9 +26,52 @@ bool Behaviour::load(const std::string& path, std::string& err) {
   const std::string root = m_ctx.world->options().projectRoot;
   m_vm.setRequirePath({fs::path(path).parent_path().string(), (fs::path(root) / "lua").string(),
                        (fs::path(root) / "behaviors").string()});
+  lua_State* L = m_vm.L();
+  // Percepts, actions and noise models (lua/rm3d_behaviour.lua), then the behaviour itself.
+  lua_getglobal(L, "require");
+  lua_pushstring(L, "rm3d_behaviour");
+  if (!m_vm.call(1, 0, err)) return false;
   if (!m_vm.runFile(path, 0, err)) return false;
+  // Check the percept and action declarations now, so a misspelt sensor is a load error.
+  lua_getglobal(L, "module");
+  lua_getfield(L, -1, "__check");
+  lua_remove(L, -2);
+  if (!m_vm.call(0, 0, err)) {
+    err = locateDeclaration(path, err);
+    return false;
+  }
   refreshCallbacks();
   return true;
+}
+
+std::string Behaviour::locateDeclaration(const std::string& path, const std::string& err) const {
+  // "percepts.tilt: ..." -> "behaviors/x.lua:12: percepts.tilt: ..." at the line declaring tilt.
+  const size_t dot = err.find('.'), colon = err.find(':');
+  std::string line = "";
+  if (dot != std::string::npos && colon != std::string::npos && dot < colon &&
+      (err.rfind("percepts.", 0) == 0 || err.rfind("actions.", 0) == 0)) {
+    const std::string key = err.substr(dot + 1, colon - dot - 1);
+    std::string text;
+    if (readTextFile(path, text)) {
+      int n = 1;
+      for (size_t pos = 0; pos < text.size(); ++n) {
+        const size_t end = text.find('\n', pos);
+        const std::string l = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+        const size_t k = l.find(key);
+        if (k != std::string::npos && (k == 0 || !std::isalnum(static_cast<unsigned char>(l[k - 1])) && l[k - 1] != '_')) {
+          const size_t eq = l.find_first_not_of(" \t\"]", k + key.size());
+          if (eq != std::string::npos && l[eq] == '=') {
+            line = std::to_string(n);
+            break;
+          }
+        }
+        if (end == std::string::npos) break;
+        pos = end + 1;
+      }
+    }
+  }
+  const std::string where = m_vm.displayName(path) + (line.empty() ? "" : ":" + line);
+  return where + ": " + err;
 }
 
 void Behaviour::refreshCallbacks() {

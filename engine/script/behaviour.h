@@ -32,6 +32,7 @@ class Behaviour {
 
  private:
   void refreshCallbacks();
+  std::string locateDeclaration(const std::string& path, const std::string& err) const;
   LuaVm m_vm;
   BehaviourContext m_ctx;
 };

@@ -7,6 +7,7 @@
 
 #include "script/behaviour.h"
 #include "script/bindings.h"
+#include "script/lua_options.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -101,16 +102,45 @@ int moduleReceive(lua_State* L) {
   return 1;
 }
 
-/// module.sense(name) -> the percept's value
-int moduleSense(lua_State* L) {
-  const char* name = luaL_checkstring(L, 1);
-  return luaL_error(L, "module.sense: no percept named '%s' is declared by this behaviour", name);
+/// module.sensor(name [, "velocity"]) -> the raw reading this step: a number (joint angle or
+/// speed, range distance), {x,y,z} (accelerometer, gyro, position), {w,x,y,z} (orientation), a
+/// boolean (contact), {enabled=, engaged=, proximity=} (dock), or nil (nothing in range, dead)
+int moduleSensor(lua_State* L) {
+  luaL_checkstring(L, 1);
+  lua_pushvalue(L, 1);
+  if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNUMBER) {
+    const BehaviourContext& c = behaviourContext(L);
+    lua_pushfstring(L, "module.sensor: no sensor named '%s' on a %s", lua_tostring(L, 1), self(L).type->name.c_str());
+    luaL_where(L, 1);
+    lua_insert(L, -2);
+    lua_pushfstring(L, " (it has: %s)", c.world->sensorNames(c.module).c_str());
+    lua_concat(L, 3);
+    return lua_error(L);
+  }
+  const int code = int(lua_tointeger(L, -1));
+  bool velocity = false;
+  if (!lua_isnoneornil(L, 2)) {
+    static const char* const fields[] = {"velocity", nullptr};
+    luaL_checkoption(L, 2, nullptr, fields);
+    velocity = true;
+  }
+  const BehaviourContext& c = behaviourContext(L);
+  pushSensorReading(L, c.world->readSensor(c.module, code, velocity));
+  return 1;
 }
 
-/// module.act(name, value)
-int moduleAct(lua_State* L) {
-  const char* name = luaL_checkstring(L, 1);
-  return luaL_error(L, "module.act: no action named '%s' is declared by this behaviour", name);
+/// module.has_sensor(name) -> true, or false and the list of the type's sensors
+int moduleHasSensor(lua_State* L) {
+  luaL_checkstring(L, 1);
+  lua_pushvalue(L, 1);
+  if (lua_rawget(L, lua_upvalueindex(1)) == LUA_TNUMBER) {
+    lua_pushboolean(L, 1);
+    return 1;
+  }
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushboolean(L, 0);
+  lua_pushstring(L, c.world->sensorNames(c.module).c_str());
+  return 2;
 }
 
 /// sim.time() -> seconds since the start
@@ -182,6 +212,27 @@ void setFunctions(lua_State* L, const luaL_Reg* fns) { luaL_setfuncs(L, fns, 0);
 
 }  // namespace
 
+void pushSensorReading(lua_State* L, const SensorReading& r) {
+  switch (r.kind) {
+    case SensorReading::Kind::Nil: lua_pushnil(L); break;
+    case SensorReading::Kind::Number: lua_pushnumber(L, r.v[0]); break;
+    case SensorReading::Kind::Boolean: lua_pushboolean(L, r.flag); break;
+    case SensorReading::Kind::Vector: pushVec3(L, Vec3(r.v[0], r.v[1], r.v[2])); break;
+    case SensorReading::Kind::Quaternion: pushQuat(L, Quat(r.v[0], r.v[1], r.v[2], r.v[3])); break;
+    case SensorReading::Kind::Dock:
+      lua_createtable(L, 0, 3);
+      lua_pushboolean(L, r.flag);
+      lua_setfield(L, -2, "enabled");
+      lua_pushboolean(L, r.engaged);
+      lua_setfield(L, -2, "engaged");
+      if (r.proximity >= 0) {
+        lua_pushnumber(L, r.proximity);
+        lua_setfield(L, -2, "proximity");
+      }
+      break;
+  }
+}
+
 BehaviourContext& behaviourContext(lua_State* L) { return *static_cast<BehaviourContext*>(LuaVm::from(L)->user()); }
 
 double checkFinite(lua_State* L, int arg) {
@@ -219,9 +270,32 @@ void openModuleApi(lua_State* L, BehaviourContext& ctx) {
   ctx.dockTableRef = luaL_ref(L, LUA_REGISTRYINDEX);
   lua_pushcclosure(L, moduleDock, 1);
   lua_setfield(L, -2, "dock");
-  static const luaL_Reg moduleFns[] = {{"joints", moduleJoints}, {"docks", moduleDocks}, {"receive", moduleReceive},
-                                       {"sense", moduleSense},   {"act", moduleAct},     {nullptr, nullptr}};
+  static const luaL_Reg moduleFns[] = {
+      {"joints", moduleJoints}, {"docks", moduleDocks}, {"receive", moduleReceive}, {nullptr, nullptr}};
   setFunctions(L, moduleFns);
+  // Sensor names -> codes, looked up in a Lua table (interned strings), not parsed per read.
+  lua_newtable(L);
+  {
+    const ModuleTypeDef& t = *m.type;
+    int code = 0;
+    for (const JointDef& j : t.joints) {
+      lua_pushinteger(L, code++);
+      lua_setfield(L, -2, ("joint:" + j.name).c_str());
+    }
+    for (const DockDef& d : t.docks) {
+      lua_pushinteger(L, code++);
+      lua_setfield(L, -2, ("dock:" + d.name).c_str());
+    }
+    for (const SensorDef& s : t.sensors) {
+      lua_pushinteger(L, code++);
+      lua_setfield(L, -2, s.name.c_str());
+    }
+  }
+  lua_pushvalue(L, -1);
+  lua_pushcclosure(L, moduleSensor, 1);
+  lua_setfield(L, -3, "sensor");
+  lua_pushcclosure(L, moduleHasSensor, 1);
+  lua_setfield(L, -2, "has_sensor");
   lua_setglobal(L, "module");
 
   static const luaL_Reg simFns[] = {{"time", simTime},         {"dt", simDt}, {"random", simRandom},

@@ -6,6 +6,7 @@ struct lua_State;
 namespace rm3d {
 
 struct BehaviourContext;
+struct SensorReading;
 
 /// Behaviour VM: `module`, `sim`, `log`, `print`, seeded `math.random`; Joint and Dock types.
 void openJointType(lua_State* L);
@@ -13,6 +14,8 @@ void openDockType(lua_State* L);
 void openModuleApi(lua_State* L, BehaviourContext& ctx);
 void pushJoint(lua_State* L, int index);
 void pushDock(lua_State* L, int index);
+/// Pushes a sensor reading as the Lua value behaviours see.
+void pushSensorReading(lua_State* L, const SensorReading& r);
 
 /// Shared helpers for bindings.
 BehaviourContext& behaviourContext(lua_State* L);

@@ -182,7 +182,7 @@ class TypeReader {
     if (top.type != LUA_TTABLE)
       fail("",
            "expected the file to return a table { name = ..., links = { ... }, ... }, got " + describe(top));
-    checkRecord(top, "", {"name", "root", "links", "joints", "docks"});
+    checkRecord(top, "", {"name", "root", "links", "joints", "docks", "sensors"});
     ModuleTypeDef def;
     def.name = toName(require(top, "", "name"), "name");
     def.file = m_file;
@@ -207,6 +207,12 @@ class TypeReader {
       for (size_t i = 0; i < docks.size(); ++i)
         def.docks.push_back(readDock(def, *docks[i], indexPath("docks", i + 1)));
       checkUnique(def.docks, "docks", "dock");
+    }
+    if (const LuaValue* ss = find(top, "sensors")) {
+      const auto sensors = toList(*ss, "sensors");
+      for (size_t i = 0; i < sensors.size(); ++i)
+        def.sensors.push_back(readSensor(def, *sensors[i], indexPath("sensors", i + 1)));
+      checkUnique(def.sensors, "sensors", "sensor");
     }
     checkConnected(def);
     return def;
@@ -525,6 +531,45 @@ class TypeReader {
     j.maxSpeed = toNonNegative(require(v, where, "speed"), childPath(where, "speed"));
     if (const LuaValue* g = find(v, "gain")) j.servoGain = toNonNegative(*g, childPath(where, "gain"));
     return j;
+  }
+
+  SensorDef readSensor(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
+    checkRecord(v, where, {"type", "name", "link", "at", "dir", "min", "max"});
+    SensorDef sd;
+    const std::string kind = toString(require(v, where, "type"), childPath(where, "type"));
+    static const std::pair<const char*, SensorKind> kinds[] = {
+        {"accelerometer", SensorKind::Accelerometer}, {"gyro", SensorKind::Gyro}, {"orientation", SensorKind::Orientation},
+        {"position", SensorKind::Position},           {"range", SensorKind::Range}, {"contact", SensorKind::Contact}};
+    bool known = false;
+    for (const auto& [n, k] : kinds)
+      if (kind == n) {
+        sd.kind = k;
+        known = true;
+      }
+    if (!known)
+      fail(childPath(where, "type"),
+           "unknown sensor type '" + kind + "' (expected one of: accelerometer, gyro, orientation, position, range, contact)");
+    sd.link = def.rootLink;
+    if (const LuaValue* l = find(v, "link")) sd.link = linkIndex(def, *l, childPath(where, "link"));
+    if (sd.kind == SensorKind::Range) {
+      sd.name = "range:" + toName(require(v, where, "name"), childPath(where, "name"));
+      if (const LuaValue* a = find(v, "at")) sd.pos = toVec3(*a, childPath(where, "at"));
+      sd.dir = toDirection(require(v, where, "dir"), childPath(where, "dir"));
+      if (const LuaValue* m = find(v, "min")) sd.minRange = toNonNegative(*m, childPath(where, "min"));
+      if (const LuaValue* m = find(v, "max")) sd.maxRange = toPositive(*m, childPath(where, "max"));
+      if (sd.minRange >= sd.maxRange) fail(where, "min must be less than max");
+    } else {
+      for (const char* k : {"at", "dir", "min", "max"})
+        if (find(v, k)) fail(childPath(where, k), "only range sensors take '" + std::string(k) + "'");
+      if (sd.kind == SensorKind::Contact) {
+        if (!find(v, "link")) fail(where, "a contact sensor needs 'link'");
+        sd.name = "contact:" + def.links[size_t(sd.link)].name;
+      } else {
+        sd.name = kind;
+      }
+      if (const LuaValue* n = find(v, "name")) sd.name = toName(*n, childPath(where, "name"));
+    }
+    return sd;
   }
 
   DockDef readDock(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {

@@ -6,6 +6,7 @@
 
 #include "assets/mesh_loader.h"
 #include "core/error.h"
+#include "script/bindings.h"
 #include "script/lua_options.h"
 #include "script/world_script.h"
 #include "world/world.h"
@@ -168,6 +169,57 @@ int modulePush(lua_State* L) {
   return 0;
 }
 
+int checkSensorName(lua_State* L, int arg, int module) {
+  const char* name = luaL_checkstring(L, arg);
+  const int code = world(L).sensorCode(module, name);
+  if (code >= 0) return code;
+  lua_pushfstring(L, "no sensor named '%s' on a %s (it has: %s)", name, world(L).module(module).type->name.c_str(),
+                  world(L).sensorNames(module).c_str());
+  luaL_where(L, 1);
+  lua_insert(L, -2);
+  lua_concat(L, 2);
+  return lua_error(L);
+}
+
+/// m:sensor(name [, "velocity"]) -> the module's raw sensor reading now (as module.sensor)
+int moduleSensorRead(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const int code = checkSensorName(L, 2, m);
+  bool velocity = false;
+  if (!lua_isnoneornil(L, 3)) {
+    static const char* const fields[] = {"velocity", nullptr};
+    luaL_checkoption(L, 3, nullptr, fields);
+    velocity = true;
+  }
+  pushSensorReading(L, world(L).readSensor(m, code, velocity));
+  return 1;
+}
+
+/// m:inject_fault{joint = name} | {dock = name} | {sensor = name}: from now on the joint stalls
+/// where it is, the dock no longer latches, or the sensor reads nil
+int moduleInjectFault(lua_State* L) {
+  const int m = checkModule(L, 1);
+  checkOptionKeys(L, 2, "inject_fault", {"joint", "dock", "sensor"});
+  int given = 0;
+  if (lua_getfield(L, 2, "joint") != LUA_TNIL) {
+    const char* name = luaL_checkstring(L, -1);
+    const int j = world(L).module(m).type->findJoint(name);
+    if (j < 0) return luaL_error(L, "inject_fault: no joint named '%s'", name);
+    world(L).stallJoint(m, j);
+    ++given;
+  }
+  if (lua_getfield(L, 2, "dock") != LUA_TNIL) {
+    world(L).blockDock(m, checkDockName(L, -1, m));
+    ++given;
+  }
+  if (lua_getfield(L, 2, "sensor") != LUA_TNIL) {
+    world(L).killSensor(m, checkSensorName(L, lua_gettop(L), m));
+    ++given;
+  }
+  if (given == 0) return luaL_error(L, "inject_fault: name a joint, dock or sensor");
+  return 0;
+}
+
 /// m:error() -> nil, or the module's fault text
 int moduleError(lua_State* L) {
   const Module& mod = world(L).module(checkModule(L, 1));
@@ -230,7 +282,8 @@ void openWorldHandles(lua_State* L) {
       {"link_position", moduleLinkPosition}, {"joint_angle", moduleJointAngle},    {"joint_angles", moduleJointAngles},
       {"dock_state", moduleDockState},       {"dock_position", moduleDockPosition}, {"dock_normal", moduleDockNormal},
       {"error", moduleError},                {"dock_load", moduleDockLoad},         {"set_dock", moduleSetDock},
-      {"push", modulePush},                  {"dock_gender", moduleDockGender},     {nullptr, nullptr}};
+      {"push", modulePush},                  {"dock_gender", moduleDockGender},     {"sensor", moduleSensorRead},
+      {"inject_fault", moduleInjectFault},   {nullptr, nullptr}};
   luaL_newmetatable(L, kModuleMeta);
   luaL_newlib(L, moduleMethods);
   lua_setfield(L, -2, "methods");

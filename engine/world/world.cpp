@@ -59,6 +59,10 @@ void prepareType(ModuleTypeDef& t) {
           grew = true;
         }
   }
+  for (const SensorDef& s : t.sensors) {
+    t.hasAccelerometer |= s.kind == SensorKind::Accelerometer;
+    t.hasContact |= s.kind == SensorKind::Contact;
+  }
   t.dockReach = 0;
   for (const DockDef& d : t.docks)
     t.dockReach = std::max(t.dockReach, std::max(0.0, path[size_t(d.link)]) + (d.pos - lastPivot[size_t(d.link)]).norm() + d.captureRadius);
@@ -228,6 +232,14 @@ int World::spawn(const SpawnDef& def) {
   }
   m.commands.assign(type.joints.size(), JointCommand{});
   m.docks.assign(type.docks.size(), DockState{});
+  const size_t codes = type.joints.size() + type.docks.size() + type.sensors.size();
+  m.sensorCache.assign(codes, {-1, SensorReading{}});
+  m.deadSensors.assign(codes, 0);
+  m.accelPrevVel.assign(type.sensors.size(), Vec3::Zero());
+  m.accelWorld.assign(type.sensors.size(), Vec3::Zero());
+  m.stalled.assign(type.joints.size(), 0);
+  m.stallAngle.assign(type.joints.size(), 0.0);
+  m_contactSensors |= type.hasContact;
   m_mailboxes.emplace_back();
   m_behaviours.emplace_back();
   if (!behaviourPath.empty()) {
@@ -313,8 +325,12 @@ void World::lock(int a, int da, int b, int db, int orientation, bool snap) {
   }
   m_physics->lockParts(ma.parts[size_t(defA.link)], mb.parts[size_t(defB.link)]);
   ++m_topology;
-  ma.docks[size_t(da)] = {ma.docks[size_t(da)].enabled, true, b, db};
-  mb.docks[size_t(db)] = {mb.docks[size_t(db)].enabled, true, a, da};
+  for (auto [st, peer, peerDock] : {std::tuple{&ma.docks[size_t(da)], b, db}, std::tuple{&mb.docks[size_t(db)], a, da}}) {
+    st->engaged = true;
+    st->peerModule = peer;
+    st->peerDock = peerDock;
+    st->brokeFromModule = st->brokeFromDock = -1;
+  }
   Connection c{a, da, b, db, m_time};
   m_connections.push_back(c);
   m_events.push_back({m_time, "engaged", a, da, b, db});
@@ -534,7 +550,7 @@ void World::dockPhase() {
     if (m_linkPoses.size() < m.type->links.size()) m_linkPoses.resize(m.type->links.size());
     for (size_t d = 0; d < m.docks.size(); ++d) {
       DockState& st = m.docks[d];
-      if (!st.enabled || st.engaged) continue;
+      if (!st.enabled || st.engaged || !st.latchable) continue;
       const DockDef& def = m.type->docks[d];
       if (!m_linkPoseValid[size_t(def.link)]) {  // one pose per link, not per dock
         m_linkPoses[size_t(def.link)] = linkPose(i, def.link);
@@ -678,8 +694,10 @@ void World::breakagePhase() {
 
 void World::applyActuators() {
   for (const Module& m : m_modules)
-    for (size_t j = 0; j < m.hinges.size(); ++j)
-      m_physics->setMotor(m.hinges[j], motorMode(m.commands[j].mode), m.commands[j].value);
+    for (size_t j = 0; j < m.hinges.size(); ++j) {
+      if (m.stalled[j]) m_physics->setMotor(m.hinges[j], MotorMode::Servo, m.stallAngle[j]);  // stuck where it failed
+      else m_physics->setMotor(m.hinges[j], motorMode(m.commands[j].mode), m.commands[j].value);
+    }
 }
 
 void World::step() {
@@ -701,9 +719,11 @@ void World::step() {
   // 6. Actuators, then physics.
   applyActuators();
   m_physics->setLoadTracking(!m_connections.empty());
+  m_physics->setContactTracking(m_contactSensors);
   const auto t3 = Clock::now();
   m_physics->step(m_settings.dt, m_settings.substeps);
   const auto t4 = Clock::now();
+  updateAccelerometers();
   // 7. Connections whose transmitted load exceeds the docks' strength break.
   breakagePhase();
   ++m_steps;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <map>
+#include <mutex>
 #include <memory>
 #include <optional>
 #include <string>
@@ -59,6 +60,7 @@ struct JointCommand {
 };
 
 struct DockState {
+  bool latchable = true;  ///< false after an injected fault: the dock no longer latches
   bool enabled = true;
   bool engaged = false;
   int peerModule = -1;
@@ -67,6 +69,15 @@ struct DockState {
   /// capture radius (else the magnet would latch the broken pair again at once).
   int brokeFromModule = -1;
   int brokeFromDock = -1;
+};
+
+/// One sensor reading, as the behaviour sees it before percepts.
+struct SensorReading {
+  enum class Kind : uint8_t { Nil, Number, Vector, Quaternion, Boolean, Dock } kind = Kind::Nil;
+  double v[4] = {0, 0, 0, 0};
+  bool flag = false;                     ///< Boolean; Dock: enabled
+  bool engaged = false;                  ///< Dock
+  double proximity = -1;                 ///< Dock: distance to the nearest free partner, < 0: none
 };
 
 struct Module {
@@ -85,6 +96,14 @@ struct Module {
   bool fixed = false;  ///< root link held in place (a base)
   /// on_dock events for the module's next step: (dock, "engaged" | "disengaged" | "broken").
   std::vector<std::pair<int, const char*>> dockEvents;
+  /// Sensors by code (joints, then docks, then the type's sensors): per-step cache and faults.
+  std::vector<std::pair<int64_t, SensorReading>> sensorCache;
+  std::vector<char> deadSensors;
+  std::vector<Vec3> accelPrevVel, accelWorld;  ///< per type sensor (accelerometers)
+  bool accelInUse = false;                     ///< an accelerometer has been read
+  int64_t accelSteps = 0;                      ///< steps tracked since
+  std::vector<char> stalled;                   ///< per joint: an injected stall
+  std::vector<double> stallAngle;
   std::vector<std::string> log;  ///< lines written this step, flushed in id order
 };
 
@@ -229,6 +248,19 @@ class World {
   /// Resolves a path from a world script: the world's folder first, then the project root.
   std::string resolvePath(const std::string& path) const;
 
+  // --- sensors (module.sensor, percepts); safe from worker threads ---
+  /// Sensor code for a name ("joint:pitch", "dock:front", "accelerometer", ...), or -1.
+  int sensorCode(int module, const std::string& name) const;
+  std::string sensorNames(int module) const;
+  /// The reading this step (computed on first use, cached for the step). `velocity` reads a
+  /// joint's speed instead of its angle (not cached).
+  SensorReading readSensor(int module, int code, bool velocity = false);
+  /// World-script fault injection: a joint stalls where it is, a dock stops latching, a sensor
+  /// reads nil from now on.
+  void stallJoint(int module, int joint);
+  void blockDock(int module, int dock);
+  void killSensor(int module, int code);
+
   // --- used by behaviour bindings (module VMs; may run on worker threads) ---
   Module& mutableModule(int i) { return m_modules[size_t(i)]; }
   Mailbox& mailbox(int i) { return m_mailboxes[size_t(i)]; }
@@ -294,6 +326,13 @@ class World {
   std::vector<Latch> m_latches;
   double m_captureCell = 0.03;
   uint64_t m_topology = 1;  ///< bumped whenever a lock is made or released
+  // Dock proximity (dock sensors): free docks sorted by x, built once per step on first use.
+  std::mutex m_proximityMutex;
+  int64_t m_proximityStep = -1;
+  std::vector<FreeDock> m_proximityDocks;
+  void buildProximity();
+  void updateAccelerometers();
+  bool m_contactSensors = false;
   std::unique_ptr<WorldScript> m_script;
   std::unique_ptr<BehaviourPool> m_pool;
   bool m_groundAdded = false;

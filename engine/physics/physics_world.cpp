@@ -152,6 +152,9 @@ struct PhysicsWorld::Impl {
     world.setGravity(toBt(s.gravity));
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);
+    // Two friction directions per contact point (Bullet adds only one by default): with one, a
+    // resting SuperBot crept 2 cm in 10 s; with two, 5 mm.
+    world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     filter.bodies = &bodies;
     world.getPairCache()->setOverlapFilterCallback(&filter);
   }

@@ -189,7 +189,7 @@ int simGaussian(lua_State* L) {
 /// math.randomseed(x): restarts the module's stream from x (and the module id)
 int simRandomSeed(lua_State* L) {
   const lua_Integer s = luaL_checkinteger(L, 1);
-  self(L).rng.seed(uint64_t(s), uint64_t(self(L).id));
+  self(L).rng.seed(uint64_t(s), uint64_t(self(L).id) ^ 0x5eed5eed00000000ull);
   return 0;
 }
 

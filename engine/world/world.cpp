@@ -40,6 +40,13 @@ Pose jointFrame(const JointDef& j) {
   return {j.pivot, Quat::FromTwoVectors(Vec3::UnitZ(), j.axis.normalized())};
 }
 
+/// FNV-1a of a module name, with the top bit set so it never equals a small id.
+uint64_t streamOfName(const std::string& name) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : name) h = (h ^ c) * 0x100000001b3ull;
+  return h | (1ull << 63);
+}
+
 /// Derived fields of a freshly loaded type: dock frames, and how far any dock face (plus its
 /// capture radius) can be from the root link's origin in any pose: along the joint path from the
 /// root, the distances between successive pivots and from the last pivot to the dock, which no
@@ -205,7 +212,9 @@ int World::spawn(const SpawnDef& def) {
   m.type = &type;
   m.behaviourFile = behaviourPath;
   m.params = def.params;
-  m.rng.seed(m_settings.seed, uint64_t(m.id));
+  // A named module's stream follows its name, so adding or reordering other modules never
+  // changes its numbers; an unnamed one's follows its id (its place in spawn order).
+  m.rng.seed(m_settings.seed, def.name.empty() ? uint64_t(m.id) : streamOfName(def.name));
   m.fixed = def.fixed;
   for (size_t l = 0; l < type.links.size(); ++l) {
     const LinkDef& link = type.links[l];

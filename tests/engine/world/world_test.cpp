@@ -96,3 +96,24 @@ end)";
   CHECK(ja.dump() == jb.dump());
   CHECK(a->modulePose(0).pos.x() != 0.0);
 }
+
+TEST_CASE("a named module's random stream does not change when other modules are added") {
+  auto a = makeWorld("world.spawn('superbot', {name = 'alpha'})\nworld.spawn('superbot', {name = 'beta'})");
+  auto b = makeWorld("world.spawn('superbot', {name = 'extra'})\nworld.spawn('superbot', {name = 'beta'})\n"
+                     "world.spawn('superbot', {name = 'alpha'})");
+  auto c = makeWorld("world.spawn('superbot', {name = 'alpha'})", [] {
+    RunOptions o = test::options();
+    o.seed = 99;
+    return o;
+  }());
+  Rng ra = a->module(0).rng, rb = b->module(2).rng, rc = c->module(0).rng;
+  bool differsWithSeed = false;
+  for (int i = 0; i < 10; ++i) {
+    const uint64_t x = ra.next();
+    CHECK(x == rb.next());
+    differsWithSeed |= x != rc.next();
+  }
+  CHECK(differsWithSeed);
+  Rng r0 = a->module(0).rng, r1 = a->module(1).rng;
+  CHECK(r0.next() != r1.next());
+}

@@ -22,19 +22,21 @@ world.box{size = {2 * kHalf + 2 * kWall, kWall, kH}, at = {0, -kHalf - kWall / 2
 world.box{size = {kWall, 2 * kHalf, kH}, at = {kHalf + kWall / 2, 0, kH / 2}}
 world.box{size = {kWall, 2 * kHalf, kH}, at = {-kHalf - kWall / 2, 0, kH / 2}}
 
--- Obstacles: boxes (one turned, one a thin slab at an angle) and upright cylinders.
-world.box{size = {0.4, 0.4, 0.2}, at = {0.45, 0.35, 0.1}, rot = {0, 0, 0.4}}
-world.box{size = {0.6, 0.1, 0.2}, at = {-0.55, 0.75, 0.1}, rot = {0, 0, 0.8}}
-world.box{size = {0.3, 0.3, 0.15}, at = {1.05, -1.05, 0.075}}
-world.cylinder{radius = 0.12, length = 0.3, at = {-0.45, -0.45, 0.15}}
-world.cylinder{radius = 0.08, length = 0.3, at = {0.6, -0.45, 0.15}}
-world.cylinder{radius = 0.15, length = 0.2, at = {-1.0, 0.05, 0.1}}
+-- Obstacles: boxes (one turned, one a thin slab at an angle, one filling a corner) and upright
+-- cylinders, with gaps of 0.4 m or more between them and to the walls.
+world.box{size = {0.4, 0.4, 0.2}, at = {0.5, 0.5, 0.1}, rot = {0, 0, 0.4}}
+world.box{size = {0.6, 0.1, 0.2}, at = {-0.7, 0.75, 0.1}, rot = {0, 0, 0.8}}
+world.box{size = {0.4, 0.4, 0.15}, at = {1.3, -1.3, 0.075}}
+world.cylinder{radius = 0.12, length = 0.3, at = {-0.6, -0.6, 0.15}}
+world.cylinder{radius = 0.08, length = 0.3, at = {0.55, -0.45, 0.15}}
+world.cylinder{radius = 0.15, length = 0.2, at = {-0.1, -0.1, 0.1}}
 
-local params = {speed = args.speed, safe = args.safe}
+local params = {}
+for _, k in ipairs{"debug", "speed", "safe", "clear", "turn_speed", "weave", "weave_period", "extra"} do params[k] = args[k] end
 local bots = {
   world.spawn("wheelbot", {name = "wheelbot_a", at = {-1.1, -1.1, 0.041}, rot = {0, 0, 0.3},
                            behavior = "behaviors/wheelbot_avoid.lua", params = params}),
-  world.spawn("wheelbot", {name = "wheelbot_b", at = {1.1, 1.0, 0.041}, rot = {0, 0, math.pi + 0.3},
+  world.spawn("wheelbot", {name = "wheelbot_b", at = {1.1, 1.1, 0.041}, rot = {0, 0, math.pi + 0.3},
                            behavior = "behaviors/wheelbot_avoid.lua", params = params}),
 }
 world.camera{eye = {0, -3.6, 3.4}, target = {0, 0, 0}}

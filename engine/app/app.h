@@ -21,6 +21,7 @@ struct RunArgs {
   std::string size;  ///< WxH for pictures
   std::string graph; ///< connection graph at the end (.dot: Graphviz, else JSON)
   bool quiet = false;
+  bool watch = false;  ///< real time, reload edits
 };
 
 struct TestArgs {

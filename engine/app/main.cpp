@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   runCmd->add_option("--size", run.size, "picture size WxH (default 1280x720)");
   runCmd->add_option("--graph", run.graph, "write the connection graph at the end (FILE.dot: Graphviz, else JSON)");
   runCmd->add_flag("--quiet", run.quiet, "no module log lines");
+  runCmd->add_flag("--watch", run.watch, "run in real time and reload behaviours, lua/ and the world as they are saved");
 
   rm3d::TestArgs test;
   CLI::App* testCmd = app.add_subcommand("test", "run scripted test worlds headless; ends with 'N passed, N failed'");

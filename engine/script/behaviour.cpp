@@ -88,6 +88,59 @@ void Behaviour::refreshCallbacks() {
   }
 }
 
+bool Behaviour::reload(const std::string& path, const std::string& source, std::string& err) {
+  lua_State* L = m_vm.L();
+  const int top = lua_gettop(L);
+  std::string chunk = "@";
+  chunk += m_vm.displayName(path);
+  if (luaL_loadbufferx(L, source.data(), source.size(), chunk.c_str(), "t") != LUA_OK) {
+    err = lua_tostring(L, -1);
+    lua_settop(L, top);
+    return false;
+  }
+  // Scratch environment: reads fall through to the current globals, definitions land here.
+  lua_newtable(L);
+  lua_createtable(L, 0, 1);
+  lua_pushglobaltable(L);
+  lua_setfield(L, -2, "__index");
+  lua_setmetatable(L, -2);
+  lua_pushvalue(L, -1);
+  lua_setupvalue(L, -3, 1);  // a main chunk's first upvalue is _ENV
+  const int env = lua_gettop(L);
+  lua_pushvalue(L, env - 1);
+  lua_remove(L, env - 1);  // stack: env, chunk
+  // Lua modules are required afresh, so edits in lua/ arrive too.
+  lua_newtable(L);
+  lua_setfield(L, LUA_REGISTRYINDEX, "rm3d.loaded");
+  if (!m_vm.call(0, 0, err)) {
+    lua_settop(L, top);
+    return false;
+  }
+  // Success: the new definitions become the module's globals.
+  const int envIndex = lua_gettop(L);
+  lua_pushglobaltable(L);
+  lua_pushnil(L);
+  while (lua_next(L, envIndex) != 0) {
+    lua_pushvalue(L, -2);
+    lua_insert(L, -2);
+    lua_rawset(L, envIndex + 1);
+  }
+  lua_settop(L, top);
+  lua_getglobal(L, "module");
+  lua_getfield(L, -1, "__check");
+  lua_remove(L, -2);
+  if (!m_vm.call(0, 0, err)) {
+    err = locateDeclaration(path, err);
+    return false;
+  }
+  refreshCallbacks();
+  if (m_ctx.onReloadRef != LUA_NOREF) {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.onReloadRef);
+    if (!m_vm.call(0, 0, err)) return false;
+  }
+  return true;
+}
+
 bool Behaviour::callInit(std::string& err) {
   if (m_ctx.initRef == LUA_NOREF) return true;
   lua_rawgeti(m_vm.L(), LUA_REGISTRYINDEX, m_ctx.initRef);

@@ -28,6 +28,10 @@ class Behaviour {
   bool callStep(double dt, std::string& err);
   /// on_dock(dock, event) if the behaviour defines it.
   bool callOnDock(int dock, const char* event, std::string& err);
+  /// Hot reload: runs new source for the behaviour in a scratch environment and, only if that
+  /// succeeds, makes its definitions current (globals such as `state` survive) and calls
+  /// on_reload(). On failure (syntax or run-time error) nothing changes; err has file:line.
+  bool reload(const std::string& path, const std::string& source, std::string& err);
   LuaVm& vm() { return m_vm; }
 
  private:

@@ -850,3 +850,50 @@ std::vector<std::vector<int>> World::components() const {
 }
 
 }  // namespace rm3d
+
+namespace rm3d {
+
+std::vector<std::string> World::watchedFiles() const {
+  std::vector<std::string> out;
+  if (!m_worldFile.empty()) out.push_back(m_worldFile);
+  for (const Module& m : m_modules)
+    if (!m.behaviourFile.empty()) out.push_back(m.behaviourFile);
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(fs::path(m_options.projectRoot) / "lua", ec))
+    if (e.path().extension() == ".lua") out.push_back(e.path().string());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+int World::reloadFile(const std::string& path, std::vector<std::string>& errors) {
+  const bool library = fs::path(path).parent_path() == fs::path(m_options.projectRoot) / "lua";
+  int reloaded = 0;
+  std::map<std::string, std::string> sources;  // each file read once
+  for (size_t i = 0; i < m_modules.size(); ++i) {
+    Module& m = m_modules[i];
+    Behaviour* b = m_behaviours[i].get();
+    if (!b || (!library && m.behaviourFile != path)) continue;
+    auto it = sources.find(m.behaviourFile);
+    if (it == sources.end()) {
+      std::string t;
+      if (!readTextFile(m.behaviourFile, t)) {
+        errors.push_back(m.behaviourFile + ": cannot read file");
+        continue;
+      }
+      it = sources.emplace(m.behaviourFile, std::move(t)).first;
+    }
+    const std::string& text = it->second;
+    std::string err;
+    if (b->reload(m.behaviourFile, text, err)) {
+      ++reloaded;
+      m.fault.clear();
+      m.faultReported = false;
+    } else if (std::find(errors.begin(), errors.end(), err) == errors.end()) {
+      errors.push_back(err);
+    }
+  }
+  return reloaded;
+}
+
+}  // namespace rm3d

@@ -248,6 +248,15 @@ class World {
   /// Resolves a path from a world script: the world's folder first, then the project root.
   std::string resolvePath(const std::string& path) const;
 
+  // --- hot reload ---
+  /// Files whose edits should reach the run: behaviour files in use, lua/*.lua, the world file.
+  std::vector<std::string> watchedFiles() const;
+  /// Reloads a changed behaviour (or, for a lua/ file, every behaviour) into every module running
+  /// it. Returns how many modules took the new code; errors (file:line) go to `errors`, and
+  /// those modules keep their old code. A module that had faulted runs again once its
+  /// behaviour reloads cleanly.
+  int reloadFile(const std::string& path, std::vector<std::string>& errors);
+
   // --- sensors (module.sensor, percepts); safe from worker threads ---
   /// Sensor code for a name ("joint:pitch", "dock:front", "accelerometer", ...), or -1.
   int sensorCode(int module, const std::string& name) const;

@@ -1,0 +1,126 @@
+-- Rolling track gait (the paper's Fig. 1(e), section IV.B): six SuperBots docked front to back in
+-- a closed loop that stands upright on the ground roll along it like a wheel or a tank track,
+-- each steered only by its own accelerometer. No module index, no position, no messages.
+--
+-- What a module perceives. In the loop every module's pitch axis is the loop's axle and its z
+-- axis points into the loop, so gravity seen in the module's frame turns with its place round
+-- the loop: lying at the bottom it reads (0, 0, +g), standing at the front end (front dock up)
+-- (+g, 0, 0), upside down on top (0, 0, -g), at the back (-g, 0, 0). The percept `where` turns
+-- that (noisy) reading into the module's angle round the loop, atan2(ax, az): 0 at the bottom,
+-- +90 deg at the front, 180 deg on top, -90 deg at the back, and names the quarter ("bottom",
+-- "front", "top", "back"); "front" is where the front docks of the bottom modules point. A
+-- reading far from 1 g (a knock) is dropped and the last angle kept.
+--
+-- The gait. Each module bends its pitch joint, the hinge at its front end where the loop turns
+-- to the next module, by
+--     bend = 60 deg + lean * cos(2 * (joint - 135 deg)),   joint = angle + 30 deg
+-- (joint: the angle round the loop of that hinge). Six 60 deg bends make a hexagon; the lean term
+-- turns it into an egg leaning forward: hinges at the lower back and upper front bend more,
+-- those at the lower front and upper back less. Such a shape's lowest point lies behind its
+-- centre of mass, so gravity tips it forward. As the loop rolls, every module's angle changes
+-- and it re-bends for its new place, so the leaning shape stays put in the world while the
+-- modules flow round it like a tank track: the loop keeps falling forward.
+--
+-- Speed. A module also measures how fast its own angle advances (over `window` seconds) and sets
+-- lean = gain * (rate - measured rate), within +-max_lean: full lean from rest, less as the loop
+-- speeds up, a backward lean (a brake) when too fast. Without this the loop accelerates until
+-- the 3 rad/s joints cannot reshape it fast enough (about 0.7 to 0.8 m/s).
+--
+-- Forming. Until both its front and back docks are engaged (the world closes the loop), a module
+-- holds pitch at -60 deg (front bracket turned towards its own +z) and roll and yaw at 0, with
+-- an integral trim so that the six joint angles are right to a few hundredths of a degree and
+-- the loop's last docks meet within world.connect's 1 mm and 1 deg. It starts rolling `settle`
+-- seconds after its loop is closed.
+--
+-- params:
+--   direction  1 (default): roll towards where the bottom modules' front docks point; -1: back
+--   rate       loop turning rate to hold, rad/s (default 1.5, about 0.27 m/s for six modules)
+--   max_lean   deg (default 20; bends stay within 40..80 deg, inside the +-90 deg limits)
+--   gain       lean in rad per rad/s of rate error (default 0.2)
+--   window     seconds over which the rate is measured (default 1.5)
+--   settle     seconds between closing the loop and rolling (default 0.5)
+--   verbose    log the percept, rate and lean twice a second
+
+local pitch, roll, yaw = module.joint("pitch"), module.joint("roll"), module.joint("yaw")
+local front, back = module.dock("front"), module.dock("back")
+
+local direction = params.direction or 1
+local rate = params.rate or 1.5
+local max_lean = math.rad(params.max_lean or 20)
+local gain = params.gain or 0.2
+local window = params.window or 1.5
+local settle = params.settle or 0.5
+local kHexagon = math.pi / 3 -- 60 deg: six equal bends close the loop
+local kG = 9.81
+
+local places = {"bottom", "front", "top", "back"}
+
+percepts = {
+  where = {
+    sensor = "accelerometer",
+    noise = noise.gaussian(0.2), -- m/s^2 on each axis
+    map = function(a)
+      local g = math.sqrt(a[1] ^ 2 + a[2] ^ 2 + a[3] ^ 2)
+      if g < 0.6 * kG or g > 1.4 * kG then return nil end -- a knock, not gravity
+      local angle = math.atan(a[1], a[3])
+      local quarter = math.floor((angle + math.pi / 4) / (math.pi / 2)) % 4 + 1
+      return {angle = angle, place = places[quarter]}
+    end,
+  },
+}
+
+local function wrap(a) return (a + math.pi) % (2 * math.pi) - math.pi end
+
+-- Forming: servo targets trimmed by the integral of the (small) remaining error.
+local trims = {pitch = 0, roll = 0, yaw = 0}
+local function hold(joint, name, goal, dt)
+  local e = goal - joint:angle()
+  if math.abs(e) < 0.02 then trims[name] = trims[name] + 3 * dt * e end
+  joint:set_target(goal + trims[name])
+end
+
+local closed_at         -- when both end docks were first seen engaged
+local angle             -- last accepted angle round the loop
+local place
+local turned, history, n = 0, {}, 0 -- unwrapped turn in the rolling direction, its recent values
+local steps = 0
+
+function step(dt)
+  if not closed_at and front:engaged() and back:engaged() then closed_at = sim.time() end
+  if not closed_at or sim.time() < closed_at + settle then
+    hold(pitch, "pitch", -kHexagon, dt)
+    hold(roll, "roll", 0, dt)
+    hold(yaw, "yaw", 0, dt)
+    return
+  end
+
+  local seen = module.sense("where")
+  if seen then
+    -- Rolling forward turns every module backwards round the loop (its angle decreases).
+    if angle then turned = turned - direction * wrap(seen.angle - angle) end
+    angle, place = seen.angle, seen.place
+  end
+  if not angle then return end
+
+  n = n + 1
+  history[n] = turned
+  local k = math.max(1, math.floor(window / dt + 0.5))
+  local measured = 0
+  if n > k then
+    measured = (turned - history[n - k]) / (k * dt)
+    history[n - k] = nil
+  end
+  local lean = math.max(-max_lean, math.min(max_lean, gain * (rate - measured)))
+
+  local joint = angle + math.pi / 6
+  local bend = kHexagon + direction * lean * math.cos(2 * (joint - 0.75 * math.pi))
+  pitch:set_target(-bend)
+  roll:set_target(0)
+  yaw:set_target(0)
+
+  steps = steps + 1
+  if params.verbose and steps % 30 == 0 then
+    log(string.format("%-6s angle %6.1f deg  rate %5.2f rad/s  lean %5.1f deg  bend %5.1f deg", place,
+                      math.deg(angle), measured, math.deg(lean), math.deg(bend)))
+  end
+end

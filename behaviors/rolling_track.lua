@@ -84,6 +84,7 @@ local angle             -- last accepted angle round the loop
 local place
 local turned, history, n = 0, {}, 0 -- unwrapped turn in the rolling direction, its recent values
 local steps = 0
+local integral, ki = math.rad(params.kick or 0), params.ki or 0
 
 function step(dt)
   if not closed_at and front:engaged() and back:engaged() then closed_at = sim.time() end
@@ -110,7 +111,9 @@ function step(dt)
     measured = (turned - history[n - k]) / (k * dt)
     history[n - k] = nil
   end
-  local lean = math.max(-max_lean, math.min(max_lean, gain * (rate - measured)))
+  local err = rate - measured
+  if n > k then integral = math.max(-max_lean, math.min(max_lean, integral + ki * err * dt)) end
+  local lean = math.max(-max_lean, math.min(max_lean, gain * err + integral))
 
   local joint = angle + math.pi / 6
   local bend = kHexagon + direction * lean * math.cos(2 * (joint - 0.75 * math.pi))

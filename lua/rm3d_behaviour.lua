@@ -123,6 +123,24 @@ function module.sense(name)
   return v
 end
 
+--- For the viewer's inspector: each percept's last value, one per line.
+function module.__describe()
+  local lines = {}
+  for _, name in ipairs(keys_sorted(state.p)) do
+    local v = state.p[name].value
+    local text
+    if type(v) == "table" then
+      local parts = {}
+      for _, k in ipairs(keys_sorted(v)) do parts[#parts + 1] = tostring(k) .. "=" .. tostring(v[k]) end
+      text = "{" .. table.concat(parts, ", ") .. "}"
+    else
+      text = tostring(v)
+    end
+    lines[#lines + 1] = tostring(name) .. " = " .. text
+  end
+  return table.concat(lines, "\n")
+end
+
 --- module.act(name, value): the command through the action's map and noise to its joint or dock
 function module.act(name, value)
   if rawget(_G, "actions") ~= state.actions then build() end

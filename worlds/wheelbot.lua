@@ -36,9 +36,11 @@ for _, k in ipairs{"debug", "speed", "safe", "clear", "turn_speed", "weave", "we
 local bots = {
   world.spawn("wheelbot", {name = "wheelbot_a", at = {-1.1, -1.1, 0.041}, rot = {0, 0, 0.3},
                            behavior = "behaviors/wheelbot_avoid.lua", params = params}),
-  world.spawn("wheelbot", {name = "wheelbot_b", at = {1.1, 1.1, 0.041}, rot = {0, 0, math.pi + 0.3},
-                           behavior = "behaviors/wheelbot_avoid.lua", params = params}),
 }
+if (args.bots or 2) > 1 then
+  bots[2] = world.spawn("wheelbot", {name = "wheelbot_b", at = {1.1, 1.1, 0.041}, rot = {0, 0, math.pi + 0.3},
+                                     behavior = "behaviors/wheelbot_avoid.lua", params = params})
+end
 world.camera{eye = {0, -3.6, 3.4}, target = {0, 0, 0}}
 
 local path, last, touched, inside, upright = {}, {}, {}, {}, {}

@@ -22,6 +22,7 @@ struct RenderItem {
   int mesh = 0;                                          ///< index into Snapshot::meshes
   Eigen::Matrix4f transform = Eigen::Matrix4f::Identity();  ///< mesh frame -> world (may scale)
   std::array<float, 4> color{0.8f, 0.8f, 0.8f, 1.0f};    ///< linear RGBA
+  int tag = -1;  ///< what it belongs to (a module index for module links and docks, else -1)
 };
 
 /// A line segment in world space (range-sensor rays, dock markers).

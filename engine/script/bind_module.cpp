@@ -3,6 +3,9 @@
 #include <lua.hpp>
 
 #include <cmath>
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "script/behaviour.h"
@@ -92,6 +95,13 @@ int moduleReceive(lua_State* L) {
   if (box.inbox.empty()) return 0;
   Message msg;
   if (!box.take(dock, msg)) return 0;
+  if (c.world->options().keepHistory) {
+    Module& me = self(L);
+    char head[64];
+    std::snprintf(head, sizeof head, "%.2f %s: ", msg.time, me.type->docks[size_t(msg.dock)].name.c_str());
+    me.recentMessages.push_back(head + luaValueToJson(msg.data).dump());
+    if (me.recentMessages.size() > 20) me.recentMessages.pop_front();
+  }
   lua_createtable(L, 0, 3);
   lua_pushstring(L, self(L).type->docks[size_t(msg.dock)].name.c_str());
   lua_setfield(L, -2, "dock");

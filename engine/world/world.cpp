@@ -14,6 +14,9 @@
 #include "core/error.h"
 #include "docking/dock_frame.h"
 #include "script/behaviour.h"
+#include "script/lua_vm.h"
+
+#include <lua.hpp>
 #include "script/module_type_loader.h"
 #include "script/world_script.h"
 #include "world/behaviour_pool.h"
@@ -449,6 +452,13 @@ void World::reportModuleOutput() {
     if (!m.log.empty()) {
       if (m_options.echoLog)
         for (const std::string& line : m.log) std::fprintf(stderr, "[%8.3f %s] %s\n", m_time, m.name.c_str(), line.c_str());
+      if (m_options.keepHistory)
+        for (const std::string& line : m.log) {
+          char t[32];
+          std::snprintf(t, sizeof t, "%.2f: ", m_time);
+          m.recentLog.push_back(t + line);
+          if (m.recentLog.size() > 20) m.recentLog.pop_front();
+        }
       m.log.clear();
     }
     if (!m.fault.empty() && !m.faultReported) {
@@ -863,6 +873,24 @@ std::vector<std::string> World::watchedFiles() const {
     if (e.path().extension() == ".lua") out.push_back(e.path().string());
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::string World::describePercepts(int module) {
+  Behaviour* b = m_behaviours[size_t(module)].get();
+  if (!b) return {};
+  lua_State* L = b->vm().L();
+  lua_getglobal(L, "module");
+  lua_getfield(L, -1, "__describe");
+  lua_remove(L, -2);
+  std::string err;
+  if (!lua_isfunction(L, -1)) {
+    lua_pop(L, 1);
+    return {};
+  }
+  if (!b->vm().call(0, 1, err)) return "(" + err + ")";
+  std::string out = lua_isstring(L, -1) ? lua_tostring(L, -1) : "";
+  lua_pop(L, 1);
   return out;
 }
 

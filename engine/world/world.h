@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <mutex>
 #include <memory>
@@ -38,6 +39,7 @@ struct RunOptions {
   int64_t behaviourBudget = 10'000'000;      ///< Lua instructions per callback
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
   bool echoLog = true;                        ///< print module log lines to stderr
+  bool keepHistory = false;                   ///< keep recent log lines and messages per module (viewer)
 };
 
 /// world.set{...}: fixed before the first step.
@@ -105,6 +107,8 @@ struct Module {
   std::vector<char> stalled;                   ///< per joint: an injected stall
   std::vector<double> stallAngle;
   std::vector<std::string> log;  ///< lines written this step, flushed in id order
+  std::deque<std::string> recentLog;       ///< with keepHistory: the last 20 lines ("t: text")
+  std::deque<std::string> recentMessages;  ///< with keepHistory: the last 20 messages read
 };
 
 struct Connection {
@@ -195,6 +199,7 @@ class World {
   };
   const StepTimes& lastStepTimes() const { return m_times; }
   PhysicsWorld& physics() { return *m_physics; }
+  const PhysicsWorld& physicsConst() const { return *m_physics; }
 
   // --- building (world scripts, tests) ---
   void setSettings(const WorldSettings& s);
@@ -256,6 +261,8 @@ class World {
   /// those modules keep their old code. A module that had faulted runs again once its
   /// behaviour reloads cleanly.
   int reloadFile(const std::string& path, std::vector<std::string>& errors);
+  /// The module's declared percepts and their last values, one "name = value" per line (viewer).
+  std::string describePercepts(int module);
 
   // --- sensors (module.sensor, percepts); safe from worker threads ---
   /// Sensor code for a name ("joint:pitch", "dock:front", "accelerometer", ...), or -1.

@@ -121,6 +121,7 @@ Snapshot buildSnapshot(const World& w) {
         item.mesh = table.meshFor(s, scale);
         item.transform = toMatrix(lp * s.pose, scale);
         item.color = link.color;
+        item.tag = int(i);
         if (faulted) item.color = {0.85f, 0.1f, 0.1f, 1.0f};
         snap.items.push_back(item);
       }
@@ -135,10 +136,26 @@ Snapshot buildSnapshot(const World& w) {
       Pose face = w.dockPose(int(i), int(d));
       face.pos += face.rot * Vec3(-0.0005, 0, 0);
       item.transform = toMatrix(face, Eigen::Vector3f(0.002f, float(dock.size), float(dock.size)));
+      item.tag = int(i);
       item.color = !st.enabled ? std::array<float, 4>{0.9f, 0.15f, 0.1f, 1}
                    : st.engaged ? std::array<float, 4>{0.2f, 0.8f, 0.3f, 1}
                                 : std::array<float, 4>{0.55f, 0.55f, 0.6f, 1};
       snap.items.push_back(item);
+    }
+  }
+  // Range sensors as lines: to the hit (red) or over their whole range (yellow).
+  for (size_t i = 0; i < w.modules().size(); ++i) {
+    const Module& m = w.modules()[i];
+    for (const SensorDef& sd : m.type->sensors) {
+      if (sd.kind != SensorKind::Range) continue;
+      const Pose lp = w.linkPose(int(i), sd.link);
+      const Vec3 dir = lp.rot * sd.dir, from = lp * sd.pos;
+      const double hit = w.physicsConst().rayCast(from + dir * sd.minRange, dir, sd.maxRange - sd.minRange, int(i));
+      RenderLine line;
+      line.a = f3(from);
+      line.b = f3(from + dir * (hit >= 0 ? hit + sd.minRange : sd.maxRange));
+      line.color = hit >= 0 ? std::array<float, 4>{0.95f, 0.2f, 0.15f, 1} : std::array<float, 4>{0.95f, 0.85f, 0.1f, 1};
+      snap.lines.push_back(line);
     }
   }
   for (const World::Obstacle& o : w.obstacles()) {

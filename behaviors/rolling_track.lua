@@ -21,10 +21,12 @@
 -- and it re-bends for its new place, so the leaning shape stays put in the world while the
 -- modules flow round it like a tank track: the loop keeps falling forward.
 --
--- Speed. A module also measures how fast its own angle advances (over `window` seconds) and sets
--- lean = gain * (rate - measured rate), within +-max_lean: full lean from rest, less as the loop
--- speeds up, a backward lean (a brake) when too fast. Without this the loop accelerates until
--- the 3 rad/s joints cannot reshape it fast enough (about 0.7 to 0.8 m/s).
+-- Speed. A module also measures how fast its own angle advances (over the last `window`
+-- seconds, from the same percept) and sets lean = gain * (rate - measured rate), within
+-- +-max_lean: about 20 deg from rest (a hexagon needs some 15 deg to start rolling, backwards
+-- more than forwards), less as the loop speeds up, a backward lean (a brake) when too fast.
+-- Without it the loop accelerates until the 3 rad/s joints cannot reshape it fast enough
+-- (0.8 to 0.9 m/s). Below about 2 rad/s the loop rolls face by face, surging and stalling.
 --
 -- Forming. Until both its front and back docks are engaged (the world closes the loop), a module
 -- holds pitch at -60 deg (front bracket turned towards its own +z) and roll and yaw at 0, with
@@ -34,10 +36,11 @@
 --
 -- params:
 --   direction  1 (default): roll towards where the bottom modules' front docks point; -1: back
---   rate       loop turning rate to hold, rad/s (default 1.5, about 0.27 m/s for six modules)
+--   rate       loop turning rate to hold, rad/s (default 2.5: about 0.45 m/s for six modules,
+--              whose loop is 1.14 m round)
 --   max_lean   deg (default 20; bends stay within 40..80 deg, inside the +-90 deg limits)
---   gain       lean in rad per rad/s of rate error (default 0.2)
---   window     seconds over which the rate is measured (default 1.5)
+--   gain       lean in rad per rad/s of rate error (default 0.15)
+--   window     seconds over which the rate is measured (default 1)
 --   settle     seconds between closing the loop and rolling (default 0.5)
 --   verbose    log the percept, rate and lean twice a second
 
@@ -45,10 +48,10 @@ local pitch, roll, yaw = module.joint("pitch"), module.joint("roll"), module.joi
 local front, back = module.dock("front"), module.dock("back")
 
 local direction = params.direction or 1
-local rate = params.rate or 1.5
+local rate = params.rate or 2.5
 local max_lean = math.rad(params.max_lean or 20)
-local gain = params.gain or 0.2
-local window = params.window or 1.5
+local gain = params.gain or 0.15
+local window = params.window or 1
 local settle = params.settle or 0.5
 local kHexagon = math.pi / 3 -- 60 deg: six equal bends close the loop
 local kG = 9.81
@@ -84,7 +87,6 @@ local angle             -- last accepted angle round the loop
 local place
 local turned, history, n = 0, {}, 0 -- unwrapped turn in the rolling direction, its recent values
 local steps = 0
-local integral, ki = math.rad(params.kick or 0), params.ki or 0
 
 function step(dt)
   if not closed_at and front:engaged() and back:engaged() then closed_at = sim.time() end
@@ -105,15 +107,11 @@ function step(dt)
 
   n = n + 1
   history[n] = turned
-  local k = math.max(1, math.floor(window / dt + 0.5))
-  local measured = 0
-  if n > k then
-    measured = (turned - history[n - k]) / (k * dt)
-    history[n - k] = nil
-  end
-  local err = rate - measured
-  if n > k then integral = math.max(-max_lean, math.min(max_lean, integral + ki * err * dt)) end
-  local lean = math.max(-max_lean, math.min(max_lean, gain * err + integral))
+  -- Rate over the last `window` seconds (over what there is, just after closing).
+  local k = math.min(n - 1, math.max(1, math.floor(window / dt + 0.5)))
+  local measured = k > 0 and (turned - history[n - k]) / (k * dt) or 0
+  history[n - k - 1] = nil
+  local lean = math.max(-max_lean, math.min(max_lean, gain * (rate - measured)))
 
   local joint = angle + math.pi / 6
   local bend = kHexagon + direction * lean * math.cos(2 * (joint - 0.75 * math.pi))

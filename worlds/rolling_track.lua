@@ -3,12 +3,12 @@
 -- Every module runs behaviors/rolling_track.lua and knows only where it is round the loop, from
 -- a noisy accelerometer percept (bottom / front / top / back, as an angle): it bends its pitch
 -- joint so that the loop keeps the shape of an egg leaning forward, which keeps falling forward,
--- and measures from the same percept how fast it turns to hold about 1.5 rad/s (~0.27 m/s).
+-- and measures from the same percept how fast it turns, to hold 2.5 rad/s (about 0.45 m/s).
 -- The six modules spawn apart, bend to -60 deg, and at t = 2 s are docked into a hexagon by
 -- world.connect; the last connect closes the loop between docks that already face each other
 -- (lua/rolling_track_world.lua explains). Prints the progress every 2 s and checks at 20 s that
 -- the loop rolled at least 0.5 m, stayed closed and standing, and that no module faulted.
--- Try: --param direction=-1 (roll the other way), --param rate=2.5, --param verbose=true.
+-- Try: --param direction=-1 (roll the other way), --param rate=3.5, --param verbose=true.
 local track = require("rolling_track_world")
 
 -- 60 solver iterations (default 30) keep the resting modules' hinges true enough for the loop

@@ -19,6 +19,8 @@ struct RunArgs {
   int threads = 1;
   std::string png, video;
   std::string size;  ///< WxH for pictures
+  std::string frames;  ///< folder for PNG frames
+  int every = 0;       ///< steps between frames (0: 30 per second)
   std::string graph; ///< connection graph at the end (.dot: Graphviz, else JSON)
   bool quiet = false;
   bool watch = false;  ///< real time, reload edits

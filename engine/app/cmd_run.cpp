@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 #include <map>
 #include <thread>
 
@@ -32,7 +33,7 @@ bool parseParams(const std::vector<std::string>& in, std::map<std::string, std::
 }
 
 WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::optional<long long> steps,
-                      std::optional<double> seconds) {
+                      std::optional<double> seconds, const StepHook& onStep) {
   WorldRun r;
   const auto t0 = std::chrono::steady_clock::now();
   r.world = std::make_unique<World>(options);
@@ -53,7 +54,10 @@ WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::o
   long long limit = -1;
   if (steps) limit = *steps;
   if (seconds) limit = std::llround(*seconds / w.settings().dt);
-  while (limit >= 0 ? (w.steps() < limit && !w.stopped()) : !w.finished()) w.step();
+  while (limit >= 0 ? (w.steps() < limit && !w.stopped()) : !w.finished()) {
+    w.step();
+    if (onStep) onStep(w);
+  }
   r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!w.scriptError().empty()) r.exitCode = 2;
   else if (!w.failures().empty() || w.fatalFault()) r.exitCode = 1;
@@ -63,6 +67,21 @@ WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::o
 namespace {
 
 using WallClock = std::chrono::steady_clock;
+
+bool onPath(const char* program) {
+  const char* path = std::getenv("PATH");
+  if (!path) return false;
+  std::string dirs = path;
+  size_t start = 0;
+  while (start <= dirs.size()) {
+    const size_t end = dirs.find(':', start);
+    const std::string dir = dirs.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (!dir.empty() && ::access((fs::path(dir) / program).c_str(), X_OK) == 0) return true;
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return false;
+}
 
 /// `run --watch`: steps in real time and applies edits as they are saved: a changed behaviour or
 /// lua/ file is reloaded into the running modules (state kept); a changed world script rebuilds
@@ -151,12 +170,21 @@ int runCommand(const RunArgs& a, const std::string& root) {
   o.strict = a.strict;
   o.threads = a.threads;
   o.echoLog = !a.quiet;
-  if (!a.video.empty()) {
-    std::fprintf(stderr, "rm3d run: --video is not in this build yet; use --png FILE for a picture of the last frame\n");
+  if (!a.video.empty() && !onPath("ffmpeg")) {
+    std::fprintf(stderr, "rm3d run: --video needs ffmpeg, which is not installed (apt-get install ffmpeg); --png and --frames work without it\n");
     return 2;
   }
+  if (!a.frames.empty()) {
+    std::error_code ec;
+    fs::create_directories(a.frames, ec);
+    if (!fs::is_directory(a.frames)) {
+      std::fprintf(stderr, "rm3d run: --frames %s: cannot create the folder\n", a.frames.c_str());
+      return 2;
+    }
+  }
   // Check output paths before a long run, not after it.
-  for (const auto& [flag, path] : {std::pair{"--json", a.json}, std::pair{"--png", a.png}, std::pair{"--graph", a.graph}}) {
+  for (const auto& [flag, path] : {std::pair{"--json", a.json}, std::pair{"--png", a.png}, std::pair{"--graph", a.graph},
+                                   std::pair{"--video", a.video}}) {
     if (path.empty()) continue;
     const fs::path dir = fs::absolute(path).parent_path();
     if (!fs::is_directory(dir)) {
@@ -171,7 +199,46 @@ int runCommand(const RunArgs& a, const std::string& root) {
     return 2;
   }
   if (a.watch) return watchLoop(a, o);
-  WorldRun r = runWorldFile(a.world, o, a.steps, a.seconds);
+  // Pictures while running: PNG frames and/or a video piped to ffmpeg, every `every` steps.
+  std::unique_ptr<OffscreenRenderer> renderer;
+  FILE* video = nullptr;
+  long long frameNo = 0;
+  StepHook onStep;
+  if (!a.frames.empty() || !a.video.empty()) {
+    renderer = std::make_unique<OffscreenRenderer>();
+    std::string perr;
+    if (!renderer->init(width, height, perr)) {
+      std::fprintf(stderr, "rm3d run: %s\n", perr.c_str());
+      return 2;
+    }
+    onStep = [&, every = a.every](World& w) {
+      const int n = every > 0 ? every : std::max(1, int(std::lround(1.0 / (30.0 * w.settings().dt))));
+      if (w.steps() % n != 0) return;
+      if (!video && !a.video.empty()) {
+        const double fps = 1.0 / (n * w.settings().dt);
+        char cmd[1024];
+        std::snprintf(cmd, sizeof cmd,
+                      "ffmpeg -y -loglevel error -f rawvideo -pix_fmt rgba -s %dx%d -r %.3f -i - -pix_fmt yuv420p "
+                      "-vcodec libx264 -crf 23 '%s'", width, height, fps, a.video.c_str());
+        video = popen(cmd, "w");
+      }
+      renderer->draw(buildSnapshot(w), worldCamera(w));
+      if (video) std::fwrite(renderer->rgba().data(), 1, renderer->rgba().size(), video);
+      if (!a.frames.empty()) {
+        char name[64];
+        std::snprintf(name, sizeof name, "frame_%06lld.png", frameNo);
+        std::string err;
+        renderer->writePng((fs::path(a.frames) / name).string(), err);
+      }
+      ++frameNo;
+    };
+  }
+  WorldRun r = runWorldFile(a.world, o, a.steps, a.seconds, onStep);
+  if (video && pclose(video) != 0) {
+    std::fprintf(stderr, "rm3d run: ffmpeg failed writing %s\n", a.video.c_str());
+    return 2;
+  }
+  if (video) std::printf("wrote %lld frames to %s\n", frameNo, a.video.c_str());
   World& w = *r.world;
   if (!r.loadError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.loadError.c_str());
   if (!w.scriptError().empty()) std::fprintf(stderr, "rm3d: world script error: %s\n", w.scriptError().c_str());

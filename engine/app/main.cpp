@@ -38,6 +38,9 @@ int main(int argc, char** argv) {
   runCmd->add_option("--png", run.png, "write the last frame as PNG");
   runCmd->add_option("--video", run.video, "write a video (MP4)");
   runCmd->add_option("--size", run.size, "picture size WxH (default 1280x720)");
+  runCmd->add_option("--frames", run.frames, "write a PNG every --every steps into this folder");
+  runCmd->add_option("--every", run.every, "steps between frames for --frames and --video (default: 30 frames per second)")
+      ->check(CLI::PositiveNumber);
   runCmd->add_option("--graph", run.graph, "write the connection graph at the end (FILE.dot: Graphviz, else JSON)");
   runCmd->add_flag("--quiet", run.quiet, "no module log lines");
   runCmd->add_flag("--watch", run.watch, "run in real time and reload behaviours, lua/ and the world as they are saved");

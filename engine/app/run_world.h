@@ -1,6 +1,7 @@
 // Running one world file to its end: shared by `rm3d run` and `rm3d test`.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,8 +17,11 @@ struct WorldRun {
   int exitCode = 0;       ///< 0 ok, 1 failed expectations or fatal fault, 2 bad input
 };
 
-/// Loads and steps a world until it finishes (or `steps` steps / `seconds` simulated seconds).
+using StepHook = std::function<void(World&)>;
+
+/// Loads and steps a world until it finishes (or `steps` steps / `seconds` simulated seconds),
+/// calling onStep (if any) after every step.
 WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::optional<long long> steps,
-                      std::optional<double> seconds);
+                      std::optional<double> seconds, const StepHook& onStep = {});
 
 }  // namespace rm3d

@@ -1,309 +1,37 @@
-// OSMesa/OpenGL 3.3 implementation of OffscreenRenderer: faceted Lambert shading with a sun
-// shadow map, a procedural grid ground, GL_LINES and an stb_easy_font text overlay.
+// OSMesa implementation of OffscreenRenderer: an OSMesa context whose default framebuffer is a
+// memory buffer, drawn into by the shared SceneRenderer and read back top row first.
 #include "render/offscreen_renderer.h"
 
-#include <algorithm>
-#include <cerrno>
-#include <cmath>
-#include <cstring>
+#include <GL/osmesa.h>
 
-// Declare the GL prototypes only so decltype can name their types; every call goes through
-// pointers from OSMesaGetProcAddress, because a libGL loaded earlier in the process (GLX, GLFW)
-// would otherwise capture the gl* symbols and dispatch to a context that is not ours.
-// clang-format off
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/osmesa.h>  // includes GL/gl.h, which glext.h needs first
-#include <GL/glext.h>
-// clang-format on
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-// Static so another translation unit may also include the implementation without clashes.
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb/stb_easy_font.h>
-#include <stb/stb_image_write.h>
-#pragma GCC diagnostic pop
+#include "render/scene_renderer.h"
 
 namespace rm3d {
+
 namespace {
 
-// clang-format off
-#define RM3D_GL_FUNCS(X)                                                                           \
-  X(Clear) X(Viewport) X(Enable) X(Disable) X(DepthMask) X(BlendFunc) X(PolygonOffset)             \
-  X(LineWidth) X(DrawArrays) X(ReadPixels) X(PixelStorei) X(CreateShader) X(ShaderSource)          \
-  X(CompileShader) X(GetShaderiv) X(GetShaderInfoLog) X(DeleteShader) X(CreateProgram)             \
-  X(AttachShader) X(LinkProgram) X(GetProgramiv) X(GetProgramInfoLog) X(DeleteProgram)             \
-  X(UseProgram) X(GetUniformLocation) X(Uniform1i) X(Uniform1f) X(Uniform2f) X(Uniform3f)          \
-  X(Uniform4f) X(UniformMatrix3fv) X(UniformMatrix4fv) X(GenVertexArrays) X(BindVertexArray)       \
-  X(DeleteVertexArrays) X(GenBuffers) X(BindBuffer) X(BufferData) X(DeleteBuffers)                 \
-  X(VertexAttribPointer) X(EnableVertexAttribArray) X(GenTextures) X(BindTexture) X(TexImage2D)    \
-  X(TexParameteri) X(TexParameterfv) X(ActiveTexture) X(DeleteTextures) X(GenFramebuffers)         \
-  X(BindFramebuffer) X(FramebufferTexture2D) X(CheckFramebufferStatus) X(DeleteFramebuffers)       \
-  X(DrawBuffer) X(ReadBuffer) X(GenRenderbuffers) X(BindRenderbuffer)                              \
-  X(RenderbufferStorageMultisample) X(FramebufferRenderbuffer) X(DeleteRenderbuffers)              \
-  X(BlitFramebuffer)
-// clang-format on
-
-/// Per-renderer GL entry points (no process-wide table: renderers stay independent).
-struct Gl {
-#define RM3D_GL_MEMBER(name) decltype(&::gl##name) name = nullptr;
-  RM3D_GL_FUNCS(RM3D_GL_MEMBER)
-#undef RM3D_GL_MEMBER
-};
-
-constexpr int kShadowSize = 2048;
-constexpr int kSamples = 4;
-constexpr float kNear = 0.01f, kFar = 100.0f;
-constexpr float kGroundHalf = 50.0f;  // reaches the far plane from any sensible camera
-// Towards the sun: from behind-left of the default camera, so its three visible box faces
-// (top, -y, +x) all get different brightness.
-const Eigen::Vector3f kSunDir = Eigen::Vector3f(0.25f, -0.5f, 0.83f).normalized();
-// sRGB, top and horizon of the sky gradient; the ground fades into the horizon colour.
-constexpr float kSkyTop[3] = {0.55f, 0.66f, 0.80f}, kSkyHorizon[3] = {0.86f, 0.89f, 0.93f};
-
-const char* kMeshVs = R"(#version 330 core
-layout(location = 0) in vec3 aPos;
-layout(location = 1) in vec3 aNormal;
-uniform mat4 uModel, uViewProj;
-uniform mat3 uNormalMat;
-out vec3 vWorld, vNormal;
-void main() {
-  vec4 w = uModel * vec4(aPos, 1.0);
-  vWorld = w.xyz; vNormal = uNormalMat * aNormal;
-  gl_Position = uViewProj * w;
-})";
-
-const char* kMeshFs = R"(#version 330 core
-in vec3 vWorld, vNormal;
-uniform vec4 uColor;
-uniform vec3 uSunDir, uEye, uFog;
-uniform mat4 uLightViewProj;
-uniform sampler2DShadow uShadow;
-uniform float uTexel, uNormalOffset;
-uniform int uGround;
-out vec4 fragColor;
-float shadow(vec3 n) {
-  vec4 l = uLightViewProj * vec4(vWorld + n * uNormalOffset, 1.0);
-  vec3 p = l.xyz / l.w * 0.5 + 0.5;
-  if (p.z >= 1.0) return 1.0;
-  float s = 0.0;
-  for (int x = -1; x <= 1; ++x)
-    for (int y = -1; y <= 1; ++y) s += texture(uShadow, vec3(p.xy + vec2(x, y) * uTexel, p.z));
-  return s / 9.0;
-}
-// Coverage of grid lines `spacing` apart, about `px` pixels wide, faded out where cells
-// shrink below a few pixels so the far ground does not turn into moire.
-float grid(vec2 p, float spacing, float px) {
-  vec2 c = p / spacing, w = max(fwidth(c), vec2(1e-6));
-  vec2 d = abs(fract(c - 0.5) - 0.5) / w;
-  float line = 1.0 - clamp(min(d.x, d.y) - 0.5 * px + 0.5, 0.0, 1.0);
-  return line * clamp(1.5 - 5.0 * max(w.x, w.y), 0.0, 1.0);
-}
-void main() {
-  vec3 n = normalize(vNormal);
-  if (dot(n, uEye - vWorld) < 0.0) n = -n;  // any winding, mirrored transforms, open meshes
-  vec3 base = uColor.rgb;
-  if (uGround == 1) {
-    base *= 1.0 - 0.25 * grid(vWorld.xy, 0.1, 1.0);
-    base *= 1.0 - 0.5 * grid(vWorld.xy, 1.0, 1.6);
-  }
-  float ndl = max(dot(n, uSunDir), 0.0);
-  float lit = 0.30 + 0.08 * n.z + 0.62 * ndl * (ndl > 0.0 ? shadow(n) : 1.0);
-  vec3 c = pow(base * lit, vec3(1.0 / 2.2));
-  if (uGround == 1) c = mix(c, uFog, smoothstep(15.0, 45.0, length(vWorld.xy - uEye.xy)));
-  fragColor = vec4(c, uColor.a);
-})";
-
-const char* kShadowVs = R"(#version 330 core
-layout(location = 0) in vec3 aPos;
-uniform mat4 uModel, uLightViewProj;
-void main() { gl_Position = uLightViewProj * uModel * vec4(aPos, 1.0); })";
-
-const char* kShadowFs = R"(#version 330 core
-void main() {})";
-
-const char* kLineVs = R"(#version 330 core
-layout(location = 0) in vec3 aPos;
-layout(location = 1) in vec4 aColor;
-uniform mat4 uViewProj;
-out vec4 vColor;
-void main() { vColor = aColor; gl_Position = uViewProj * vec4(aPos, 1.0); })";
-
-const char* kLineFs = R"(#version 330 core
-in vec4 vColor;
-out vec4 fragColor;
-void main() { fragColor = vec4(pow(vColor.rgb, vec3(1.0 / 2.2)), vColor.a); })";
-
-// Text in pixel coordinates, origin top-left.
-const char* kTextVs = R"(#version 330 core
-layout(location = 0) in vec2 aPos;
-uniform vec2 uScreen, uOffset;
-void main() {
-  vec2 p = (aPos + uOffset) / uScreen;
-  gl_Position = vec4(p.x * 2.0 - 1.0, 1.0 - p.y * 2.0, 0.0, 1.0);
-})";
-
-const char* kTextFs = R"(#version 330 core
-uniform vec4 uColor;
-out vec4 fragColor;
-void main() { fragColor = uColor; })";
-
-// Full-screen triangle from gl_VertexID, so the sky needs no vertex buffer.
-const char* kSkyVs = R"(#version 330 core
-out float vY;
-void main() {
-  vec2 p = vec2((gl_VertexID & 1) * 4.0 - 1.0, (gl_VertexID >> 1) * 4.0 - 1.0);
-  vY = p.y * 0.5 + 0.5;
-  gl_Position = vec4(p, 0.0, 1.0);
-})";
-
-const char* kSkyFs = R"(#version 330 core
-in float vY;
-uniform vec3 uTop, uHorizon;
-out vec4 fragColor;
-void main() { fragColor = vec4(mix(uHorizon, uTop, clamp(vY, 0.0, 1.0)), 1.0); })";
-
-Eigen::Matrix4f lookAt(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, Eigen::Vector3f up) {
-  Eigen::Vector3f f = (target - eye).normalized();
-  if (f.cross(up).norm() < 1e-6f)
-    up = std::abs(f.z()) < 0.9f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitY();
-  Eigen::Vector3f s = f.cross(up).normalized(), u = s.cross(f);
-  Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
-  m.block<1, 3>(0, 0) = s.transpose();
-  m.block<1, 3>(1, 0) = u.transpose();
-  m.block<1, 3>(2, 0) = -f.transpose();
-  m(0, 3) = -s.dot(eye);
-  m(1, 3) = -u.dot(eye);
-  m(2, 3) = f.dot(eye);
-  return m;
-}
-
-Eigen::Matrix4f perspective(float fovyDeg, float aspect, float n, float f) {
-  const float t = 1.0f / std::tan(fovyDeg * 3.14159265f / 360.0f);
-  Eigen::Matrix4f m = Eigen::Matrix4f::Zero();
-  m(0, 0) = t / aspect;
-  m(1, 1) = t;
-  m(2, 2) = (f + n) / (n - f);
-  m(2, 3) = 2.0f * f * n / (n - f);
-  m(3, 2) = -1.0f;
-  return m;
-}
-
-Eigen::Matrix4f ortho(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
-  Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
-  for (int i = 0; i < 3; ++i) {
-    m(i, i) = 2.0f / (hi[i] - lo[i]);
-    m(i, 3) = -(hi[i] + lo[i]) / (hi[i] - lo[i]);
-  }
-  return m;
-}
-
-/// Sun view-projection whose ortho box tightly holds the casters in `box` across the light
-/// direction, and reaches kFar beyond them along it so the ground they shade lies inside.
-Eigen::Matrix4f fitSunFrustum(const Eigen::AlignedBox3f& box, float& texelWorld) {
-  const Eigen::Vector3f centre = box.center();
-  const float radius = 0.5f * box.diagonal().norm() + 1.0f;
-  const Eigen::Matrix4f lightView = lookAt(centre + kSunDir * radius, centre, {0, 0, 1});
-  Eigen::AlignedBox3f ls;
-  for (int i = 0; i < 8; ++i)
-    ls.extend((lightView * box.corner(Eigen::AlignedBox3f::CornerType(i)).homogeneous()).head<3>());
-  const float margin = 0.05f;
-  const Eigen::Vector3f lo = ls.min() - Eigen::Vector3f(margin, margin, kFar);
-  const Eigen::Vector3f hi = ls.max() + Eigen::Vector3f::Constant(margin);
-  Eigen::Matrix4f proj = ortho(lo, hi);
-  proj.row(2) *= -1.0f;  // the light looks down -z: the largest view z is nearest (depth 0)
-  texelWorld = std::max(hi.x() - lo.x(), hi.y() - lo.y()) / kShadowSize;
-  return proj * lightView;
+void* osmesaProc(const char* name) {
+  return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
 }
 
 }  // namespace
 
 struct OffscreenRenderer::Impl {
-  Gl gl;
   OSMesaContext ctx = nullptr;
   int width = 0, height = 0;
   std::vector<uint8_t> osBuffer;  // OSMesa's default framebuffer (bottom row first)
   std::vector<uint8_t> rgba;
-  GLuint meshProg = 0, shadowProg = 0, lineProg = 0, textProg = 0, skyProg = 0;
-  GLuint meshVao = 0, meshVbo = 0, lineVao = 0, lineVbo = 0, textVao = 0, textVbo = 0;
-  GLuint shadowFbo = 0, shadowTex = 0, msaaFbo = 0, msaaColor = 0, msaaDepth = 0;
+  SceneRenderer scene;
 
   ~Impl() {
     if (!ctx) return;
-    if (gl.BlitFramebuffer && makeCurrent()) {  // the last entry point: all were loaded
-      for (GLuint p : {meshProg, shadowProg, lineProg, textProg, skyProg}) gl.DeleteProgram(p);
-      GLuint vaos[] = {meshVao, lineVao, textVao}, vbos[] = {meshVbo, lineVbo, textVbo};
-      gl.DeleteVertexArrays(3, vaos);
-      gl.DeleteBuffers(3, vbos);
-      GLuint fbos[] = {shadowFbo, msaaFbo}, rbos[] = {msaaColor, msaaDepth};
-      gl.DeleteFramebuffers(2, fbos);
-      gl.DeleteRenderbuffers(2, rbos);
-      gl.DeleteTextures(1, &shadowTex);
-    }
+    if (scene.ready() && makeCurrent()) scene.release();
     OSMesaMakeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0);
     OSMesaDestroyContext(ctx);
   }
 
   // Contexts are per thread-current, and several renderers may take turns.
   bool makeCurrent() { return OSMesaMakeCurrent(ctx, osBuffer.data(), GL_UNSIGNED_BYTE, width, height); }
-
-  GLuint compile(GLenum type, const char* src, std::string& err) {
-    GLuint sh = gl.CreateShader(type);
-    gl.ShaderSource(sh, 1, &src, nullptr);
-    gl.CompileShader(sh);
-    GLint ok = 0;
-    gl.GetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      char log[2048] = {};
-      gl.GetShaderInfoLog(sh, sizeof log, nullptr, log);
-      err = std::string("shader compile failed: ") + log;
-    }
-    return sh;
-  }
-
-  GLuint program(const char* vs, const char* fs, std::string& err) {
-    GLuint v = compile(GL_VERTEX_SHADER, vs, err), f = compile(GL_FRAGMENT_SHADER, fs, err);
-    GLuint p = gl.CreateProgram();
-    gl.AttachShader(p, v);
-    gl.AttachShader(p, f);
-    gl.LinkProgram(p);
-    gl.DeleteShader(v);
-    gl.DeleteShader(f);
-    GLint ok = 0;
-    gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok && err.empty()) {
-      char log[2048] = {};
-      gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
-      err = std::string("shader link failed: ") + log;
-    }
-    return p;
-  }
-
-  GLint loc(GLuint prog, const char* name) { return gl.GetUniformLocation(prog, name); }
-  void setMat4(GLuint prog, const char* name, const Eigen::Matrix4f& m) {
-    gl.UniformMatrix4fv(loc(prog, name), 1, GL_FALSE, m.data());
-  }
-
-  /// Binds a VAO/VBO pair and uploads data; attribs are {location, component count}.
-  void upload(GLuint vao, GLuint vbo, const std::vector<float>& data,
-              std::initializer_list<std::pair<int, int>> attribs) {
-    gl.BindVertexArray(vao);
-    gl.BindBuffer(GL_ARRAY_BUFFER, vbo);
-    gl.BufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STREAM_DRAW);
-    int stride = 0, offset = 0;
-    for (auto [location, count] : attribs) stride += count;
-    for (auto [location, count] : attribs) {
-      gl.EnableVertexAttribArray(location);
-      gl.VertexAttribPointer(location, count, GL_FLOAT, GL_FALSE, stride * sizeof(float),
-                             reinterpret_cast<const void*>(offset * sizeof(float)));
-      offset += count;
-    }
-  }
-
-  void drawText(const std::vector<std::string>& lines);
 };
 
 OffscreenRenderer::OffscreenRenderer() : m_impl(std::make_unique<Impl>()) {}
@@ -337,247 +65,18 @@ bool OffscreenRenderer::init(int width, int height, std::string& err) {
     err = "offscreen renderer: OSMesaMakeCurrent failed";
     return false;
   }
-  Gl& gl = r.gl;
-#define RM3D_GL_LOAD(name)                                                         \
-  gl.name = reinterpret_cast<decltype(gl.name)>(OSMesaGetProcAddress("gl" #name)); \
-  if (!gl.name) {                                                                  \
-    err = "offscreen renderer: OpenGL function gl" #name " is missing";            \
-    return false;                                                                  \
-  }
-  RM3D_GL_FUNCS(RM3D_GL_LOAD)
-#undef RM3D_GL_LOAD
-
-  err.clear();
-  r.meshProg = r.program(kMeshVs, kMeshFs, err);
-  r.shadowProg = r.program(kShadowVs, kShadowFs, err);
-  r.lineProg = r.program(kLineVs, kLineFs, err);
-  r.textProg = r.program(kTextVs, kTextFs, err);
-  r.skyProg = r.program(kSkyVs, kSkyFs, err);
-  if (!err.empty()) {
+  if (!r.scene.init(osmesaProc, err)) {
     err = "offscreen renderer: " + err;
     return false;
   }
-  GLuint vaos[3], vbos[3];
-  gl.GenVertexArrays(3, vaos);
-  gl.GenBuffers(3, vbos);
-  r.meshVao = vaos[0], r.lineVao = vaos[1], r.textVao = vaos[2];
-  r.meshVbo = vbos[0], r.lineVbo = vbos[1], r.textVbo = vbos[2];
-
-  // Shadow map: depth texture with hardware comparison; outside it everything is lit.
-  gl.GenTextures(1, &r.shadowTex);
-  gl.BindTexture(GL_TEXTURE_2D, r.shadowTex);
-  gl.TexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, kShadowSize, kShadowSize, 0, GL_DEPTH_COMPONENT,
-                GL_FLOAT, nullptr);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-  const float border[4] = {1, 1, 1, 1};
-  gl.TexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, border);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-  gl.GenFramebuffers(1, &r.shadowFbo);
-  gl.BindFramebuffer(GL_FRAMEBUFFER, r.shadowFbo);
-  gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, r.shadowTex, 0);
-  gl.DrawBuffer(GL_NONE);
-  gl.ReadBuffer(GL_NONE);
-  if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-    err = "offscreen renderer: shadow-map framebuffer incomplete";
-    return false;
-  }
-
-  // Multisampled scene target, resolved into OSMesa's buffer; without it we draw directly.
-  gl.GenFramebuffers(1, &r.msaaFbo);
-  GLuint rbos[2];
-  gl.GenRenderbuffers(2, rbos);
-  r.msaaColor = rbos[0], r.msaaDepth = rbos[1];
-  gl.BindFramebuffer(GL_FRAMEBUFFER, r.msaaFbo);
-  const GLenum formats[2] = {GL_RGBA8, GL_DEPTH_COMPONENT24};
-  const GLenum attachments[2] = {GL_COLOR_ATTACHMENT0, GL_DEPTH_ATTACHMENT};
-  for (int i = 0; i < 2; ++i) {
-    gl.BindRenderbuffer(GL_RENDERBUFFER, rbos[i]);
-    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, kSamples, formats[i], width, height);
-    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, attachments[i], GL_RENDERBUFFER, rbos[i]);
-  }
-  if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-    gl.DeleteFramebuffers(1, &r.msaaFbo);
-    r.msaaFbo = 0;
-  }
-  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
   return true;
 }
 
 void OffscreenRenderer::draw(const Snapshot& s, const Camera& cam) {
   Impl& r = *m_impl;
-  if (!r.ctx || !r.makeCurrent()) return;
-  Gl& gl = r.gl;
-
-  // Un-index every mesh into per-face vertices (position, face normal) in one buffer, so
-  // shading is faceted for any mesh. Meshes may change between frames: upload every draw.
-  std::vector<float> verts;
-  std::vector<std::pair<int, int>> ranges;  // first vertex, count per mesh
-  for (const RenderMesh& m : s.meshes) {
-    ranges.emplace_back(int(verts.size() / 6), 0);
-    for (size_t i = 0; i + 2 < m.indices.size(); i += 3) {
-      if (std::max({m.indices[i], m.indices[i + 1], m.indices[i + 2]}) >= m.vertices.size()) continue;
-      const Eigen::Vector3f& a = m.vertices[m.indices[i]];
-      const Eigen::Vector3f& b = m.vertices[m.indices[i + 1]];
-      const Eigen::Vector3f& c = m.vertices[m.indices[i + 2]];
-      const Eigen::Vector3f cross = (b - a).cross(c - a);
-      if (cross.squaredNorm() == 0.0f) continue;  // degenerate: no area, no normal
-      const Eigen::Vector3f n = cross.normalized();
-      for (const Eigen::Vector3f* p : {&a, &b, &c})
-        verts.insert(verts.end(), {p->x(), p->y(), p->z(), n.x(), n.y(), n.z()});
-      ranges.back().second += 3;
-    }
-  }
-  // The ground quad follows the camera target so it always fills the view to the horizon.
-  const int groundFirst = int(verts.size() / 6);
-  const float gx = cam.target.x(), gy = cam.target.y(), h = kGroundHalf;
-  for (auto [dx, dy] : {std::pair{-h, -h}, {h, -h}, {h, h}, {-h, -h}, {h, h}, {-h, h}})
-    verts.insert(verts.end(), {gx + dx, gy + dy, 0.0f, 0.0f, 0.0f, 1.0f});
-  r.upload(r.meshVao, r.meshVbo, verts, {{0, 3}, {1, 3}});
-  auto validItem = [&](const RenderItem& it) {
-    return it.mesh >= 0 && it.mesh < int(ranges.size()) && ranges[it.mesh].second > 0;
-  };
-
-  Eigen::AlignedBox3f box;  // world bounds of all shadow casters
-  for (const RenderItem& it : s.items) {
-    if (!validItem(it)) continue;
-    for (const Eigen::Vector3f& v : s.meshes[it.mesh].vertices)
-      box.extend((it.transform * v.homogeneous()).head<3>());
-  }
-  Eigen::Matrix4f lightViewProj = Eigen::Matrix4f::Identity();
-  float texelWorld = 0.0f;
-  gl.BindFramebuffer(GL_FRAMEBUFFER, r.shadowFbo);
-  gl.Viewport(0, 0, kShadowSize, kShadowSize);
-  gl.Enable(GL_DEPTH_TEST);
-  gl.DepthMask(GL_TRUE);
-  gl.Clear(GL_DEPTH_BUFFER_BIT);
-  if (!box.isEmpty()) {
-    lightViewProj = fitSunFrustum(box, texelWorld);
-    gl.UseProgram(r.shadowProg);
-    r.setMat4(r.shadowProg, "uLightViewProj", lightViewProj);
-    gl.Enable(GL_POLYGON_OFFSET_FILL);
-    gl.PolygonOffset(2.0f, 4.0f);  // slope-scaled bias against shadow acne
-    for (const RenderItem& it : s.items) {
-      if (!validItem(it) || it.color[3] < 0.5f) continue;  // faint items cast no shadow
-      r.setMat4(r.shadowProg, "uModel", it.transform);
-      gl.DrawArrays(GL_TRIANGLES, ranges[it.mesh].first, ranges[it.mesh].second);
-    }
-    gl.Disable(GL_POLYGON_OFFSET_FILL);
-  }
-
-  // Scene pass.
-  gl.BindFramebuffer(GL_FRAMEBUFFER, r.msaaFbo);
-  gl.Viewport(0, 0, r.width, r.height);
-  gl.Disable(GL_DEPTH_TEST);
-  gl.UseProgram(r.skyProg);
-  gl.Uniform3f(r.loc(r.skyProg, "uTop"), kSkyTop[0], kSkyTop[1], kSkyTop[2]);
-  gl.Uniform3f(r.loc(r.skyProg, "uHorizon"), kSkyHorizon[0], kSkyHorizon[1], kSkyHorizon[2]);
-  gl.BindVertexArray(r.textVao);
-  gl.DrawArrays(GL_TRIANGLES, 0, 3);
-  gl.Enable(GL_DEPTH_TEST);
-  gl.Clear(GL_DEPTH_BUFFER_BIT);
-
-  const Eigen::Matrix4f viewProj = perspective(cam.fovyDeg, float(r.width) / float(r.height), kNear, kFar) *
-                                   lookAt(cam.eye, cam.target, cam.up);
-  const GLuint mp = r.meshProg;
-  gl.UseProgram(mp);
-  gl.BindVertexArray(r.meshVao);
-  r.setMat4(mp, "uViewProj", viewProj);
-  r.setMat4(mp, "uLightViewProj", lightViewProj);
-  gl.Uniform3f(r.loc(mp, "uSunDir"), kSunDir.x(), kSunDir.y(), kSunDir.z());
-  gl.Uniform3f(r.loc(mp, "uEye"), cam.eye.x(), cam.eye.y(), cam.eye.z());
-  gl.Uniform3f(r.loc(mp, "uFog"), kSkyHorizon[0], kSkyHorizon[1], kSkyHorizon[2]);
-  gl.Uniform1f(r.loc(mp, "uTexel"), 1.0f / kShadowSize);
-  gl.Uniform1f(r.loc(mp, "uNormalOffset"), 1.5f * texelWorld);
-  gl.Uniform1i(r.loc(mp, "uShadow"), 0);
-  gl.ActiveTexture(GL_TEXTURE0);
-  gl.BindTexture(GL_TEXTURE_2D, r.shadowTex);
-  auto drawMesh = [&](const Eigen::Matrix4f& model, const std::array<float, 4>& color, int first, int count,
-                      int ground) {
-    r.setMat4(mp, "uModel", model);
-    const Eigen::Matrix3f normalMat = model.topLeftCorner<3, 3>().inverse().transpose();
-    gl.UniformMatrix3fv(r.loc(mp, "uNormalMat"), 1, GL_FALSE, normalMat.data());
-    gl.Uniform4f(r.loc(mp, "uColor"), color[0], color[1], color[2], color[3]);
-    gl.Uniform1i(r.loc(mp, "uGround"), ground);
-    gl.DrawArrays(GL_TRIANGLES, first, count);
-  };
-  if (s.ground) drawMesh(Eigen::Matrix4f::Identity(), {0.62f, 0.62f, 0.62f, 1.0f}, groundFirst, 6, 1);
-  // Opaque items first, then translucent ones blended without writing depth.
-  for (int pass = 0; pass < 2; ++pass) {
-    if (pass == 1) {
-      gl.Enable(GL_BLEND);
-      gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-      gl.DepthMask(GL_FALSE);
-    }
-    for (const RenderItem& it : s.items)
-      if (validItem(it) && (it.color[3] < 1.0f) == (pass == 1))
-        drawMesh(it.transform, it.color, ranges[it.mesh].first, ranges[it.mesh].second, 0);
-  }
-  gl.DepthMask(GL_TRUE);
-
-  if (!s.lines.empty()) {
-    std::vector<float> lv;
-    for (const RenderLine& l : s.lines)
-      for (const Eigen::Vector3f* p : {&l.a, &l.b})
-        lv.insert(lv.end(), {p->x(), p->y(), p->z(), l.color[0], l.color[1], l.color[2], l.color[3]});
-    r.upload(r.lineVao, r.lineVbo, lv, {{0, 3}, {1, 4}});
-    gl.UseProgram(r.lineProg);
-    r.setMat4(r.lineProg, "uViewProj", viewProj);
-    gl.LineWidth(std::max(1.0f, r.height / 400.0f));
-    gl.DrawArrays(GL_LINES, 0, GLsizei(lv.size() / 7));
-  }
-  gl.Disable(GL_BLEND);
-  r.drawText(s.overlay);
-
-  if (r.msaaFbo) {
-    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, r.msaaFbo);
-    gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-    gl.BlitFramebuffer(0, 0, r.width, r.height, 0, 0, r.width, r.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  }
-  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-  gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-  gl.ReadPixels(0, 0, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE, r.osBuffer.data());
-  // GL rows run bottom-up; PNG and callers want top row first.
-  const size_t row = size_t(r.width) * 4;
-  for (int y = 0; y < r.height; ++y)
-    std::memcpy(r.rgba.data() + y * row, r.osBuffer.data() + (r.height - 1 - y) * row, row);
-}
-
-void OffscreenRenderer::Impl::drawText(const std::vector<std::string>& lines) {
-  if (lines.empty()) return;
-  // stb_easy_font glyphs are ~7 px tall; scale them up on large images.
-  const float scale = std::max(1.0f, std::round(height / 360.0f)), lineHeight = 12.0f;
-  std::vector<float> tris;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    std::string text = lines[i];  // stb wants a mutable char*
-    std::vector<char> quads(text.size() * 1200 + 64);
-    const int n = stb_easy_font_print(0.0f, float(i) * lineHeight, text.data(), nullptr, quads.data(),
-                                      int(quads.size()));
-    for (int q = 0; q < n; ++q)
-      for (int k : {0, 1, 2, 0, 2, 3}) {  // quads -> two triangles (core profile)
-        float v[2];
-        std::memcpy(v, quads.data() + (q * 4 + k) * 16, sizeof v);  // x, y, z, rgba8
-        tris.insert(tris.end(), {6.0f * scale + v[0] * scale, 6.0f * scale + v[1] * scale});
-      }
-  }
-  upload(textVao, textVbo, tris, {{0, 2}});
-  gl.Disable(GL_DEPTH_TEST);
-  gl.UseProgram(textProg);
-  gl.Uniform2f(loc(textProg, "uScreen"), float(width), float(height));
-  // Black outline around white glyphs keeps them readable on sky, ground and objects alike.
-  gl.Uniform4f(loc(textProg, "uColor"), 0.0f, 0.0f, 0.0f, 1.0f);
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy) {
-      gl.Uniform2f(loc(textProg, "uOffset"), dx * scale, dy * scale);
-      gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(tris.size() / 2));
-    }
-  gl.Uniform4f(loc(textProg, "uColor"), 1.0f, 1.0f, 1.0f, 1.0f);
-  gl.Uniform2f(loc(textProg, "uOffset"), 0.0f, 0.0f);
-  gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(tris.size() / 2));
-  gl.Enable(GL_DEPTH_TEST);
+  if (!r.ctx || !r.scene.ready() || !r.makeCurrent()) return;
+  r.scene.draw(s, cam, r.width, r.height);  // into OSMesa's framebuffer (0), bound since makeCurrent
+  r.scene.readPixels(r.width, r.height, r.rgba);
 }
 
 const std::vector<uint8_t>& OffscreenRenderer::rgba() const {
@@ -596,12 +95,7 @@ bool OffscreenRenderer::writePng(const std::string& path, std::string& err) cons
     err = "cannot write '" + path + "': renderer not initialised";
     return false;
   }
-  errno = 0;
-  if (!stbi_write_png(path.c_str(), r.width, r.height, 4, r.rgba.data(), r.width * 4)) {
-    err = "cannot write '" + path + "': " + (errno ? std::strerror(errno) : "PNG write failed");
-    return false;
-  }
-  return true;
+  return rm3d::writePng(path, r.width, r.height, r.rgba, err);
 }
 
 }  // namespace rm3d

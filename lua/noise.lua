@@ -17,7 +17,10 @@ local function check(cond, msg)
 end
 
 local function number(x, name, fn)
-  check(type(x) == "number" and x == x, string.format("noise.%s: %s must be a number, got %s", fn, name, type(x)))
+  -- level 3: number -> the constructor -> the behaviour line that called it
+  if not (type(x) == "number" and x == x) then
+    error(string.format("noise.%s: %s must be a number, got %s", fn, name, type(x)), 3)
+  end
 end
 
 -- Applies f to a number, or to each number in an array/vector table (keys kept).

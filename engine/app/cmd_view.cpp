@@ -1,1 +1,747 @@
-// placeholder
+// `rm3d view`: steps a world in real time in a GLFW window (OpenGL 3.3 core) drawn by the shared
+// SceneRenderer, with an orbit camera, click-to-inspect modules (Dear ImGui panels), pause /
+// single step / speed / reset keys, and hot reload of behaviours, lua/ and the world file as in
+// `run --watch`. `--frames N --screenshot FILE` renders N frames, saves the last and exits (tests,
+// README pictures).
+#include "app/cmd_view.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include "app/app.h"
+#include "core/error.h"
+#include "render/picking.h"
+#include "render/scene_renderer.h"
+#include "render/view_math.h"
+#include "world/world.h"
+#include "world/world_snapshot.h"
+
+namespace fs = std::filesystem;
+
+namespace rm3d {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kWindowWidth = 1280, kWindowHeight = 720;
+constexpr double kMinSpeed = 0.125, kMaxSpeed = 8.0;
+constexpr auto kWatchInterval = std::chrono::milliseconds(100);
+// At most this much wall time per frame goes to stepping; beyond it the simulation falls behind
+// real time (the status line shows it) instead of the window freezing.
+constexpr double kStepBudgetSeconds = 0.05;
+constexpr float kInspectorWidth = 420;
+constexpr double kClickSlopPixels = 4.0;  // a press that moves less than this is a click, not a drag
+const ImVec4 kErrorColor(1.0f, 0.35f, 0.3f, 1.0f);
+
+const char* const kNoDisplayHint =
+    "for pictures without a display use `rm3d run WORLD --png out.png` or `--video out.mp4`";
+
+void* glfwProc(const char* name) {
+  return reinterpret_cast<void*>(glfwGetProcAddress(name));
+}
+
+std::string glfwLastError() {
+  const char* desc = nullptr;
+  glfwGetError(&desc);
+  return desc ? desc : "unknown GLFW error";
+}
+
+double deg(double rad) {
+  return rad * 180.0 / kPi;
+}
+
+/// A camera orbiting a target: left drag turns it, right/middle drag pans, the wheel zooms.
+struct OrbitCamera {
+  Eigen::Vector3f target{0, 0, 0};
+  float yaw = 0, pitch = 0.4f, distance = 1.5f, fovyDeg = 45;
+
+  static OrbitCamera from(const Camera& c) {
+    OrbitCamera o;
+    const Eigen::Vector3f d = c.eye - c.target;
+    o.target = c.target;
+    o.distance = std::max(d.norm(), 0.05f);
+    o.yaw = std::atan2(d.y(), d.x());
+    o.pitch = std::asin(std::clamp(d.z() / o.distance, -1.0f, 1.0f));
+    o.fovyDeg = c.fovyDeg;
+    return o;
+  }
+  Camera camera() const {
+    Camera c;
+    c.target = target;
+    c.eye = target + distance * Eigen::Vector3f(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
+                                                std::sin(pitch));
+    c.fovyDeg = fovyDeg;
+    return c;
+  }
+  void orbit(float dx, float dy) {
+    yaw -= dx * 0.008f;
+    pitch = std::clamp(pitch + dy * 0.008f, -1.45f, 1.55f);  // short of the poles, where up flips
+  }
+  /// Moves the target with the cursor: a drag of the whole view height spans the visible height.
+  void pan(float dx, float dy, int viewHeight) {
+    const Camera c = camera();
+    const Eigen::Vector3f f = (c.target - c.eye).normalized();
+    const Eigen::Vector3f s = f.cross(Eigen::Vector3f::UnitZ()).normalized(), u = s.cross(f);
+    const float perPixel = 2.0f * distance * std::tan(fovyDeg * float(kPi) / 360.0f) / float(std::max(viewHeight, 1));
+    target += (-dx * s + dy * u) * perPixel;
+  }
+  void zoom(float steps) { distance = std::clamp(distance * std::pow(0.88f, steps), 0.05f, 80.0f); }
+};
+
+/// Colour statistics of a screenshot: pixels whose hue matches a module link colour as the
+/// renderer shades it, and how many of those a pick ray through the pixel finds on a module.
+struct PixelStats {
+  int modulePixels = 0, picked = 0;
+};
+
+PixelStats countModulePixels(const World& w, const Snapshot& snap, const Camera& cam, int width, int height,
+                             const std::vector<uint8_t>& rgba) {
+  // The mesh shader outputs pow(colour * light, 1/2.2) with one scalar light factor, so a lit or
+  // shadowed face keeps the channel ratios of pow(colour, 1/2.2): compare those, not values.
+  std::vector<Eigen::Vector3f> hues;
+  std::set<const ModuleTypeDef*> types;
+  for (const Module& m : w.modules()) types.insert(m.type);
+  for (const ModuleTypeDef* t : types)
+    for (const LinkDef& l : t->links) {
+      Eigen::Vector3f c(std::pow(l.color[0], 1 / 2.2f), std::pow(l.color[1], 1 / 2.2f), std::pow(l.color[2], 1 / 2.2f));
+      // Greys cannot be told from the ground and sky by hue.
+      if (c.maxCoeff() - c.minCoeff() < 0.15f * c.maxCoeff()) continue;
+      hues.push_back(c / c.maxCoeff());
+    }
+  PixelStats st;
+  if (hues.empty()) return st;
+  const Picker picker(snap);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const uint8_t* p = rgba.data() + (size_t(y) * width + x) * 4;
+      const float top = float(std::max({p[0], p[1], p[2]}));
+      if (top < 40) continue;  // too dark to judge a hue
+      const Eigen::Vector3f q(p[0] / top, p[1] / top, p[2] / top);
+      const bool match = std::any_of(hues.begin(), hues.end(), [&](const Eigen::Vector3f& h) {
+        return (q - h).cwiseAbs().maxCoeff() < 0.08f;
+      });
+      if (!match) continue;
+      ++st.modulePixels;
+      const PickHit hit = picker.pick(pixelRay(cam, width, height, x + 0.5f, y + 0.5f));
+      if (hit.item >= 0 && snap.items[size_t(hit.item)].tag >= 0) ++st.picked;
+    }
+  return st;
+}
+
+class Viewer {
+ public:
+  Viewer(const ViewArgs& args, RunOptions options) : m_args(args), m_options(std::move(options)) {}
+
+  /// Loads the world before any window opens, so a bad file is reported like `run` does.
+  bool loadInitial(std::string& err) {
+    std::unique_ptr<World> w = build(err);
+    if (!w) return false;
+    m_world = std::move(w);
+    m_orbit = OrbitCamera::from(worldCamera(*m_world));
+    if (m_world->camera().follow >= 0) {
+      m_follow = true;
+      m_followModule = m_world->camera().follow;
+    }
+    if (m_args.select >= 0) {
+      m_selected = indexOfId(m_args.select);
+      if (m_selected < 0) {
+        err = "--select " + std::to_string(m_args.select) + ": no module has that id";
+        return false;
+      }
+    }
+    takeStamps();
+    return true;
+  }
+
+  int run(GLFWwindow* window);
+
+ private:
+  // --- world lifetime ---
+  std::unique_ptr<World> build(std::string& err) const {
+    std::error_code ec;
+    if (!fs::is_regular_file(m_args.world, ec)) {
+      err = m_args.world + ": cannot read world file (" +
+            (fs::exists(m_args.world, ec) ? "not a regular file" : "no such file") + ")";
+      return nullptr;
+    }
+    auto w = std::make_unique<World>(m_options);
+    try {
+      w->loadFile(m_args.world);
+    } catch (const InputError& e) {
+      err = e.what();
+      return nullptr;
+    }
+    return w;
+  }
+
+  /// R or an edited world file: a new world from the file. A rejected file keeps the previous
+  /// world running and shows why until a later save fixes it.
+  void rebuild(const char* why) {
+    std::string err;
+    std::unique_ptr<World> w = build(err);
+    if (!w) {
+      m_worldError = err;
+      std::fprintf(stderr, "rm3d view: %s (fix it and save; the previous world keeps running)\n", err.c_str());
+      takeStamps();
+      return;
+    }
+    const int selectedId = m_selected >= 0 ? m_world->module(m_selected).id : -1;
+    const int followId = m_followModule >= 0 ? m_world->module(m_followModule).id : -1;
+    m_world = std::move(w);
+    m_worldError.clear();
+    m_reloadErrors.clear();
+    m_selected = indexOfId(selectedId);
+    m_followModule = indexOfId(followId);
+    if (m_followModule < 0) m_follow = false;
+    m_owed = 0;
+    m_rtfSamples.clear();
+    m_pausedAtEnd = false;
+    std::printf("%s: rebuilt %s (%zu modules)\n", why, m_args.world.c_str(), m_world->modules().size());
+    std::fflush(stdout);
+    takeStamps();
+  }
+
+  int indexOfId(int id) const {
+    if (id < 0) return -1;
+    const auto& ms = m_world->modules();
+    for (size_t i = 0; i < ms.size(); ++i)
+      if (ms[i].id == id) return int(i);
+    return -1;
+  }
+
+  // --- hot reload ---
+  void takeStamps() {
+    // While the world file is rejected, keep watching what the last good world used too: the
+    // mistake may sit in a required lua/ file.
+    std::map<std::string, fs::file_time_type> next;
+    std::error_code ec;
+    std::vector<std::string> files = m_world->watchedFiles();
+    files.push_back(fs::absolute(m_args.world).lexically_normal().string());
+    if (!m_worldError.empty())
+      for (const auto& [f, stamp] : m_stamps) files.push_back(f);
+    for (const std::string& f : files) next[f] = fs::last_write_time(f, ec);
+    m_stamps = std::move(next);
+  }
+
+  void watch() {
+    const auto now = Clock::now();
+    if (now - m_lastWatch < kWatchInterval) return;
+    m_lastWatch = now;
+    std::error_code ec;
+    const std::string worldFile = fs::absolute(m_args.world).lexically_normal().string();
+    for (auto& [file, stamp] : m_stamps) {
+      const auto t = fs::last_write_time(file, ec);
+      if (ec || t == stamp) continue;
+      stamp = t;
+      if (!m_worldError.empty() || file == worldFile || file == m_world->worldFile()) {
+        rebuild("world script changed");
+        return;  // the stamps were retaken
+      }
+      std::vector<std::string> errors;
+      const int n = m_world->reloadFile(file, errors);
+      if (errors.empty()) {
+        m_reloadErrors.erase(file);
+      } else {
+        std::string text;
+        for (const std::string& e : errors) {
+          std::fprintf(stderr, "rm3d view: reload rejected, old code keeps running: %s\n", e.c_str());
+          text += (text.empty() ? "" : "\n") + e;
+        }
+        m_reloadErrors[file] = text;
+      }
+      if (n > 0) std::printf("reloaded %s into %d modules at t=%.2f s\n", file.c_str(), n, m_world->time());
+      std::fflush(stdout);
+    }
+  }
+
+  // --- time ---
+  void advance(double wallDt) {
+    World& w = *m_world;
+    const double dt = w.settings().dt;
+    if (w.stopped()) {
+      m_owed = 0;
+      return;
+    }
+    // Stop once at the world's duration, where its last checks ran; Space runs on past it.
+    if (w.finished() && !m_pausedAtEnd) {
+      m_pausedAtEnd = true;
+      m_paused = true;
+    }
+    if (m_paused) {
+      m_owed = 0;
+      if (m_stepRequests > 0) {
+        w.step();
+        --m_stepRequests;
+      }
+      return;
+    }
+    m_stepRequests = 0;
+    // Owe simulated time in step with the wall clock (times the speed), but never more than a few
+    // frames' worth, so a stall (a dragged window, a slow reload) does not replay as a burst.
+    m_owed = std::min(m_owed + wallDt * m_speed, std::max(0.25 * m_speed, 2 * dt));
+    const auto start = Clock::now();
+    while (m_owed >= dt && !w.stopped()) {
+      w.step();
+      m_owed -= dt;
+      if (w.finished() && !m_pausedAtEnd) {
+        m_pausedAtEnd = m_paused = true;
+        m_owed = 0;
+        break;
+      }
+      if (std::chrono::duration<double>(Clock::now() - start).count() > kStepBudgetSeconds) {
+        m_owed = 0;  // slower than asked: fall behind rather than freeze the window
+        break;
+      }
+    }
+  }
+
+  double realTimeFactor() {
+    const double now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+    m_rtfSamples.emplace_back(now, m_world->time());
+    while (m_rtfSamples.size() > 2 && now - m_rtfSamples.front().first > 1.0) m_rtfSamples.pop_front();
+    const auto& [t0, s0] = m_rtfSamples.front();
+    return now - t0 > 1e-3 ? (m_world->time() - s0) / (now - t0) : 0.0;
+  }
+
+  // --- input (GLFW callbacks; ImGui's own callbacks run first and chain to these) ---
+  static Viewer& of(GLFWwindow* w) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
+
+  static void onChar(GLFWwindow* w, unsigned int c) {
+    if (!ImGui::GetIO().WantCaptureKeyboard) of(w).command(c);
+  }
+  static void onKey(GLFWwindow* w, int key, int, int action, int) {
+    if (ImGui::GetIO().WantCaptureKeyboard || action == GLFW_RELEASE) return;
+    Viewer& v = of(w);
+    if (key == GLFW_KEY_ESCAPE) v.m_quit = true;
+    if (key == GLFW_KEY_RIGHT) v.command('s');
+  }
+  static void onButton(GLFWwindow* w, int button, int action, int) {
+    Viewer& v = of(w);
+    double x = 0, y = 0;
+    glfwGetCursorPos(w, &x, &y);
+    if (action == GLFW_PRESS) {
+      if (ImGui::GetIO().WantCaptureMouse || v.m_dragButton >= 0) return;
+      v.m_dragButton = button;
+      v.m_pressX = v.m_lastX = x;
+      v.m_pressY = v.m_lastY = y;
+      v.m_dragged = false;
+    } else if (button == v.m_dragButton) {
+      v.m_dragButton = -1;
+      if (button == GLFW_MOUSE_BUTTON_LEFT && !v.m_dragged) v.pick(w, x, y);
+    }
+  }
+  static void onCursor(GLFWwindow* w, double x, double y) {
+    Viewer& v = of(w);
+    if (v.m_dragButton < 0) return;
+    if (std::hypot(x - v.m_pressX, y - v.m_pressY) > kClickSlopPixels) v.m_dragged = true;
+    const float dx = float(x - v.m_lastX), dy = float(y - v.m_lastY);
+    v.m_lastX = x;
+    v.m_lastY = y;
+    if (!v.m_dragged) return;
+    int width = 0, height = 0;
+    glfwGetWindowSize(w, &width, &height);
+    if (v.m_dragButton == GLFW_MOUSE_BUTTON_LEFT) {
+      v.m_orbit.orbit(dx, dy);
+    } else {
+      v.m_orbit.pan(dx, dy, height);
+      v.m_follow = false;  // panning away from a followed module means: stop following
+    }
+  }
+  static void onScroll(GLFWwindow* w, double, double dy) {
+    if (!ImGui::GetIO().WantCaptureMouse) of(w).m_orbit.zoom(float(dy));
+  }
+
+  void command(unsigned int c) {
+    switch (c) {
+      case ' ':
+        m_paused = !m_paused;
+        break;
+      case 's':
+      case 'S':
+        if (m_paused) ++m_stepRequests;
+        break;
+      case 'r':
+      case 'R':
+        rebuild("reset");
+        break;
+      case '+':
+      case '=':
+        m_speed = std::min(m_speed * 2, kMaxSpeed);
+        break;
+      case '-':
+      case '_':
+        m_speed = std::max(m_speed / 2, kMinSpeed);
+        break;
+      case 'f':
+      case 'F':
+        if (m_follow) m_follow = false;
+        else if (m_selected >= 0) m_follow = true, m_followModule = m_selected;
+        else m_notice = "select a module (click it) to follow it";
+        break;
+      case 'q':
+      case 'Q':
+        m_quit = true;
+        break;
+      default:
+        break;
+    }
+  }
+
+  /// A click: the nearest item under the cursor in the frame on screen; a module selects it
+  /// (and opens the inspector), anything else clears the selection.
+  void pick(GLFWwindow* w, double x, double y) {
+    int width = 0, height = 0;
+    glfwGetWindowSize(w, &width, &height);
+    if (width <= 0 || height <= 0) return;
+    const PickHit hit = Picker(m_snapshot).pick(pixelRay(m_camera, width, height, float(x), float(y)));
+    const int tag = hit.item >= 0 ? m_snapshot.items[size_t(hit.item)].tag : -1;
+    m_selected = tag >= 0 && tag < int(m_world->modules().size()) ? tag : -1;
+  }
+
+  // --- drawing ---
+  /// The world's snapshot plus a box around the selected module; the status is ImGui's.
+  void buildFrame() {
+    m_snapshot = buildSnapshot(*m_world);
+    m_snapshot.overlay.clear();
+    if (m_follow && m_followModule >= 0 && m_followModule < int(m_world->modules().size()))
+      m_orbit.target = m_world->modulePose(m_followModule).pos.cast<float>();
+    m_camera = m_orbit.camera();
+    if (m_selected < 0) return;
+    Eigen::AlignedBox3f box;
+    for (const RenderItem& it : m_snapshot.items) {
+      if (it.tag != m_selected || it.mesh < 0 || it.mesh >= int(m_snapshot.meshes.size())) continue;
+      for (const Eigen::Vector3f& v : m_snapshot.meshes[size_t(it.mesh)].vertices)
+        box.extend((it.transform * v.homogeneous()).head<3>());
+    }
+    if (box.isEmpty()) return;
+    box.extend(box.min() - Eigen::Vector3f::Constant(0.005f));
+    box.extend(box.max() + Eigen::Vector3f::Constant(0.005f));
+    for (int a = 0; a < 8; ++a)
+      for (int axis = 0; axis < 3; ++axis) {
+        const int b = a | (1 << axis);  // each edge once: from a corner without the bit to one with it
+        if (b == a) continue;
+        RenderLine l;
+        l.a = box.corner(Eigen::AlignedBox3f::CornerType(a));
+        l.b = box.corner(Eigen::AlignedBox3f::CornerType(b));
+        l.color = {1.0f, 0.95f, 0.3f, 1.0f};
+        m_snapshot.lines.push_back(l);
+      }
+  }
+
+  void drawStatus(double rtf) {
+    const World& w = *m_world;
+    ImGui::SetNextWindowPos(ImVec2(8, 8));
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    ImGui::Begin("status", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
+                     ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoSavedSettings);
+    const char* state = w.stopped()                              ? "STOPPED"
+                        : m_paused && m_pausedAtEnd && w.finished() ? "PAUSED at the world's duration (Space runs on)"
+                        : m_paused                                  ? "PAUSED"
+                                                                    : "running";
+    ImGui::Text("t = %.2f s   %.2fx real time   %zu modules   %d faults   %s   speed %gx%s", w.time(), m_paused ? 0.0 : rtf,
+                w.modules().size(), w.faultCount(), state, m_speed, m_follow ? "   following" : "");
+    if (!w.failures().empty()) ImGui::TextColored(kErrorColor, "%zu failed expectations", w.failures().size());
+    ImGui::TextDisabled("Space pause  S step  R reset  +/- speed  F follow  click: inspect  Esc quit");
+    if (!m_notice.empty()) ImGui::TextUnformatted(m_notice.c_str());
+    ImGui::End();
+  }
+
+  /// Red panel: a rejected world file, rejected behaviour edits (file:line), a world-script
+  /// error, failed expectations.
+  void drawErrors(int width, int height) {
+    const World& w = *m_world;
+    if (m_worldError.empty() && m_reloadErrors.empty() && w.scriptError().empty() && w.failures().empty()) return;
+    ImGui::SetNextWindowPos(ImVec2(8, float(height) - 8), ImGuiCond_Always, ImVec2(0, 1));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(200, 0), ImVec2(float(width) * 0.6f, float(height) * 0.4f));
+    ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.25f, 0.02f, 0.02f, 0.9f));
+    ImGui::Begin("Errors", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
+    ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
+    ImGui::PushTextWrapPos(float(width) * 0.58f);
+    if (!m_worldError.empty())
+      ImGui::Text("world file rejected (the previous world keeps running):\n%s", m_worldError.c_str());
+    for (const auto& [file, text] : m_reloadErrors)
+      ImGui::Text("reload rejected, old code keeps running:\n%s", text.c_str());
+    if (!w.scriptError().empty()) ImGui::Text("world script error: %s", w.scriptError().c_str());
+    for (const Failure& f : w.failures()) ImGui::Text("FAILED at t=%.3f: %s", f.time, f.message.c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::PopStyleColor();
+    ImGui::End();
+    ImGui::PopStyleColor();
+  }
+
+  std::string moduleName(int index) const {
+    return index >= 0 && index < int(m_world->modules().size()) ? m_world->module(index).name : "?";
+  }
+
+  void drawInspector(int width, int height) {
+    if (m_selected < 0 || m_selected >= int(m_world->modules().size())) return;
+    World& w = *m_world;
+    const Module& m = w.module(m_selected);
+    ImGui::SetNextWindowPos(ImVec2(float(width) - 8, 8), ImGuiCond_Appearing, ImVec2(1, 0));
+    // A fixed width (long lines wrap) and a height fitted to the content every frame, up to the
+    // window's height; more scrolls.
+    ImGui::SetNextWindowSize(ImVec2(kInspectorWidth, 0), ImGuiCond_Always);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(kInspectorWidth, 0), ImVec2(kInspectorWidth, float(height) - 16));
+    bool open = true;
+    // The ### id keeps one window (position) whatever module it shows.
+    const std::string title = m.name + "###inspector";
+    ImGui::Begin(title.c_str(), &open, ImGuiWindowFlags_NoSavedSettings);
+    ImGui::Text("%s   type %s   id %d", m.name.c_str(), m.type->name.c_str(), m.id);
+    if (!m.behaviourFile.empty()) {
+      const std::string rel = fs::path(m.behaviourFile).lexically_relative(m_options.projectRoot).string();
+      ImGui::TextDisabled("behaviour %s", rel.empty() || rel.starts_with("..") ? m.behaviourFile.c_str() : rel.c_str());
+    }
+    if (m.fixed) ImGui::TextDisabled("fixed base");
+    if (!m.fault.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
+      ImGui::TextWrapped("FAULT: %s", m.fault.c_str());
+      ImGui::PopStyleColor();
+    }
+    if (!m.type->joints.empty() && ImGui::CollapsingHeader("Joints", ImGuiTreeNodeFlags_DefaultOpen) &&
+        ImGui::BeginTable("joints", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
+      ImGui::TableSetupColumn("joint");
+      ImGui::TableSetupColumn("angle");
+      ImGui::TableSetupColumn("command");
+      ImGui::TableHeadersRow();
+      for (size_t j = 0; j < m.type->joints.size(); ++j) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(m.type->joints[j].name.c_str());
+        ImGui::TableNextColumn();
+        ImGui::Text("%+7.1f deg", deg(w.jointAngle(m_selected, int(j))));
+        ImGui::TableNextColumn();
+        const JointCommand& c = m.commands[j];
+        if (c.mode == JointMode::Servo) ImGui::Text("servo %+.1f deg", deg(c.value));
+        else if (c.mode == JointMode::Velocity) ImGui::Text("speed %+.1f deg/s", deg(c.value));
+        else ImGui::TextDisabled("off");
+      }
+      ImGui::EndTable();
+    }
+    if (!m.type->docks.empty() && ImGui::CollapsingHeader("Docks", ImGuiTreeNodeFlags_DefaultOpen) &&
+        ImGui::BeginTable("docks", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
+      ImGui::TableSetupColumn("dock");
+      ImGui::TableSetupColumn("state");
+      ImGui::TableSetupColumn("peer");
+      ImGui::TableHeadersRow();
+      for (size_t d = 0; d < m.type->docks.size(); ++d) {
+        const DockState& st = m.docks[d];
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(m.type->docks[d].name.c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(!st.enabled ? "disabled" : st.engaged ? "engaged" : "enabled");
+        ImGui::TableNextColumn();
+        if (st.engaged && st.peerModule >= 0) {
+          const Module& peer = w.module(st.peerModule);
+          const std::string dock = st.peerDock >= 0 && st.peerDock < int(peer.type->docks.size())
+                                       ? peer.type->docks[size_t(st.peerDock)].name
+                                       : "?";
+          ImGui::Text("%s.%s", moduleName(st.peerModule).c_str(), dock.c_str());
+        } else {
+          ImGui::TextDisabled("-");
+        }
+      }
+      ImGui::EndTable();
+    }
+    const std::string percepts = w.describePercepts(m_selected);
+    if (!percepts.empty() && ImGui::CollapsingHeader("Percepts", ImGuiTreeNodeFlags_DefaultOpen))
+      ImGui::TextWrapped("%s", percepts.c_str());
+    auto lines = [](const char* title, const std::deque<std::string>& items) {
+      if (!ImGui::CollapsingHeader(title, ImGuiTreeNodeFlags_DefaultOpen)) return;
+      if (items.empty()) {
+        ImGui::TextDisabled("(none yet)");
+        return;
+      }
+      // Newest first: the interesting end stays visible without scrolling.
+      for (auto it = items.rbegin(); it != items.rend(); ++it) ImGui::TextWrapped("%s", it->c_str());
+    };
+    lines("Messages received", m.recentMessages);
+    lines("Log", m.recentLog);
+    ImGui::End();
+    if (!open) {
+      if (m_follow && m_followModule == m_selected) m_follow = false;
+      m_selected = -1;
+    }
+  }
+
+  const ViewArgs& m_args;
+  RunOptions m_options;
+  std::unique_ptr<World> m_world;
+  std::string m_worldError;                          // the world file as saved is rejected
+  std::map<std::string, std::string> m_reloadErrors;  // file -> why its last edit was rejected
+  std::map<std::string, fs::file_time_type> m_stamps;
+  Clock::time_point m_lastWatch = Clock::now();
+  OrbitCamera m_orbit;
+  Snapshot m_snapshot;  // what is on screen: clicks pick against it
+  Camera m_camera;
+  SceneRenderer m_scene;
+  bool m_paused = false, m_pausedAtEnd = false, m_quit = false;
+  int m_stepRequests = 0;
+  double m_speed = 1.0;
+  double m_owed = 0;  // simulated seconds the clock is ahead of the world
+  std::deque<std::pair<double, double>> m_rtfSamples;  // (wall s, sim s) over the last second
+  int m_selected = -1;  // module index
+  bool m_follow = false;
+  int m_followModule = -1;
+  std::string m_notice;
+  int m_dragButton = -1;
+  bool m_dragged = false;
+  double m_pressX = 0, m_pressY = 0, m_lastX = 0, m_lastY = 0;
+};
+
+int Viewer::run(GLFWwindow* window) {
+  glfwSetWindowUserPointer(window, this);
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(1);
+  std::string err;
+  if (!m_scene.init(glfwProc, err)) {
+    std::fprintf(stderr, "rm3d view: cannot draw in the window: %s\n", err.c_str());
+    return 2;
+  }
+  // Ours first: ImGui's backend remembers installed callbacks and chains to them.
+  glfwSetCharCallback(window, onChar);
+  glfwSetKeyCallback(window, onKey);
+  glfwSetMouseButtonCallback(window, onButton);
+  glfwSetCursorPosCallback(window, onCursor);
+  glfwSetScrollCallback(window, onScroll);
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini dropped into the working folder
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+
+  int exitCode = 0;
+  int frame = 0;
+  auto last = Clock::now();
+  while (!glfwWindowShouldClose(window) && !m_quit) {
+    glfwPollEvents();
+    const auto now = Clock::now();
+    const double wallDt = std::chrono::duration<double>(now - last).count();
+    last = now;
+    watch();
+    advance(wallDt);
+    const double rtf = realTimeFactor();
+
+    int fbWidth = 0, fbHeight = 0, winWidth = 0, winHeight = 0;
+    glfwGetFramebufferSize(window, &fbWidth, &fbHeight);
+    glfwGetWindowSize(window, &winWidth, &winHeight);
+    if (fbWidth <= 0 || fbHeight <= 0) {  // minimised
+      glfwWaitEventsTimeout(0.1);
+      continue;
+    }
+    buildFrame();
+    m_scene.draw(m_snapshot, m_camera, fbWidth, fbHeight);
+
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    drawStatus(rtf);
+    drawErrors(winWidth, winHeight);
+    drawInspector(winWidth, winHeight);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+
+    if (m_args.frames > 0 && ++frame >= m_args.frames) {
+      // The back buffer holds the finished frame until the swap.
+      std::vector<uint8_t> rgba;
+      m_scene.readPixels(fbWidth, fbHeight, rgba);
+      if (!m_args.screenshot.empty()) {
+        if (!writePng(m_args.screenshot, fbWidth, fbHeight, rgba, err)) {
+          std::fprintf(stderr, "rm3d view: %s\n", err.c_str());
+          exitCode = 2;
+        } else {
+          const PixelStats st = countModulePixels(*m_world, m_snapshot, m_camera, fbWidth, fbHeight, rgba);
+          std::printf("screenshot: %d x %d, %d module pixels, %d of them picked as a module, t = %.2f s, selected: %s\n",
+                      fbWidth, fbHeight, st.modulePixels, st.picked, m_world->time(),
+                      m_selected >= 0 ? m_world->module(m_selected).name.c_str() : "none");
+        }
+      }
+      break;
+    }
+    glfwSwapBuffers(window);
+  }
+
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  m_scene.release();
+  return exitCode;
+}
+
+}  // namespace
+
+int viewCommand(const ViewArgs& a, const std::string& root) {
+  RunOptions o;
+  o.projectRoot = root;
+  std::string err;
+  if (!parseParams(a.params, o.params, err)) {
+    std::fprintf(stderr, "rm3d view: %s\n", err.c_str());
+    return 2;
+  }
+  if (a.seed) o.seed = *a.seed;
+  o.threads = a.threads;
+  o.keepHistory = true;  // the inspector shows recent log lines and messages
+  if (a.frames > 0 && !a.screenshot.empty()) {
+    const fs::path dir = fs::absolute(a.screenshot).parent_path();
+    if (!fs::is_directory(dir)) {
+      std::fprintf(stderr, "rm3d view: --screenshot %s: folder %s does not exist\n", a.screenshot.c_str(),
+                   dir.string().c_str());
+      return 2;
+    }
+  }
+  if (!a.screenshot.empty() && a.frames <= 0) {
+    std::fprintf(stderr, "rm3d view: --screenshot needs --frames N (the frame to save)\n");
+    return 2;
+  }
+
+  Viewer viewer(a, o);
+  if (!viewer.loadInitial(err)) {
+    std::fprintf(stderr, "rm3d view: %s\n", err.c_str());
+    return 2;
+  }
+
+  const char* display = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  if ((!display || !*display) && (!wayland || !*wayland)) {
+    std::fprintf(stderr, "rm3d view: no display available (DISPLAY is not set); %s\n", kNoDisplayHint);
+    return 2;
+  }
+  if (!glfwInit()) {
+    std::fprintf(stderr, "rm3d view: no display available (%s); %s\n", glfwLastError().c_str(), kNoDisplayHint);
+    return 2;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_FALSE);  // wide lines stay legal
+  const std::string title = "RM3D - " + fs::path(a.world).filename().string();
+  GLFWwindow* window = glfwCreateWindow(kWindowWidth, kWindowHeight, title.c_str(), nullptr, nullptr);
+  if (!window) {
+    std::fprintf(stderr, "rm3d view: cannot open an OpenGL 3.3 core window (%s); %s\n", glfwLastError().c_str(),
+                 kNoDisplayHint);
+    glfwTerminate();
+    return 2;
+  }
+  const int rc = viewer.run(window);
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return rc;
+}
+
+}  // namespace rm3d

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "app/app.h"
+#include "app/cmd_view.h"
 
 namespace {
 
@@ -65,9 +66,17 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--type", bench.type, "module type (default superbot; superbot_box: brackets as boxes)");
   benchCmd->add_option("--json", bench.json, "write results as JSON");
 
-  std::string viewWorld;
-  CLI::App* viewCmd = app.add_subcommand("view", "interactive window with hot reload");
-  viewCmd->add_option("world", viewWorld, "world script")->required();
+  rm3d::ViewArgs view;
+  CLI::App* viewCmd = app.add_subcommand("view", "interactive window: real-time stepping, inspector, hot reload");
+  viewCmd->add_option("world", view.world, "world script (.lua)")->required();
+  viewCmd->add_option("--seed", view.seed, "world seed (overrides world.set{seed=})");
+  viewCmd->add_option("--param", view.params, "key=value, seen as args.key in the world script")->take_all();
+  viewCmd->add_option("--threads", view.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
+  viewCmd->add_option("--frames", view.frames, "render this many frames, then exit (with --screenshot)")
+      ->check(CLI::PositiveNumber);
+  viewCmd->add_option("--screenshot", view.screenshot, "save the last frame's window as PNG (needs --frames)");
+  // Hidden: opens the inspector on a module at start (tests, README pictures).
+  viewCmd->add_option("--select", view.select, "module id to select at start")->group("");
 
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];
@@ -90,10 +99,6 @@ int main(int argc, char** argv) {
   if (*runCmd) return rm3d::runCommand(run, r);
   if (*testCmd) return rm3d::testCommand(test, r);
   if (*benchCmd) return rm3d::benchCommand(bench, r);
-  if (*viewCmd) {
-    std::fprintf(stderr, "rm3d view: this build has no interactive viewer yet; use `rm3d run %s --png FILE` for a picture\n",
-                 viewWorld.c_str());
-    return 2;
-  }
+  if (*viewCmd) return rm3d::viewCommand(view, r);
   return 2;
 }

@@ -4,6 +4,7 @@
 #include "physics/physics_world.h"
 
 #include <btBulletDynamicsCommon.h>
+#include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
 #include <Eigen/Eigenvalues>
 
 #if defined(__SSE__)
@@ -667,6 +668,9 @@ double PhysicsWorld::rayCast(const Vec3& from, const Vec3& dir, double length, i
   };
   const btVector3 a = toBt(from), b = toBt(from + dir * length);
   Callback cb(a, b, &m->bodies, ignoreOwner);
+  // Bullet's default sub-simplex cast against convex shapes is off by millimetres at a metre or
+  // two; the GJK cast is exact to well under a millimetre.
+  cb.m_flags |= btTriangleRaycastCallback::kF_UseGjkConvexCastRaytest;
   {
     std::lock_guard<std::mutex> lock(m->rayMutex);
     m->world.rayTest(a, b, cb);

@@ -117,6 +117,13 @@ int moduleReceive(lua_State* L) {
 /// boolean (contact), {enabled=, engaged=, proximity=} (dock), or nil (nothing in range, dead)
 int moduleSensor(lua_State* L) {
   luaL_checkstring(L, 1);
+  bool velocity = false;
+  if (!lua_isnoneornil(L, 2)) {  // before anything is pushed above the arguments
+    static const char* const fields[] = {"velocity", nullptr};
+    luaL_checkoption(L, 2, nullptr, fields);
+    velocity = true;
+  }
+  lua_settop(L, 1);
   lua_pushvalue(L, 1);
   if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNUMBER) {
     const BehaviourContext& c = behaviourContext(L);
@@ -128,12 +135,6 @@ int moduleSensor(lua_State* L) {
     return lua_error(L);
   }
   const int code = int(lua_tointeger(L, -1));
-  bool velocity = false;
-  if (!lua_isnoneornil(L, 2)) {
-    static const char* const fields[] = {"velocity", nullptr};
-    luaL_checkoption(L, 2, nullptr, fields);
-    velocity = true;
-  }
   const BehaviourContext& c = behaviourContext(L);
   pushSensorReading(L, c.world->readSensor(c.module, code, velocity));
   return 1;

@@ -20,8 +20,8 @@
 --           or the memory says an obstacle is nearer than `safe` in the corridor.
 --
 -- Measured in worlds/wheelbot.lua (two robots, a 3 x 3 m arena, six obstacles): about 6.5 m
--- driven per robot per minute; no chassis contact in 198 of 200 seeds (the two failures: the
--- robots ran into each other, which neither can see while turning on the spot).
+-- driven per robot per minute; no chassis contact in 200 of 200 seeds (on an earlier engine build
+-- 2 of 200 failed: the robots ran into each other, which neither sees while turning on the spot).
 --
 -- Nil readings mean "nothing within 2 m" or "dropped out"; they are treated conservatively: a
 -- nil adds no point and erases none, so a dropout can never hide a wall the robot has seen, and

@@ -8,8 +8,9 @@ local noise = {}
 local Model = {}
 Model.__index = Model
 
-local function model(kind, make, params)
-  return setmetatable({kind = kind, make = make, params = params}, Model)
+local function model(kind, make, params, nil_ok)
+  -- nil_ok: the model also sees readings that are nil (a delay line still advances)
+  return setmetatable({kind = kind, make = make, params = params, nil_ok = nil_ok or false}, Model)
 end
 
 local function check(cond, msg)
@@ -81,8 +82,10 @@ function noise.drift(sigma)
     return function(v)
       local t = sim.time()
       if last ~= t then
+        -- the walk advances with time, not with reads: sigma * sqrt(time since the last read)
+        local span = last and (t - last) or sim.dt()
         for i = 1, (type(v) == "table" and #v or 1) do
-          offset[i] = (offset[i] or 0) + sim.gaussian(0, sigma * math.sqrt(sim.dt()))
+          offset[i] = (offset[i] or 0) + sim.gaussian(0, sigma * math.sqrt(span))
         end
         last = t
       end
@@ -136,7 +139,7 @@ function noise.delay(k)
       if out == false then return nil end
       return out
     end
-  end, {k = k})
+  end, {k = k}, true)
 end
 
 --- Stuck-at failure: from time `at` (or, each step, with probability `rate`) the value freezes
@@ -169,17 +172,18 @@ function noise.compose(...)
   for i, m in ipairs(models) do
     check(getmetatable(m) == Model, "noise.compose: argument " .. i .. " is not a noise model")
   end
+  local nil_ok = false
+  for _, m in ipairs(models) do nil_ok = nil_ok or m.nil_ok end
   return model("compose", function()
     local fs = {}
     for i, m in ipairs(models) do fs[i] = m.make() end
     return function(v)
-      for _, f in ipairs(fs) do
-        if v == nil then return nil end
-        v = f(v)
+      for i, f in ipairs(fs) do
+        if v ~= nil or models[i].nil_ok then v = f(v) end
       end
       return v
     end
-  end, {models = models})
+  end, {models = models}, nil_ok)
 end
 
 --- True for what the constructors return.

@@ -37,15 +37,15 @@ local function check_keys(where, spec, allowed)
 end
 
 local function pipeline(where, spec)
-  local stages = {}
+  local stages, nil_ok = {}, {}
   local n = spec.noise
   if n ~= nil then
     if noise.is_model(n) then
-      stages[1] = n.make()
+      stages[1], nil_ok[1] = n.make(), n.nil_ok
     elseif type(n) == "table" then
       for i, m in ipairs(n) do
         if not noise.is_model(m) then fail(string.format("%s: noise[%d] is not a noise model", where, i)) end
-        stages[i] = m.make()
+        stages[i], nil_ok[i] = m.make(), m.nil_ok
       end
     else
       fail(where .. ": noise must be a noise model (noise.gaussian(...), ...) or a list of them")
@@ -53,9 +53,8 @@ local function pipeline(where, spec)
   end
   if spec.map ~= nil and type(spec.map) ~= "function" then fail(where .. ": map must be a function") end
   return function(v)
-    for _, f in ipairs(stages) do
-      if v == nil then return nil end
-      v = f(v)
+    for i, f in ipairs(stages) do
+      if v ~= nil or nil_ok[i] then v = f(v) end  -- a nil still advances a delay line
     end
     return v
   end

@@ -56,7 +56,9 @@ std::string Behaviour::locateDeclaration(const std::string& path, const std::str
       int n = 1;
       for (size_t pos = 0; pos < text.size(); ++n) {
         const size_t end = text.find('\n', pos);
-        const std::string l = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+        std::string l = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+        const size_t comment = l.find("--");
+        if (comment != std::string::npos) l.resize(comment);  // a name in a comment is not the declaration
         const size_t k = l.find(key);
         if (k != std::string::npos && (k == 0 || !std::isalnum(static_cast<unsigned char>(l[k - 1])) && l[k - 1] != '_')) {
           const size_t eq = l.find_first_not_of(" \t\"]", k + key.size());

@@ -17,6 +17,10 @@ struct BehaviourContext {
   int module = -1;
   int stepRef = -2, initRef = -2, onDockRef = -2, onReloadRef = -2;  // LUA_NOREF
   int dockTableRef = -2;  ///< name -> Dock userdata
+  /// Metatables of Joint and Dock, compared by address in each method call (cheaper than
+  /// luaL_checkudata's registry look-up by name).
+  const void* jointMeta = nullptr;
+  const void* dockMeta = nullptr;
 };
 
 class Behaviour {
@@ -36,6 +40,9 @@ class Behaviour {
 
  private:
   void refreshCallbacks();
+  void installLazyPrelude();
+  /// Loads the percept machinery and checks `percepts`/`actions` if the behaviour declares any.
+  bool checkDeclarations(const std::string& path, std::string& err);
   std::string locateDeclaration(const std::string& path, const std::string& err) const;
   LuaVm m_vm;
   BehaviourContext m_ctx;

@@ -15,7 +15,15 @@ struct DockUd {
   int index;
 };
 
-int checkDock(lua_State* L) { return static_cast<DockUd*>(luaL_checkudata(L, 1, kDockMeta))->index; }
+int checkDock(lua_State* L) {
+  void* p = lua_touserdata(L, 1);
+  if (p && lua_getmetatable(L, 1)) {
+    const bool same = lua_topointer(L, -1) == behaviourContext(L).dockMeta;
+    lua_pop(L, 1);
+    if (same) return static_cast<DockUd*>(p)->index;
+  }
+  return static_cast<DockUd*>(luaL_checkudata(L, 1, kDockMeta))->index;  // the standard error
+}
 
 DockState& dockState(lua_State* L, int d) {
   const BehaviourContext& c = behaviourContext(L);
@@ -119,6 +127,7 @@ void openDockType(lua_State* L) {
                                      {"enable", dockEnable},   {"disable", dockDisable}, {"send", dockSend},
                                      {"name", dockName},       {"peer", dockPeer},       {nullptr, nullptr}};
   luaL_newmetatable(L, kDockMeta);
+  behaviourContext(L).dockMeta = lua_topointer(L, -1);
   luaL_newlib(L, methods);
   lua_setfield(L, -2, "__index");
   lua_pushcfunction(L, dockToString);

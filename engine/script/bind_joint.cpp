@@ -17,7 +17,15 @@ struct JointUd {
   int index;
 };
 
-int checkJoint(lua_State* L) { return static_cast<JointUd*>(luaL_checkudata(L, 1, kJointMeta))->index; }
+int checkJoint(lua_State* L) {
+  void* p = lua_touserdata(L, 1);
+  if (p && lua_getmetatable(L, 1)) {
+    const bool same = lua_topointer(L, -1) == behaviourContext(L).jointMeta;
+    lua_pop(L, 1);
+    if (same) return static_cast<JointUd*>(p)->index;
+  }
+  return static_cast<JointUd*>(luaL_checkudata(L, 1, kJointMeta))->index;  // the standard error
+}
 
 /// joint:angle() -> radians (child relative to parent, about the axis)
 int jointAngle(lua_State* L) {
@@ -104,6 +112,7 @@ void openJointType(lua_State* L) {
                                      {"name", jointName},         {"limits", jointLimits},
                                      {nullptr, nullptr}};
   luaL_newmetatable(L, kJointMeta);
+  behaviourContext(L).jointMeta = lua_topointer(L, -1);
   luaL_newlib(L, methods);
   lua_setfield(L, -2, "__index");
   lua_pushcfunction(L, jointToString);

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/app.h"
+#include "app/file_watcher.h"
 #include "app/run_world.h"
 #include "core/error.h"
 #include "render/offscreen_renderer.h"
@@ -99,18 +100,15 @@ int watchLoop(const RunArgs& a, const RunOptions& o) {
   };
   std::unique_ptr<World> w;
   bool ok = load(w);
-  std::map<std::string, fs::file_time_type> stamps;
+  FileWatcher watcher;
   auto snapshot = [&] {
-    stamps.clear();
-    std::error_code ec;
-    std::vector<std::string> files = ok ? w->watchedFiles() : std::vector<std::string>{fs::absolute(a.world).string()};
-    for (const std::string& f : files) stamps[f] = fs::last_write_time(f, ec);
+    watcher.reset(ok ? w->watchedFiles() : std::vector<std::string>{fs::absolute(a.world).string()});
   };
   snapshot();
   auto start = WallClock::now();
   auto lastCheck = start;
   double simAtStart = 0;
-  std::printf("watching %zu files; edit and save to reload (Ctrl-C to stop)\n", stamps.size());
+  std::printf("watching %zu files; edit and save to reload (Ctrl-C to stop)\n", watcher.size());
   std::fflush(stdout);
   for (;;) {
     if (ok) {
@@ -126,11 +124,7 @@ int watchLoop(const RunArgs& a, const RunOptions& o) {
     }
     if (WallClock::now() - lastCheck < std::chrono::milliseconds(100)) continue;
     lastCheck = WallClock::now();
-    std::error_code ec;
-    for (auto& [file, stamp] : stamps) {
-      const auto now = fs::last_write_time(file, ec);
-      if (ec || now == stamp) continue;
-      stamp = now;
+    for (const std::string& file : watcher.changed()) {
       const auto t0 = WallClock::now();
       if (!ok || file == w->worldFile()) {
         ok = load(w);

@@ -22,6 +22,7 @@
 #include <backends/imgui_impl_opengl3.h>
 
 #include "app/app.h"
+#include "app/file_watcher.h"
 #include "core/error.h"
 #include "render/picking.h"
 #include "render/scene_renderer.h"
@@ -227,26 +228,19 @@ class Viewer {
   void takeStamps() {
     // While the world file is rejected, keep watching what the last good world used too: the
     // mistake may sit in a required lua/ file.
-    std::map<std::string, fs::file_time_type> next;
-    std::error_code ec;
     std::vector<std::string> files = m_world->watchedFiles();
     files.push_back(fs::absolute(m_args.world).lexically_normal().string());
     if (!m_worldError.empty())
-      for (const auto& [f, stamp] : m_stamps) files.push_back(f);
-    for (const std::string& f : files) next[f] = fs::last_write_time(f, ec);
-    m_stamps = std::move(next);
+      for (const std::string& f : m_watcher.files()) files.push_back(f);
+    m_watcher.reset(files);
   }
 
   void watch() {
     const auto now = Clock::now();
     if (now - m_lastWatch < kWatchInterval) return;
     m_lastWatch = now;
-    std::error_code ec;
     const std::string worldFile = fs::absolute(m_args.world).lexically_normal().string();
-    for (auto& [file, stamp] : m_stamps) {
-      const auto t = fs::last_write_time(file, ec);
-      if (ec || t == stamp) continue;
-      stamp = t;
+    for (const std::string& file : m_watcher.changed()) {
       if (!m_worldError.empty() || file == worldFile || file == m_world->worldFile()) {
         rebuild("world script changed");
         return;  // the stamps were retaken
@@ -584,7 +578,7 @@ class Viewer {
   std::unique_ptr<World> m_world;
   std::string m_worldError;                          // the world file as saved is rejected
   std::map<std::string, std::string> m_reloadErrors;  // file -> why its last edit was rejected
-  std::map<std::string, fs::file_time_type> m_stamps;
+  FileWatcher m_watcher;
   Clock::time_point m_lastWatch = Clock::now();
   OrbitCamera m_orbit;
   Snapshot m_snapshot;  // what is on screen: clicks pick against it

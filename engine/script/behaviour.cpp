@@ -27,8 +27,7 @@ bool Behaviour::load(const std::string& path, std::string& err) {
   const std::string root = m_ctx.world->options().projectRoot;
   m_vm.setRequirePath({fs::path(path).parent_path().string(), (fs::path(root) / "lua").string(),
                        (fs::path(root) / "behaviors").string()});
-  lua_State* L = m_vm.L();
-  // Percepts, actions and noise models (lua/rm3d_behaviour.lua), then the behaviour itself.
+  // Percepts, actions and noise models load on first use (installLazyPrelude), then the behaviour.
   installLazyPrelude();
   if (!m_vm.runFile(path, 0, err)) return false;
   // Check the percept and action declarations now, so a misspelt sensor is a load error.
@@ -127,7 +126,7 @@ std::string Behaviour::locateDeclaration(const std::string& path, const std::str
         const size_t comment = l.find("--");
         if (comment != std::string::npos) l.resize(comment);  // a name in a comment is not the declaration
         const size_t k = l.find(key);
-        if (k != std::string::npos && (k == 0 || !std::isalnum(static_cast<unsigned char>(l[k - 1])) && l[k - 1] != '_')) {
+        if (k != std::string::npos && (k == 0 || (!std::isalnum(static_cast<unsigned char>(l[k - 1])) && l[k - 1] != '_'))) {
           const size_t eq = l.find_first_not_of(" \t\"]", k + key.size());
           if (eq != std::string::npos && l[eq] == '=') {
             line = std::to_string(n);

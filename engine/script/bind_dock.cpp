@@ -15,15 +15,7 @@ struct DockUd {
   int index;
 };
 
-int checkDock(lua_State* L) {
-  void* p = lua_touserdata(L, 1);
-  if (p && lua_getmetatable(L, 1)) {
-    const bool same = lua_topointer(L, -1) == behaviourContext(L).dockMeta;
-    lua_pop(L, 1);
-    if (same) return static_cast<DockUd*>(p)->index;
-  }
-  return static_cast<DockUd*>(luaL_checkudata(L, 1, kDockMeta))->index;  // the standard error
-}
+int checkDock(lua_State* L) { return checkIndexUserdata(L, behaviourContext(L).dockMeta, kDockMeta); }
 
 DockState& dockState(lua_State* L, int d) {
   const BehaviourContext& c = behaviourContext(L);

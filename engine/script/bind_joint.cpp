@@ -17,15 +17,7 @@ struct JointUd {
   int index;
 };
 
-int checkJoint(lua_State* L) {
-  void* p = lua_touserdata(L, 1);
-  if (p && lua_getmetatable(L, 1)) {
-    const bool same = lua_topointer(L, -1) == behaviourContext(L).jointMeta;
-    lua_pop(L, 1);
-    if (same) return static_cast<JointUd*>(p)->index;
-  }
-  return static_cast<JointUd*>(luaL_checkudata(L, 1, kJointMeta))->index;  // the standard error
-}
+int checkJoint(lua_State* L) { return checkIndexUserdata(L, behaviourContext(L).jointMeta, kJointMeta); }
 
 /// joint:angle() -> radians (child relative to parent, about the axis)
 int jointAngle(lua_State* L) {

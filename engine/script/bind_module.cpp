@@ -246,6 +246,16 @@ void pushSensorReading(lua_State* L, const SensorReading& r) {
 
 BehaviourContext& behaviourContext(lua_State* L) { return *static_cast<BehaviourContext*>(LuaVm::from(L)->user()); }
 
+int checkIndexUserdata(lua_State* L, const void* meta, const char* typeName) {
+  void* p = lua_touserdata(L, 1);
+  if (p && lua_getmetatable(L, 1)) {
+    const bool same = lua_topointer(L, -1) == meta;
+    lua_pop(L, 1);
+    if (same) return *static_cast<int*>(p);  // JointUd and DockUd hold just the index
+  }
+  return *static_cast<int*>(luaL_checkudata(L, 1, typeName));  // the standard error
+}
+
 double checkFinite(lua_State* L, int arg) {
   const double v = luaL_checknumber(L, arg);
   if (!std::isfinite(v)) luaL_argerror(L, arg, "expected a finite number");

@@ -19,6 +19,9 @@ void pushSensorReading(lua_State* L, const SensorReading& r);
 
 /// Shared helpers for bindings.
 BehaviourContext& behaviourContext(lua_State* L);
+/// The index held by a Joint or Dock userdata at arg 1: the metatable is compared by address
+/// (`meta`), cheaper than luaL_checkudata's registry look-up by name, which is kept for the error.
+int checkIndexUserdata(lua_State* L, const void* meta, const char* typeName);
 /// Errors with "file:line: fn: expected a finite number" when the argument is NaN or infinite.
 double checkFinite(lua_State* L, int arg);
 

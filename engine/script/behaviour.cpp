@@ -8,23 +8,21 @@
 #include <filesystem>
 
 #include "script/bindings.h"
-#include "world/world.h"
 
 namespace fs = std::filesystem;
 
 namespace rm3d {
 
-Behaviour::Behaviour(World& world, int module) : m_vm(world.options().vmMemoryLimit) {
-  m_ctx.world = &world;
-  m_ctx.module = module;
+Behaviour::Behaviour(const RunOptions& options, ModuleHandle module)
+    : m_vm(options.vmMemoryLimit), m_ctx{module} {
   m_vm.setUser(&m_ctx);
-  m_vm.setDisplayRoot(world.options().projectRoot);
-  m_vm.setInstructionBudget(world.options().behaviourBudget);
+  m_vm.setDisplayRoot(options.projectRoot);
+  m_vm.setInstructionBudget(options.behaviourBudget);
   openModuleApi(m_vm.L(), m_ctx);
 }
 
 bool Behaviour::load(const std::string& path, std::string& err) {
-  const std::string root = m_ctx.world->options().projectRoot;
+  const std::string root = m_ctx.module.world().options().projectRoot;
   m_vm.setRequirePath({fs::path(path).parent_path().string(), (fs::path(root) / "lua").string(),
                        (fs::path(root) / "behaviors").string()});
   // Percepts, actions and noise models load on first use (installLazyPrelude), then the behaviour.
@@ -216,7 +214,7 @@ bool Behaviour::callOnDock(int dock, const char* event, std::string& err) {
   lua_State* L = m_vm.L();
   lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.onDockRef);
   lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.dockTableRef);
-  lua_getfield(L, -1, m_ctx.world->module(m_ctx.module).type->docks[size_t(dock)].name.c_str());
+  lua_getfield(L, -1, m_ctx.module.self().type->docks[size_t(dock)].name.c_str());
   lua_remove(L, -2);
   lua_pushstring(L, event);
   return m_vm.call(2, 0, err);

@@ -7,14 +7,14 @@
 #include <string>
 
 #include "script/lua_vm.h"
+#include "world/module_handle.h"
 
 namespace rm3d {
 
-class World;
-
+/// What a behaviour's bindings reach: its module through a ModuleHandle (own records writable,
+/// the rest of the world read-only; see world/module_handle.h), and the VM's registry refs.
 struct BehaviourContext {
-  World* world = nullptr;
-  int module = -1;
+  ModuleHandle module;
   int stepRef = -2, initRef = -2, onDockRef = -2, onReloadRef = -2;  // LUA_NOREF
   int dockTableRef = -2;  ///< name -> Dock userdata
   /// Metatables of Joint and Dock, compared by address in each method call (cheaper than
@@ -25,7 +25,7 @@ struct BehaviourContext {
 
 class Behaviour {
  public:
-  Behaviour(World& world, int module);
+  Behaviour(const RunOptions& options, ModuleHandle module);
   /// Loads and runs the behaviour file's top level. False and err on failure (the module faults).
   bool load(const std::string& path, std::string& err);
   bool callInit(std::string& err);

@@ -17,14 +17,21 @@ struct DockUd {
 
 int checkDock(lua_State* L) { return checkIndexUserdata(L, behaviourContext(L).dockMeta, kDockMeta); }
 
-DockState& dockState(lua_State* L, int d) {
-  const BehaviourContext& c = behaviourContext(L);
-  return c.world->mutableModule(c.module).docks[size_t(d)];
+const DockState& dockState(lua_State* L, int d) { return behaviourContext(L).module.self().docks[size_t(d)]; }
+
+/// Queues dock:enable()/disable(): dock states are frozen while behaviours run (other modules
+/// read them in parallel); the world applies the request after the phase, in module order.
+void requestDock(lua_State* L, int d, bool enable) {
+  Module& m = behaviourContext(L).module.self();
+  m.dockRequests[size_t(d)] = enable ? 1 : 0;
+  m.hasDockRequests = true;
 }
 
-/// dock:enabled() -> bool (willing to connect)
+/// dock:enabled() -> bool (willing to connect; a request made this step counts already)
 int dockEnabled(lua_State* L) {
-  lua_pushboolean(L, dockState(L, checkDock(L)).enabled);
+  const int d = checkDock(L);
+  const int8_t request = behaviourContext(L).module.self().dockRequests[size_t(d)];
+  lua_pushboolean(L, request >= 0 ? request != 0 : dockState(L, d).enabled);
   return 1;
 }
 
@@ -38,19 +45,19 @@ int dockEngaged(lua_State* L) {
 int dockGender(lua_State* L) {
   const int d = checkDock(L);
   const BehaviourContext& c = behaviourContext(L);
-  lua_pushstring(L, genderName(c.world->module(c.module).type->docks[size_t(d)].gender));
+  lua_pushstring(L, genderName(c.module.self().type->docks[size_t(d)].gender));
   return 1;
 }
 
 /// dock:enable(): willing to connect
 int dockEnable(lua_State* L) {
-  dockState(L, checkDock(L)).enabled = true;
+  requestDock(L, checkDock(L), true);
   return 0;
 }
 
 /// dock:disable(): unwilling; an engaged connection here is released this step
 int dockDisable(lua_State* L) {
-  dockState(L, checkDock(L)).enabled = false;
+  requestDock(L, checkDock(L), false);
   return 0;
 }
 
@@ -58,7 +65,7 @@ int dockDisable(lua_State* L) {
 int dockName(lua_State* L) {
   const int d = checkDock(L);
   const BehaviourContext& c = behaviourContext(L);
-  lua_pushstring(L, c.world->module(c.module).type->docks[size_t(d)].name.c_str());
+  lua_pushstring(L, c.module.self().type->docks[size_t(d)].name.c_str());
   return 1;
 }
 
@@ -69,7 +76,7 @@ int dockSend(lua_State* L) {
   const int d = checkDock(L);
   luaL_checkany(L, 2);
   const BehaviourContext& c = behaviourContext(L);
-  if (!c.world->module(c.module).docks[size_t(d)].engaged) {
+  if (!c.module.self().docks[size_t(d)].engaged) {
     lua_pushboolean(L, 0);
     return 1;
   }
@@ -78,9 +85,9 @@ int dockSend(lua_State* L) {
     std::string err;
     Message msg;
     msg.dock = d;
-    msg.time = c.world->time();
-    ok = readLuaValue(L, 2, msg.data, c.world->channel().maxBytes, err);
-    if (ok) c.world->mailbox(c.module).outbox.push_back(std::move(msg));
+    msg.time = c.module.world().time();
+    ok = readLuaValue(L, 2, msg.data, c.module.world().channel().maxBytes, err);
+    if (ok) c.module.mailbox().outbox.push_back(std::move(msg));
     else lua_pushfstring(L, "dock:send: %s", err.c_str());
   }
   if (!ok) {
@@ -97,9 +104,9 @@ int dockSend(lua_State* L) {
 int dockPeer(lua_State* L) {
   const int d = checkDock(L);
   const BehaviourContext& c = behaviourContext(L);
-  const DockState& s = c.world->module(c.module).docks[size_t(d)];
+  const DockState& s = c.module.self().docks[size_t(d)];
   if (!s.engaged) return 0;
-  const Module& peer = c.world->module(s.peerModule);
+  const Module& peer = c.module.world().module(s.peerModule);
   lua_pushinteger(L, peer.id);
   lua_pushstring(L, peer.type->docks[size_t(s.peerDock)].name.c_str());
   return 2;
@@ -108,7 +115,7 @@ int dockPeer(lua_State* L) {
 int dockToString(lua_State* L) {
   const int d = checkDock(L);
   const BehaviourContext& c = behaviourContext(L);
-  lua_pushfstring(L, "Dock(%s)", c.world->module(c.module).type->docks[size_t(d)].name.c_str());
+  lua_pushfstring(L, "Dock(%s)", c.module.self().type->docks[size_t(d)].name.c_str());
   return 1;
 }
 

@@ -23,7 +23,7 @@ int checkJoint(lua_State* L) { return checkIndexUserdata(L, behaviourContext(L).
 int jointAngle(lua_State* L) {
   const int j = checkJoint(L);
   const BehaviourContext& c = behaviourContext(L);
-  lua_pushnumber(L, c.world->jointAngle(c.module, j));
+  lua_pushnumber(L, c.module.world().jointAngle(c.module.index(), j));
   return 1;
 }
 
@@ -31,7 +31,7 @@ int jointAngle(lua_State* L) {
 int jointVelocity(lua_State* L) {
   const int j = checkJoint(L);
   const BehaviourContext& c = behaviourContext(L);
-  lua_pushnumber(L, c.world->jointVelocity(c.module, j));
+  lua_pushnumber(L, c.module.world().jointVelocity(c.module.index(), j));
   return 1;
 }
 
@@ -40,7 +40,7 @@ int jointSetTarget(lua_State* L) {
   const int j = checkJoint(L);
   const double v = checkFinite(L, 2);
   const BehaviourContext& c = behaviourContext(L);
-  c.world->mutableModule(c.module).commands[size_t(j)] = {JointMode::Servo, v};
+  c.module.self().commands[size_t(j)] = {JointMode::Servo, v};
   return 0;
 }
 
@@ -49,7 +49,7 @@ int jointSetVelocity(lua_State* L) {
   const int j = checkJoint(L);
   const double v = checkFinite(L, 2);
   const BehaviourContext& c = behaviourContext(L);
-  c.world->mutableModule(c.module).commands[size_t(j)] = {JointMode::Velocity, v};
+  c.module.self().commands[size_t(j)] = {JointMode::Velocity, v};
   return 0;
 }
 
@@ -57,7 +57,7 @@ int jointSetVelocity(lua_State* L) {
 int jointFree(lua_State* L) {
   const int j = checkJoint(L);
   const BehaviourContext& c = behaviourContext(L);
-  c.world->mutableModule(c.module).commands[size_t(j)] = {JointMode::Off, 0};
+  c.module.self().commands[size_t(j)] = {JointMode::Off, 0};
   return 0;
 }
 
@@ -65,7 +65,7 @@ int jointFree(lua_State* L) {
 int jointTarget(lua_State* L) {
   const int j = checkJoint(L);
   const BehaviourContext& c = behaviourContext(L);
-  const JointCommand& cmd = c.world->module(c.module).commands[size_t(j)];
+  const JointCommand& cmd = c.module.self().commands[size_t(j)];
   if (cmd.mode == JointMode::Servo) lua_pushnumber(L, cmd.value); else lua_pushnil(L);
   return 1;
 }
@@ -74,7 +74,7 @@ int jointTarget(lua_State* L) {
 int jointName(lua_State* L) {
   const int j = checkJoint(L);
   const BehaviourContext& c = behaviourContext(L);
-  lua_pushstring(L, c.world->module(c.module).type->joints[size_t(j)].name.c_str());
+  lua_pushstring(L, c.module.self().type->joints[size_t(j)].name.c_str());
   return 1;
 }
 
@@ -82,7 +82,7 @@ int jointName(lua_State* L) {
 int jointLimits(lua_State* L) {
   const int j = checkJoint(L);
   const BehaviourContext& c = behaviourContext(L);
-  const JointDef& d = c.world->module(c.module).type->joints[size_t(j)];
+  const JointDef& d = c.module.self().type->joints[size_t(j)];
   lua_pushnumber(L, d.limited ? d.lower : -HUGE_VAL);
   lua_pushnumber(L, d.limited ? d.upper : HUGE_VAL);
   return 2;
@@ -91,7 +91,7 @@ int jointLimits(lua_State* L) {
 int jointToString(lua_State* L) {
   const int j = checkJoint(L);
   const BehaviourContext& c = behaviourContext(L);
-  lua_pushfstring(L, "Joint(%s)", c.world->module(c.module).type->joints[size_t(j)].name.c_str());
+  lua_pushfstring(L, "Joint(%s)", c.module.self().type->joints[size_t(j)].name.c_str());
   return 1;
 }
 

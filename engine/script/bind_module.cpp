@@ -17,10 +17,7 @@ namespace rm3d {
 
 namespace {
 
-Module& self(lua_State* L) {
-  const BehaviourContext& c = behaviourContext(L);
-  return c.world->mutableModule(c.module);
-}
+Module& self(lua_State* L) { return behaviourContext(L).module.self(); }
 
 /// Looks `name` up in the cache table stored as upvalue 1; errors listing the valid names.
 int lookupNamed(lua_State* L, const char* what) {
@@ -91,11 +88,11 @@ int moduleReceive(lua_State* L) {
     }
     if (dock < 0) return luaL_argerror(L, 1, "expected a dock name or Dock of this module");
   }
-  Mailbox& box = c.world->mailbox(c.module);
+  Mailbox& box = c.module.mailbox();
   if (box.inbox.empty()) return 0;
   Message msg;
   if (!box.take(dock, msg)) return 0;
-  if (c.world->options().keepHistory) {
+  if (c.module.world().options().keepHistory) {
     Module& me = self(L);
     char head[64];
     std::snprintf(head, sizeof head, "%.2f %s: ", msg.time, me.type->docks[size_t(msg.dock)].name.c_str());
@@ -130,13 +127,13 @@ int moduleSensor(lua_State* L) {
     lua_pushfstring(L, "module.sensor: no sensor named '%s' on a %s", lua_tostring(L, 1), self(L).type->name.c_str());
     luaL_where(L, 1);
     lua_insert(L, -2);
-    lua_pushfstring(L, " (it has: %s)", c.world->sensorNames(c.module).c_str());
+    lua_pushfstring(L, " (it has: %s)", c.module.world().sensorNames(c.module.index()).c_str());
     lua_concat(L, 3);
     return lua_error(L);
   }
   const int code = int(lua_tointeger(L, -1));
   const BehaviourContext& c = behaviourContext(L);
-  pushSensorReading(L, c.world->readSensor(c.module, code, velocity));
+  pushSensorReading(L, c.module.readSensor(code, velocity));
   return 1;
 }
 
@@ -150,19 +147,19 @@ int moduleHasSensor(lua_State* L) {
   }
   const BehaviourContext& c = behaviourContext(L);
   lua_pushboolean(L, 0);
-  lua_pushstring(L, c.world->sensorNames(c.module).c_str());
+  lua_pushstring(L, c.module.world().sensorNames(c.module.index()).c_str());
   return 2;
 }
 
 /// sim.time() -> seconds since the start
 int simTime(lua_State* L) {
-  lua_pushnumber(L, behaviourContext(L).world->time());
+  lua_pushnumber(L, behaviourContext(L).module.world().time());
   return 1;
 }
 
 /// sim.dt() -> the control step, seconds
 int simDt(lua_State* L) {
-  lua_pushnumber(L, behaviourContext(L).world->settings().dt);
+  lua_pushnumber(L, behaviourContext(L).module.world().settings().dt);
   return 1;
 }
 
@@ -265,7 +262,7 @@ double checkFinite(lua_State* L, int arg) {
 void openModuleApi(lua_State* L, BehaviourContext& ctx) {
   openJointType(L);
   openDockType(L);
-  const Module& m = ctx.world->module(ctx.module);
+  const Module& m = ctx.module.self();
 
   lua_newtable(L);  // module
   lua_pushinteger(L, m.id);

@@ -4,11 +4,7 @@
 
 namespace rm3d {
 
-namespace {
-constexpr int kChunk = 16;
-}
-
-BehaviourPool::BehaviourPool(int threads) {
+BehaviourPool::BehaviourPool(int threads, int chunk) : m_chunk(chunk < 1 ? 1 : chunk) {
   for (int i = 1; i < threads; ++i) m_workers.emplace_back([this] { work(); });
 }
 
@@ -23,15 +19,15 @@ BehaviourPool::~BehaviourPool() {
 
 void BehaviourPool::drain() {
   for (;;) {
-    const int begin = m_next.fetch_add(kChunk);
+    const int begin = m_next.fetch_add(m_chunk);
     if (begin >= m_n) return;
-    const int end = begin + kChunk < m_n ? begin + kChunk : m_n;
+    const int end = begin + m_chunk < m_n ? begin + m_chunk : m_n;
     for (int i = begin; i < end; ++i) (*m_fn)(i);
   }
 }
 
 void BehaviourPool::run(int n, const std::function<void(int)>& fn) {
-  if (m_workers.empty() || n <= kChunk) {
+  if (m_workers.empty() || n <= m_chunk) {
     for (int i = 0; i < n; ++i) fn(i);
     return;
   }

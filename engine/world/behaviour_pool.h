@@ -13,8 +13,9 @@ namespace rm3d {
 
 class BehaviourPool {
  public:
-  /// threads: total, including the calling thread (1: run inline).
-  explicit BehaviourPool(int threads);
+  /// threads: total, including the calling thread (1: run inline); chunk: indices a thread
+  /// takes at a time (a run of `chunk` or fewer indices stays on the calling thread).
+  BehaviourPool(int threads, int chunk = 16);
   ~BehaviourPool();
   BehaviourPool(const BehaviourPool&) = delete;
   BehaviourPool& operator=(const BehaviourPool&) = delete;
@@ -32,6 +33,7 @@ class BehaviourPool {
   std::condition_variable m_wake, m_done;
   const std::function<void(int)>* m_fn = nullptr;
   int m_n = 0;
+  int m_chunk = 16;
   std::atomic<int> m_next{0};
   int m_busy = 0;
   uint64_t m_generation = 0;

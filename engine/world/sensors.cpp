@@ -1,5 +1,6 @@
-// Sensors: read lazily, once per step, from the physics state (read-only, so behaviours on
-// worker threads may read in parallel; ray casts and the proximity index are serialised).
+// Sensors: read lazily, once per step, from the physics state. Reads are const on the World and
+// write only the reading module's own cache, so behaviours on worker threads read in parallel
+// (see world/module_handle.h); ray casts are serialised inside PhysicsWorld.
 #include <algorithm>
 #include <cmath>
 
@@ -64,9 +65,9 @@ void World::updateAccelerometers() {
   }
 }
 
-void World::buildProximity() {
+void World::buildProximity() const {
   std::lock_guard<std::mutex> lock(m_proximityMutex);
-  if (m_proximityStep == m_steps) return;
+  if (m_proximityStep.load(std::memory_order_relaxed) == m_steps) return;
   m_proximityDocks.clear();
   for (size_t i = 0; i < m_modules.size(); ++i) {
     const Module& m = m_modules[i];
@@ -76,11 +77,10 @@ void World::buildProximity() {
   std::sort(m_proximityDocks.begin(), m_proximityDocks.end(), [](const FreeDock& a, const FreeDock& b) {
     return a.pose.pos.x() < b.pose.pos.x() || (a.pose.pos.x() == b.pose.pos.x() && (a.module < b.module || (a.module == b.module && a.dock < b.dock)));
   });
-  m_proximityStep = m_steps;
+  m_proximityStep.store(m_steps, std::memory_order_release);
 }
 
-SensorReading World::readSensor(int mi, int code, bool velocity) {
-  Module& m = m_modules[size_t(mi)];
+SensorReading World::readSensor(Module& m, int mi, int code, bool velocity) const {
   SensorReading r;
   if (m.deadSensors[size_t(code)]) return r;  // a dead sensor reads nil
   const ModuleTypeDef& t = *m.type;
@@ -100,7 +100,10 @@ SensorReading World::readSensor(int mi, int code, bool velocity) {
     r.engaged = st.engaged;
     if (!st.engaged) {
       // IR-style proximity: the nearest compatible free dock of another module within range.
-      if (m_proximityStep != m_steps) buildProximity();
+      if (m_proximityStep.load(std::memory_order_acquire) != m_steps) {
+        m_proximityWanted.store(true, std::memory_order_relaxed);
+        buildProximity();
+      }
       const Vec3 p = dockPose(mi, d).pos;
       const Gender g = t.docks[size_t(d)].gender;
       auto it = std::lower_bound(m_proximityDocks.begin(), m_proximityDocks.end(), p.x() - kProximityRange,

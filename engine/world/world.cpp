@@ -20,6 +20,7 @@
 #include "script/module_type_loader.h"
 #include "script/world_script.h"
 #include "world/behaviour_pool.h"
+#include "world/module_handle.h"
 
 namespace fs = std::filesystem;
 
@@ -82,7 +83,7 @@ void prepareType(ModuleTypeDef& t) {
 
 World::World(RunOptions options) : m_options(std::move(options)) {
   if (m_options.seed) m_settings.seed = *m_options.seed;
-  m_pool = std::make_unique<BehaviourPool>(std::max(1, m_options.threads));
+  m_pool = std::make_unique<BehaviourPool>(std::max(1, m_options.threads), std::max(1, m_options.chunkSize));
 }
 
 World::~World() {
@@ -244,6 +245,7 @@ int World::spawn(const SpawnDef& def) {
   }
   m.commands.assign(type.joints.size(), JointCommand{});
   m.docks.assign(type.docks.size(), DockState{});
+  m.dockRequests.assign(type.docks.size(), -1);
   const size_t codes = type.joints.size() + type.docks.size() + type.sensors.size();
   m.sensorCache.assign(codes, {-1, SensorReading{}});
   m.deadSensors.assign(codes, 0);
@@ -255,7 +257,7 @@ int World::spawn(const SpawnDef& def) {
   m_mailboxes.emplace_back();
   m_behaviours.emplace_back();
   if (!behaviourPath.empty()) {
-    m_behaviours.back() = std::make_unique<Behaviour>(*this, index);
+    m_behaviours.back() = std::make_unique<Behaviour>(m_options, ModuleHandle(*this, index));
     std::string err;
     if (!m_behaviours.back()->load(behaviourPath, err)) faultModule(index, err);
   }
@@ -441,9 +443,24 @@ void World::runBehaviour(int i) {
 }
 
 void World::runBehaviours() {
+  // Everything a behaviour can read is fixed before the phase (module_handle.h states the rule).
+  if (m_proximityWanted.load(std::memory_order_relaxed)) buildProximity();
   const int n = int(m_modules.size());
   m_pool->run(n, [this](int i) { runBehaviour(i); });
+  applyDockRequests();
   reportModuleOutput();
+}
+
+void World::applyDockRequests() {
+  for (Module& m : m_modules) {
+    if (!m.hasDockRequests) continue;
+    for (size_t d = 0; d < m.docks.size(); ++d)
+      if (m.dockRequests[d] >= 0) {
+        m.docks[d].enabled = m.dockRequests[d] != 0;
+        m.dockRequests[d] = -1;
+      }
+    m.hasDockRequests = false;
+  }
 }
 
 void World::reportModuleOutput() {

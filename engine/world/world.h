@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <atomic>
 #include <deque>
 #include <map>
 #include <mutex>
@@ -27,6 +28,7 @@ namespace rm3d {
 class Behaviour;
 class WorldScript;
 class BehaviourPool;
+class ModuleHandle;
 
 /// How to run: what the command line or a test gives.
 struct RunOptions {
@@ -35,6 +37,7 @@ struct RunOptions {
   std::optional<uint64_t> seed;               ///< overrides world.set{seed=}
   bool strict = false;                        ///< a module fault stops the run
   int threads = 1;                            ///< behaviour worker threads
+  int chunkSize = 16;                         ///< modules a worker takes at a time (tests use 1)
   size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
   int64_t behaviourBudget = 10'000'000;      ///< Lua instructions per callback
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
@@ -90,6 +93,10 @@ struct Module {
   std::vector<int> hinges;  ///< physics hinge per joint
   std::vector<JointCommand> commands;
   std::vector<DockState> docks;
+  /// dock:enable()/disable() during the behaviour phase, applied after it in module order:
+  /// per dock -1 (none), 0 (disable) or 1 (enable).
+  std::vector<int8_t> dockRequests;
+  bool hasDockRequests = false;
   std::string behaviourFile;  ///< absolute, empty: none
   LuaValue params;
   Rng rng;
@@ -264,26 +271,35 @@ class World {
   /// The module's declared percepts and their last values, one "name = value" per line (viewer).
   std::string describePercepts(int module);
 
-  // --- sensors (module.sensor, percepts); safe from worker threads ---
+  // --- sensors (module.sensor, percepts) ---
   /// Sensor code for a name ("joint:pitch", "dock:front", "accelerometer", ...), or -1.
   int sensorCode(int module, const std::string& name) const;
   std::string sensorNames(int module) const;
   /// The reading this step (computed on first use, cached for the step). `velocity` reads a
-  /// joint's speed instead of its angle (not cached).
-  SensorReading readSensor(int module, int code, bool velocity = false);
+  /// joint's speed instead of its angle (not cached). Main thread; behaviours read through
+  /// their ModuleHandle.
+  SensorReading readSensor(int module, int code, bool velocity = false) {
+    return readSensor(m_modules[size_t(module)], module, code, velocity);
+  }
   /// World-script fault injection: a joint stalls where it is, a dock stops latching, a sensor
   /// reads nil from now on.
   void stallJoint(int module, int joint);
   void blockDock(int module, int dock);
   void killSensor(int module, int code);
 
-  // --- used by behaviour bindings (module VMs; may run on worker threads) ---
+  /// A module's record, writable: main thread only (world scripts, tests). Behaviours get a
+  /// ModuleHandle instead (world/module_handle.h).
   Module& mutableModule(int i) { return m_modules[size_t(i)]; }
-  Mailbox& mailbox(int i) { return m_mailboxes[size_t(i)]; }
   void faultModule(int i, const std::string& message);
 
  private:
   friend class BehaviourPool;
+  friend class ModuleHandle;
+  /// Reads a sensor of module `mi` whose record is `self`; writes only `self` (its cache), so
+  /// behaviours may call it in parallel during their phase.
+  SensorReading readSensor(Module& self, int mi, int code, bool velocity) const;
+  /// Applies the dock:enable()/disable() calls queued during the behaviour phase, in module order.
+  void applyDockRequests();
   void ensurePhysics();
   void runBehaviours();
   void reportModuleOutput();
@@ -342,11 +358,14 @@ class World {
   std::vector<Latch> m_latches;
   double m_captureCell = 0.03;
   uint64_t m_topology = 1;  ///< bumped whenever a lock is made or released
-  // Dock proximity (dock sensors): free docks sorted by x, built once per step on first use.
-  std::mutex m_proximityMutex;
-  int64_t m_proximityStep = -1;
-  std::vector<FreeDock> m_proximityDocks;
-  void buildProximity();
+  // Dock proximity (dock sensors): free docks sorted by x. Built before the behaviour phase once
+  // any dock sensor has been read (the first read builds it under the mutex: dock states are
+  // frozen during the phase, so either way every reader sees the same index).
+  mutable std::mutex m_proximityMutex;
+  mutable std::atomic<int64_t> m_proximityStep{-1};
+  mutable std::atomic<bool> m_proximityWanted{false};
+  mutable std::vector<FreeDock> m_proximityDocks;
+  void buildProximity() const;
   void updateAccelerometers();
   bool m_contactSensors = false;
   std::unique_ptr<WorldScript> m_script;

@@ -236,6 +236,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
   World& w = *r.world;
   if (!r.loadError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.loadError.c_str());
   if (!w.scriptError().empty()) std::fprintf(stderr, "rm3d: world script error: %s\n", w.scriptError().c_str());
+  if (!w.divergence().empty()) std::fprintf(stderr, "rm3d: %s\n", w.divergence().c_str());
   for (const Failure& f : w.failures()) std::fprintf(stderr, "FAILED at t=%.3f: %s\n", f.time, f.message.c_str());
   if (r.loadError.empty()) {
     const double rtf = r.wallSeconds > 0 ? w.time() / r.wallSeconds : 0;

@@ -160,6 +160,10 @@ int runCommand(const RunArgs& a, const std::string& root) {
     std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
     return 2;
   }
+  if (a.seconds && !(*a.seconds > 0 && *a.seconds <= 1e9)) {  // CLI11's PositiveNumber lets nan and 1e300 through
+    std::fprintf(stderr, "rm3d run: --seconds %g: expected simulated seconds, more than 0 and at most 1e9\n", *a.seconds);
+    return 2;
+  }
   if (a.seed) o.seed = *a.seed;
   o.strict = a.strict;
   o.threads = a.threads;

@@ -165,13 +165,14 @@ int modulePush(lua_State* L) {
     int isnum = 0;
     v[i] = lua_tonumberx(L, -1, &isnum);
     if (!isnum) return luaL_argerror(L, 2, "expected a force {x, y, z} in newtons");
-    if (!std::isfinite(v[i])) return luaL_error(L, "push: the force must be finite, got component %d = %f", i + 1, v[i]);
+    if (!std::isfinite(v[i]))
+      return luaL_error(L, "m:push: the force must be finite, got component %d = %s", i + 1, numText(v[i]).s);
     lua_pop(L, 1);
   }
   const double f = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (!(f <= kMaxPush))
-    return luaL_error(L, "push: the force must be at most %f N in magnitude, got {%f, %f, %f} (%f N)", kMaxPush, v[0], v[1],
-                      v[2], f);
+    return luaL_error(L, "m:push: the force must be at most %s N in magnitude, got {%s, %s, %s} (%s N)", numText(kMaxPush).s,
+                      numText(v[0]).s, numText(v[1]).s, numText(v[2]).s, numText(f).s);
   const Module& mod = world(L).module(m);
   const int part = mod.parts[size_t(mod.type->rootLink)];
   world(L).physics().addForce(part, Vec3(v[0], v[1], v[2]), world(L).physics().partPose(part).pos);

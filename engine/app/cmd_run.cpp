@@ -160,6 +160,10 @@ int runCommand(const RunArgs& a, const std::string& root) {
     std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
     return 2;
   }
+  if (a.seconds && !(*a.seconds > 0 && *a.seconds <= 1e9)) {  // CLI11's PositiveNumber lets nan and 1e300 through
+    std::fprintf(stderr, "rm3d run: --seconds %g: expected simulated seconds, more than 0 and at most 1e9\n", *a.seconds);
+    return 2;
+  }
   if (a.seed) o.seed = *a.seed;
   o.strict = a.strict;
   o.threads = a.threads;
@@ -236,6 +240,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
   World& w = *r.world;
   if (!r.loadError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.loadError.c_str());
   if (!w.scriptError().empty()) std::fprintf(stderr, "rm3d: world script error: %s\n", w.scriptError().c_str());
+  if (!w.divergence().empty()) std::fprintf(stderr, "rm3d: %s\n", w.divergence().c_str());
   for (const Failure& f : w.failures()) std::fprintf(stderr, "FAILED at t=%.3f: %s\n", f.time, f.message.c_str());
   if (r.loadError.empty()) {
     const double rtf = r.wallSeconds > 0 ? w.time() / r.wallSeconds : 0;

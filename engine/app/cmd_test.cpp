@@ -95,6 +95,7 @@ int testCommand(const TestArgs& a, const std::string& root) {
     Outcome out{file, r.exitCode == 0, r.wallSeconds, {}};
     if (!r.loadError.empty()) out.message = r.loadError;
     else if (!w.scriptError().empty()) out.message = "world script error: " + w.scriptError();
+    else if (!w.divergence().empty()) out.message = w.divergence();
     for (const Failure& f : w.failures()) out.message += (out.message.empty() ? "" : "\n") + f.message;
     if (w.fatalFault())
       for (const Module& m : w.modules())

@@ -792,4 +792,42 @@ HingeQuality PhysicsWorld::hingeQuality() const {
   return q;
 }
 
+BodyDivergence PhysicsWorld::divergenceScan(double maxSpeed, double maxAngularSpeed, double maxDistance) const {
+  BodyDivergence out;
+  const btAlignedObjectArray<btRigidBody*>& rbs = m->world.getNonStaticRigidBodies();
+  const double v2max = maxSpeed * maxSpeed, w2max = maxAngularSpeed * maxAngularSpeed, d2max = maxDistance * maxDistance;
+  auto sq = [](const btVector3& a) { return double(a.x()) * a.x() + double(a.y()) * a.y() + double(a.z()) * a.z(); };
+  auto sum = [](const btVector3& a) { return double(a.x()) + double(a.y()) + double(a.z()); };
+  for (int i = 0, n = rbs.size(); i < n; ++i) {
+    const btRigidBody* rb = rbs[i];
+    if (rb->isStaticOrKinematicObject()) continue;
+    const btTransform& t = rb->getWorldTransform();
+    const btVector3& p = t.getOrigin();
+    const btMatrix3x3& r = t.getBasis();
+    const btVector3& v = rb->getLinearVelocity();
+    const btVector3& w = rb->getAngularVelocity();
+    // Fast path: a sum of finite floats is finite in double, so one test covers 18 values; NaN
+    // fails every comparison, so the bounds are tested as "not within".
+    const double all = sum(p) + sum(r[0]) + sum(r[1]) + sum(r[2]) + sum(v) + sum(w);
+    const double d2 = sq(p), v2 = sq(v), w2 = sq(w);
+    if (std::isfinite(all) && d2 <= d2max && v2 <= v2max && w2 <= w2max) continue;
+    auto finite = [](const btVector3& a) { return std::isfinite(a.x()) && std::isfinite(a.y()) && std::isfinite(a.z()); };
+    using K = BodyDivergence::Kind;
+    if (!finite(p)) out.kind = K::Position;
+    else if (!finite(r[0]) || !finite(r[1]) || !finite(r[2])) out.kind = K::Orientation;
+    else if (!finite(v) || !finite(w)) out.kind = K::Velocity;
+    else if (!(v2 <= v2max)) out.kind = K::Speed, out.value = std::sqrt(v2);
+    else if (!(w2 <= w2max)) out.kind = K::AngularSpeed, out.value = std::sqrt(w2);
+    else if (!(d2 <= d2max)) out.kind = K::Bounds, out.value = std::sqrt(d2);
+    else continue;  // a finite sum that overflowed (double-precision Bullet): nothing wrong
+    const int b = rb->getUserIndex();
+    if (b >= 0 && !m->bodies[size_t(b)].parts.empty()) {
+      out.part = m->bodies[size_t(b)].parts.front();
+      out.partsInBody = int(m->bodies[size_t(b)].parts.size());
+    }
+    return out;
+  }
+  return out;
+}
+
 }  // namespace rm3d

@@ -51,6 +51,14 @@ struct Wrench {
   Vec3 torque = Vec3::Zero();
 };
 
+/// The first dynamic body found in a state no physics can recover from (divergenceScan).
+struct BodyDivergence {
+  enum class Kind { None, Position, Orientation, Velocity, Speed, AngularSpeed, Bounds } kind = Kind::None;
+  int part = -1;         ///< the body's first part (a module link or an obstacle)
+  int partsInBody = 0;   ///< more than 1: docked links merged into one body
+  double value = 0;      ///< Speed: m/s; AngularSpeed: rad/s; Bounds: metres from the origin
+};
+
 struct HingeQuality {
   double maxGap = 0;    ///< metres between the two pivots
   double maxAngle = 0;  ///< radians between the two axes
@@ -111,6 +119,10 @@ class PhysicsWorld {
   double hingeAngle(int hinge) const;
   double hingeVelocity(int hinge) const;
   HingeQuality hingeQuality() const;
+  /// One pass over Bullet's dynamic bodies (no allocation): the first whose position,
+  /// orientation or velocity is NaN or infinite, whose linear or angular speed exceeds the given
+  /// bound, or whose centre of mass is farther than `maxDistance` from the origin.
+  BodyDivergence divergenceScan(double maxSpeed, double maxAngularSpeed, double maxDistance) const;
   int partCount() const;
   int bodyCount() const;
   const PhysicsSettings& settings() const;

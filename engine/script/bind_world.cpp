@@ -2,6 +2,7 @@
 // InputError; callWorld converts it into a Lua error with the caller's file:line.
 #include <lua.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
@@ -20,26 +21,53 @@ namespace {
 WorldScript& script(lua_State* L) { return *static_cast<WorldScript*>(LuaVm::from(L)->user()); }
 World& world(lua_State* L) { return script(L).world(); }
 
-/// world.set{dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=, joint_iterations=, erp=}
+/// Bounds on settings: below or above these a run cannot make progress or cannot mean anything.
+constexpr double kMinDt = 1e-6;      ///< s; also the shortest world.every period
+constexpr double kMaxDt = 1.0;       ///< s
+constexpr double kMaxGravity = 1e4;  ///< m/s^2 (1000 g)
+constexpr double kMaxBounds = 1e7;   ///< m; single-precision positions out there are 1 m apart
+
+/// world.set{dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=, joint_iterations=, erp=,
+/// max_speed=, max_angular_speed=, bounds=}
 int worldSet(lua_State* L) {
   const char* fn = "world.set";
-  checkOptionKeys(L, 1, fn, {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations", "erp"});
+  checkOptionKeys(L, 1, fn,
+                  {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations", "erp", "max_speed",
+                   "max_angular_speed", "bounds"});
   WorldSettings s = world(L).settings();
   const double dt = optNumberField(L, 1, fn, "dt", s.dt);
-  if (dt <= 0 || dt > 1) return luaL_error(L, "%s: dt must be in (0, 1] seconds, got %f", fn, dt);
+  if (!(dt >= kMinDt && dt <= kMaxDt))
+    return luaL_error(L, "%s: dt must be between %s and %s seconds, got %s", fn, numText(kMinDt).s, numText(kMaxDt).s,
+                      numText(dt).s);
   const long long substeps = optIntegerField(L, 1, fn, "substeps", s.substeps);
-  if (substeps < 1 || substeps > 1000) return luaL_error(L, "%s: substeps must be 1..1000", fn);
+  if (substeps < 1 || substeps > 1000) return luaL_error(L, "%s: substeps must be 1..1000, got %I", fn, (lua_Integer)substeps);
   const long long iters = optIntegerField(L, 1, fn, "solver_iterations", s.solverIterations);
-  if (iters < 1 || iters > 10000) return luaL_error(L, "%s: solver_iterations must be 1..10000", fn);
+  if (iters < 1 || iters > 10000)
+    return luaL_error(L, "%s: solver_iterations must be 1..10000, got %I", fn, (lua_Integer)iters);
   const long long jiters = optIntegerField(L, 1, fn, "joint_iterations", s.jointIterations);
-  if (jiters < 0 || jiters > 10000) return luaL_error(L, "%s: joint_iterations must be 0..10000", fn);
+  if (jiters < 0 || jiters > 10000)
+    return luaL_error(L, "%s: joint_iterations must be 0..10000, got %I", fn, (lua_Integer)jiters);
   const double erp = optNumberField(L, 1, fn, "erp", s.erp);
-  if (erp <= 0 || erp > 1) return luaL_error(L, "%s: erp must be in (0, 1]", fn);
+  if (erp <= 0 || erp > 1) return luaL_error(L, "%s: erp must be in (0, 1], got %s", fn, numText(erp).s);
   const double duration = optNumberField(L, 1, fn, "duration", s.duration);
-  if (duration <= 0) return luaL_error(L, "%s: duration must be positive", fn);
+  if (duration < 0) return luaL_error(L, "%s: duration must be 0 or more seconds, got %s", fn, numText(duration).s);
   const long long seed = optIntegerField(L, 1, fn, "seed", (long long)s.seed);
   if (uint64_t(seed) != s.seed && !world(L).modules().empty())
     return luaL_error(L, "%s: set the seed before the first world.spawn", fn);
+  const Vec3 gravity = optVec3Field(L, 1, fn, "gravity", s.gravity);
+  if (!(gravity.norm() <= kMaxGravity))
+    return luaL_error(L, "%s: gravity must be at most %s m/s^2 in magnitude (1000 g), got {%s, %s, %s}", fn,
+                      numText(kMaxGravity).s, numText(gravity.x()).s, numText(gravity.y()).s, numText(gravity.z()).s);
+  DivergenceLimits lim = s.limits;
+  lim.maxSpeed = optNumberField(L, 1, fn, "max_speed", lim.maxSpeed);
+  if (lim.maxSpeed <= 0) return luaL_error(L, "%s: max_speed must be positive (m/s), got %s", fn, numText(lim.maxSpeed).s);
+  lim.maxAngularSpeed = optNumberField(L, 1, fn, "max_angular_speed", lim.maxAngularSpeed);
+  if (lim.maxAngularSpeed <= 0)
+    return luaL_error(L, "%s: max_angular_speed must be positive (rad/s), got %s", fn, numText(lim.maxAngularSpeed).s);
+  lim.bounds = optNumberField(L, 1, fn, "bounds", lim.bounds);
+  if (lim.bounds <= 0 || lim.bounds > kMaxBounds)
+    return luaL_error(L, "%s: bounds must be in (0, %s] metres from the origin, got %s", fn, numText(kMaxBounds).s,
+                      numText(lim.bounds).s);
   s.dt = dt;
   s.substeps = int(substeps);
   s.solverIterations = int(iters);
@@ -47,9 +75,18 @@ int worldSet(lua_State* L) {
   s.duration = duration;
   s.erp = erp;
   s.seed = uint64_t(seed);
-  s.gravity = optVec3Field(L, 1, fn, "gravity", s.gravity);
+  s.gravity = gravity;
+  s.limits = lim;
   world(L).setSettings(s);
   return 0;
+}
+
+/// Errors unless `at` lies within the world bounds (world.set{bounds=}).
+void checkInBounds(lua_State* L, const char* fn, const Vec3& at) {
+  const double bounds = world(L).settings().limits.bounds;
+  if (!(at.norm() <= bounds))
+    luaL_error(L, "%s: 'at' must lie within the world bounds (%s m from the origin; world.set{bounds=}), got {%s, %s, %s}", fn,
+               numText(bounds).s, numText(at.x()).s, numText(at.y()).s, numText(at.z()).s);
 }
 
 /// world.ground{friction=, restitution=}: the infinite plane z = 0
@@ -70,16 +107,29 @@ int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
   checkOptionKeys(L, 1, fn, {"size", "radius", "length", "file", "scale", "at", "rot", "quat", "mass", "friction", "velocity"});
   const Vec3 velocity = optVec3Field(L, 1, fn, "velocity", Vec3::Zero());
   const Pose pose = optPoseFields(L, 1, fn);
+  checkInBounds(L, fn, pose.pos);
   const double mass = optNumberField(L, 1, fn, "mass", 0.0);
   const double friction = optNumberField(L, 1, fn, "friction", 0.8);
-  if (mass < 0) return luaL_error(L, "%s: mass must not be negative (0 is static)", fn);
+  if (mass < 0) return luaL_error(L, "%s: mass must not be negative (0 is static), got %s", fn, numText(mass).s);
+  if (friction < 0) return luaL_error(L, "%s: friction must not be negative, got %s", fn, numText(friction).s);
+  const double maxSpeed = world(L).settings().limits.maxSpeed;
+  if (!(velocity.norm() <= maxSpeed))
+    return luaL_error(L, "%s: velocity must be at most max_speed (%s m/s; world.set{max_speed=}), got %s m/s", fn,
+                      numText(maxSpeed).s, numText(velocity.norm()).s);
   const Vec3 size = optVec3Field(L, 1, fn, "size", Vec3(0.1, 0.1, 0.1));
   const double radius = optNumberField(L, 1, fn, "radius", 0.05);
   const double length = optNumberField(L, 1, fn, "length", 0.1);
   const double scale = optNumberField(L, 1, fn, "scale", 1.0);
   const char* file = optStringField(L, 1, fn, "file");
-  if (size.minCoeff() <= 0 || radius <= 0 || length <= 0 || scale <= 0)
-    return luaL_error(L, "%s: sizes must be positive", fn);
+  const double bounds = world(L).settings().limits.bounds;
+  auto bad = [&](double v) { return !(v > 0 && v <= bounds); };
+  const char* range = "%s: %s must be positive and at most the world bounds (%s m), got %s";
+  if (bad(size.minCoeff()) || bad(size.maxCoeff()))
+    return luaL_error(L, "%s: size must be positive and at most the world bounds (%s m), got {%s, %s, %s}", fn,
+                      numText(bounds).s, numText(size.x()).s, numText(size.y()).s, numText(size.z()).s);
+  if (bad(radius)) return luaL_error(L, range, fn, "radius", numText(bounds).s, numText(radius).s);
+  if (bad(length)) return luaL_error(L, range, fn, "length", numText(bounds).s, numText(length).s);
+  if (bad(scale)) return luaL_error(L, range, fn, "scale", numText(bounds).s, numText(scale).s);
   if (kind == ShapeKind::Hull && !file) return luaL_error(L, "%s: option 'file' (a mesh file) is required", fn);
   return callWorld(L, fn, [&] {
     ShapeDef s;
@@ -116,6 +166,7 @@ int worldSpawn(lua_State* L) {
   checkOptionKeys(L, 2, fn, {"at", "rot", "quat", "name", "behavior", "behaviour", "params", "fixed"});
   const bool fixed = optBoolField(L, 2, fn, "fixed", false);
   const Pose pose = optPoseFields(L, 2, fn);
+  checkInBounds(L, fn, pose.pos);
   const char* name = optStringField(L, 2, fn, "name");
   const char* behaviour = optStringField(L, 2, fn, "behavior");
   if (!behaviour) behaviour = optStringField(L, 2, fn, "behaviour");
@@ -308,15 +359,21 @@ int worldOnStep(lua_State* L) {
 
 /// world.at(t, fn(t)): called once, after the first step that reaches time t
 int worldAt(lua_State* L) {
-  const double t = checkFinite(L, 1);
+  const double t = luaL_checknumber(L, 1);
+  if (!(t >= 0 && std::isfinite(t)))
+    return luaL_error(L, "world.at: time must be a finite number of seconds >= 0, got %s", numText(t).s);
   script(L).timed.push_back({t, 0.0, storeFunction(L, 2)});
   return 0;
 }
 
-/// world.every(period, fn(t)): called at t = period, 2 period, ...
+/// world.every(period, fn(t)): called at t = period, 2 period, ...; a period shorter than dt
+/// calls fn once per step. The period must be at least 1e-6 s (the shortest dt): whichever order
+/// world.set and world.every come in, a hook can always catch up.
 int worldEvery(lua_State* L) {
-  const double p = checkFinite(L, 1);
-  luaL_argcheck(L, p > 0, 1, "period must be positive");
+  const double p = luaL_checknumber(L, 1);
+  if (!(p >= kMinDt && std::isfinite(p)))
+    return luaL_error(L, "world.every: period must be a finite number of seconds >= %s, got %s", numText(kMinDt).s,
+                      numText(p).s);
   script(L).timed.push_back({p, p, storeFunction(L, 2)});
   return 0;
 }

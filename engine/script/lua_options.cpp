@@ -4,9 +4,16 @@
 #include <lua.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 namespace rm3d {
+
+NumText numText(double v) {
+  NumText t;
+  std::snprintf(t.s, sizeof t.s, "%g", v);
+  return t;
+}
 
 void checkOptionKeys(lua_State* L, int idx, const char* fn, std::initializer_list<const char*> allowed) {
   idx = lua_absindex(L, idx);
@@ -45,7 +52,8 @@ double optNumberField(lua_State* L, int idx, const char* fn, const char* key, do
   if (t != LUA_TNIL) {
     int isnum = 0;
     v = lua_tonumberx(L, -1, &isnum);
-    if (!isnum || !std::isfinite(v)) luaL_error(L, "%s: option '%s' must be a finite number, got %s", fn, key, luaL_typename(L, -1));
+    if (!isnum) luaL_error(L, "%s: option '%s' must be a finite number, got %s", fn, key, luaL_typename(L, -1));
+    if (!std::isfinite(v)) luaL_error(L, "%s: option '%s' must be a finite number, got %s", fn, key, numText(v).s);
   }
   lua_pop(L, 1);
   return v;
@@ -93,7 +101,9 @@ void readNumbers(lua_State* L, const char* fn, const char* key, double* out, int
     lua_rawgeti(L, -1, i + 1);
     int isnum = 0;
     out[i] = lua_tonumberx(L, -1, &isnum);
-    if (!isnum || !std::isfinite(out[i])) luaL_error(L, "%s: option '%s' must be a table of %d numbers", fn, key, n);
+    if (!isnum) luaL_error(L, "%s: option '%s' must be a table of %d numbers", fn, key, n);
+    if (!std::isfinite(out[i]))
+      luaL_error(L, "%s: option '%s' must be a table of %d finite numbers, got %s at [%d]", fn, key, n, numText(out[i]).s, i + 1);
     lua_pop(L, 1);
   }
 }

@@ -25,6 +25,12 @@ const char* optStringField(lua_State* L, int idx, const char* fn, const char* ke
 bool optBoolField(lua_State* L, int idx, const char* fn, const char* key, bool def);
 /// Pose from `at` = {x,y,z} and `rot` = {roll, pitch, yaw} (radians) or `quat` = {w,x,y,z}.
 Pose optPoseFields(lua_State* L, int idx, const char* fn);
+/// A number as printf's %g writes it (1e-300, -1e+30, nan), for messages; the text lives in the
+/// returned value, which needs no destructor (safe in a luaL_error argument list).
+struct NumText {
+  char s[32];
+};
+NumText numText(double v);
 /// Pushes {x, y, z}.
 void pushVec3(lua_State* L, const Vec3& v);
 /// Pushes {w, x, y, z}.

@@ -151,7 +151,11 @@ int moduleSetDock(lua_State* L) {
   return 0;
 }
 
-/// m:push({x,y,z}) : a force (N) on the module's root link during the next step
+/// Largest force a push may ask for, N. Larger finite forces are refused here; up to it, a body
+/// that is flung too fast is stopped by the divergence check (world/divergence.h).
+constexpr double kMaxPush = 1e9;
+
+/// m:push({x,y,z}) : a force (N, at most 1e9 in magnitude) on the module's root link during the next step
 int modulePush(lua_State* L) {
   const int m = checkModule(L, 1);
   double v[3];
@@ -160,9 +164,15 @@ int modulePush(lua_State* L) {
     lua_rawgeti(L, 2, i + 1);
     int isnum = 0;
     v[i] = lua_tonumberx(L, -1, &isnum);
-    if (!isnum || !std::isfinite(v[i])) return luaL_argerror(L, 2, "expected a force {x, y, z} in newtons");
+    if (!isnum) return luaL_argerror(L, 2, "expected a force {x, y, z} in newtons");
+    if (!std::isfinite(v[i]))
+      return luaL_error(L, "m:push: the force must be finite, got component %d = %s", i + 1, numText(v[i]).s);
     lua_pop(L, 1);
   }
+  const double f = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!(f <= kMaxPush))
+    return luaL_error(L, "m:push: the force must be at most %s N in magnitude, got {%s, %s, %s} (%s N)", numText(kMaxPush).s,
+                      numText(v[0]).s, numText(v[1]).s, numText(v[2]).s, numText(f).s);
   const Module& mod = world(L).module(m);
   const int part = mod.parts[size_t(mod.type->rootLink)];
   world(L).physics().addForce(part, Vec3(v[0], v[1], v[2]), world(L).physics().partPose(part).pos);

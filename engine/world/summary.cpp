@@ -1,9 +1,20 @@
 // The run summary (`--json`): DESIGN.md's fields, module by module, in id order.
+#include <cmath>
+
 #include <nlohmann/json.hpp>
 
 #include "world/world.h"
 
 namespace rm3d {
+
+namespace {
+/// JSON has no NaN or infinity (nlohmann writes null): after a divergence such values are
+/// written as the strings "nan", "inf" and "-inf".
+nlohmann::json number(double v) {
+  if (std::isfinite(v)) return v;
+  return std::isnan(v) ? "nan" : v > 0 ? "inf" : "-inf";
+}
+}  // namespace
 
 nlohmann::json World::summary(double wallSeconds) const {
   using nlohmann::json;
@@ -23,11 +34,11 @@ nlohmann::json World::summary(double wallSeconds) const {
     mj["type"] = m.type->name;
     if (m_physics) {
       const Pose p = modulePose(int(i));
-      mj["position"] = {p.pos.x(), p.pos.y(), p.pos.z()};
-      mj["orientation"] = {p.rot.w(), p.rot.x(), p.rot.y(), p.rot.z()};
+      mj["position"] = {number(p.pos.x()), number(p.pos.y()), number(p.pos.z())};
+      mj["orientation"] = {number(p.rot.w()), number(p.rot.x()), number(p.rot.y()), number(p.rot.z())};
     }
     json joints = json::object();
-    for (size_t k = 0; k < m.type->joints.size(); ++k) joints[m.type->joints[k].name] = jointAngle(int(i), int(k));
+    for (size_t k = 0; k < m.type->joints.size(); ++k) joints[m.type->joints[k].name] = number(jointAngle(int(i), int(k)));
     mj["joints"] = joints;
     json docks = json::object();
     for (size_t k = 0; k < m.docks.size(); ++k) {
@@ -58,7 +69,7 @@ nlohmann::json World::summary(double wallSeconds) const {
                {"dock_a", dockName(e.moduleA, e.dockA)},
                {"module_b", m_modules[size_t(e.moduleB)].id},
                {"dock_b", dockName(e.moduleB, e.dockB)}};
-    if (e.force >= 0) ej["load"] = {{"force", e.force}, {"torque", e.torque}};
+    if (e.force >= 0) ej["load"] = {{"force", number(e.force)}, {"torque", number(e.torque)}};
     events.push_back(ej);
   }
   const MessageStats ms = messageStats();
@@ -68,7 +79,8 @@ nlohmann::json World::summary(double wallSeconds) const {
   for (const Failure& f : m_failures) failures.push_back({{"time", f.time}, {"message", f.message}});
   j["failures"] = failures;
   j["faults"] = faultCount();
-  j["error"] = m_scriptError.empty() ? json(nullptr) : json(m_scriptError);
+  const std::string& error = m_scriptError.empty() ? m_divergence : m_scriptError;
+  j["error"] = error.empty() ? json(nullptr) : json(error);
   return j;
 }
 

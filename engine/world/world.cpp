@@ -764,6 +764,7 @@ void World::step() {
   breakagePhase();
   ++m_steps;
   m_time = double(m_steps) * m_settings.dt;
+  if (checkDivergence(*this, m_divergence)) { m_fatal = true; return; }  // world/divergence.h
   std::string err;
   if (m_script && !m_script->afterStep(m_time, err)) m_scriptError = err;
   const auto t5 = Clock::now();

@@ -22,6 +22,7 @@
 #include "modules/module_type.h"
 #include "physics/physics_world.h"
 #include "script/lua_value.h"
+#include "world/divergence.h"
 
 namespace rm3d {
 
@@ -55,6 +56,7 @@ struct WorldSettings {
   Vec3 gravity = Vec3(0, 0, -9.81);
   uint64_t seed = 1;
   double duration = 10.0;
+  DivergenceLimits limits;  ///< max_speed, max_angular_speed, bounds (world/divergence.h)
 };
 
 enum class JointMode : uint8_t { Off, Servo, Velocity };
@@ -186,6 +188,8 @@ class World {
   /// A world-script error (bad input at run time), or empty.
   const std::string& scriptError() const { return m_scriptError; }
   bool fatalFault() const { return m_fatal; }
+  /// Why the physics diverged (a fatal stop: world/divergence.h), or empty.
+  const std::string& divergence() const { return m_divergence; }
   int faultCount() const;
   std::string worldFile() const { return m_worldFile; }
 
@@ -376,6 +380,7 @@ class World {
   bool m_stopRequested = false;
   bool m_fatal = false;
   std::string m_scriptError;
+  std::string m_divergence;
   double m_time = 0;
   int64_t m_steps = 0;
   double m_trackingSum = 0;

@@ -4,6 +4,8 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <optional>
+#include <string>
 
 #include "core/error.h"
 #include "docking/dock_frame.h"
@@ -20,10 +22,12 @@ namespace {
 WorldScript& script(lua_State* L) { return *static_cast<WorldScript*>(LuaVm::from(L)->user()); }
 World& world(lua_State* L) { return script(L).world(); }
 
-/// world.set{dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=, joint_iterations=, erp=}
+/// world.set{dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=, joint_iterations=, erp=,
+/// expect_faults=}
 int worldSet(lua_State* L) {
   const char* fn = "world.set";
-  checkOptionKeys(L, 1, fn, {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations", "erp"});
+  checkOptionKeys(L, 1, fn, {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations", "erp",
+                              "expect_faults"});
   WorldSettings s = world(L).settings();
   const double dt = optNumberField(L, 1, fn, "dt", s.dt);
   if (dt <= 0 || dt > 1) return luaL_error(L, "%s: dt must be in (0, 1] seconds, got %f", fn, dt);
@@ -48,6 +52,19 @@ int worldSet(lua_State* L) {
   s.erp = erp;
   s.seed = uint64_t(seed);
   s.gravity = optVec3Field(L, 1, fn, "gravity", s.gravity);
+  // expect_faults = true: the world faults modules on purpose; = n: exactly n modules fault.
+  const int ef = lua_getfield(L, 1, "expect_faults");
+  if (ef == LUA_TBOOLEAN) {
+    script(L).expectFaults = lua_toboolean(L, -1) ? std::optional<int>(-1) : std::nullopt;
+  } else if (ef != LUA_TNIL) {
+    int isInt = 0;
+    const lua_Integer n = ef == LUA_TNUMBER ? lua_tointegerx(L, -1, &isInt) : -1;
+    if (!isInt || n < 0 || n > (1 << 30))
+      return luaL_error(L, "%s: expect_faults must be true, false or a whole number of faulted modules (0 or more), got %s", fn,
+                        luaL_tolstring(L, -1, nullptr));
+    script(L).expectFaults = int(n);
+  }
+  lua_pop(L, 1);
   world(L).setSettings(s);
   return 0;
 }
@@ -294,6 +311,14 @@ int worldComponents(lua_State* L) {
   return 1;
 }
 
+/// "file:line:" of the Lua code calling the current C function.
+std::string where(lua_State* L) {
+  luaL_where(L, 1);
+  std::string w = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  return w;
+}
+
 int storeFunction(lua_State* L, int arg) {
   luaL_checktype(L, arg, LUA_TFUNCTION);
   lua_pushvalue(L, arg);
@@ -309,7 +334,8 @@ int worldOnStep(lua_State* L) {
 /// world.at(t, fn(t)): called once, after the first step that reaches time t
 int worldAt(lua_State* L) {
   const double t = checkFinite(L, 1);
-  script(L).timed.push_back({t, 0.0, storeFunction(L, 2)});
+  const int ref = storeFunction(L, 2);
+  script(L).timed.push_back({t, 0.0, ref, where(L), t, 0});
   return 0;
 }
 
@@ -317,7 +343,15 @@ int worldAt(lua_State* L) {
 int worldEvery(lua_State* L) {
   const double p = checkFinite(L, 1);
   luaL_argcheck(L, p > 0, 1, "period must be positive");
-  script(L).timed.push_back({p, p, storeFunction(L, 2)});
+  const int ref = storeFunction(L, 2);
+  script(L).timed.push_back({p, p, ref, where(L), p, 0});
+  return 0;
+}
+
+/// world.on_end(fn(t)): called once when the run ends, however it ends (duration, world.stop(),
+/// --seconds/--steps, Ctrl-C): the place for checks that must run whatever the run's length
+int worldOnEnd(lua_State* L) {
+  script(L).onEnd.push_back(storeFunction(L, 1));
   return 0;
 }
 
@@ -342,6 +376,7 @@ int worldDt(lua_State* L) {
 /// expect(cond, message) -> cond: a failed expectation is recorded with file:line; the run goes on
 int expectFn(lua_State* L) {
   luaL_checkany(L, 1);
+  ++script(L).expectCount;
   const bool ok = lua_toboolean(L, 1);
   if (!ok) {
     luaL_where(L, 1);
@@ -397,7 +432,7 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"spawn", worldSpawn},     {"connect", worldConnect}, {"modules", worldModules},
                                  {"module", worldModule},   {"components", worldComponents}, {"camera", worldCamera},
                                  {"channel", worldChannel}, {"graph", worldGraph}, {"events", worldEvents}, {"messages", worldMessages},
-                                 {"on_step", worldOnStep},  {"at", worldAt},           {"every", worldEvery},
+                                 {"on_step", worldOnStep},  {"on_end", worldOnEnd},  {"at", worldAt},           {"every", worldEvery},
                                  {"stop", worldStop},       {"time", worldTime},       {"dt", worldDt},
                                  {nullptr, nullptr}};
   luaL_newlib(L, fns);

@@ -181,6 +181,8 @@ class World {
   bool fatalFault() const { return m_fatal; }
   int faultCount() const;
   std::string worldFile() const { return m_worldFile; }
+  WorldScript* script() const { return m_script.get(); }  ///< null before a world is loaded
+  void setScriptError(const std::string& e) { if (m_scriptError.empty()) m_scriptError = e; }
 
   Pose modulePose(int m) const;
   Pose linkPose(int m, int link) const;

@@ -40,6 +40,7 @@ struct RunOptions {
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
   bool echoLog = true;                        ///< print module log lines to stderr
   bool keepHistory = false;                   ///< keep recent log lines and messages per module (viewer)
+  double watchdogSeconds = 5;                 ///< --watchdog S
 };
 
 /// world.set{...}: fixed before the first step.

@@ -24,6 +24,7 @@ struct RunArgs {
   std::string graph; ///< connection graph at the end (.dot: Graphviz, else JSON)
   bool quiet = false;
   bool watch = false;  ///< real time, reload edits
+  double watchdog = 5;  ///< --watchdog S (RunOptions::watchdogSeconds)
 };
 
 struct TestArgs {
@@ -31,6 +32,7 @@ struct TestArgs {
   std::string junit;
   int threads = 1;
   bool strict = false;
+  double watchdog = 5;  ///< --watchdog S
 };
 
 struct BenchArgs {
@@ -46,7 +48,10 @@ struct BenchArgs {
   std::string json;
 };
 
-/// Exit codes: 0 ok, 1 failed expectations or a fault under --strict, 2 bad input.
+/// Exit codes (run_world.h, ExitCode; README "Exit codes"): 0 ok; 1 failed expectations, a fault
+/// under --strict (any unexpected fault under `rm3d test`); 2 bad input or an output that could
+/// not be written; 3 the watchdog stopped a hung run; 130 / 143 interrupted by SIGINT / SIGTERM
+/// (the summary is still written). When several apply, the highest wins.
 int runCommand(const RunArgs& a, const std::string& root);
 int testCommand(const TestArgs& a, const std::string& root);
 int benchCommand(const BenchArgs& a, const std::string& root);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/app.h"
+#include "app/run_world.h"
 #include "core/error.h"
 #include "world/world.h"
 
@@ -134,6 +135,11 @@ bool runScene(const Scene& s, double dt, const BenchArgs& a, const std::string& 
 }  // namespace
 
 int benchCommand(const BenchArgs& a, const std::string& root) {
+  std::string perr;
+  if (!a.json.empty() && !prepareOutputFile("--json", a.json, perr)) {
+    std::fprintf(stderr, "rm3d bench: %s\n", perr.c_str());
+    return 2;
+  }
   std::vector<const Scene*> scenes;
   if (a.scenes.empty()) {
     for (const Scene& s : kScenes) scenes.push_back(&s);
@@ -188,9 +194,10 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
     }
   if (!a.json.empty()) {
     std::ofstream f(a.json);
-    f << out.dump(2) << "\n";
+    f << out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+    f.close();
     if (!f) {
-      std::fprintf(stderr, "rm3d bench: cannot write %s\n", a.json.c_str());
+      std::fprintf(stderr, "rm3d bench: --json %s: cannot write the file\n", a.json.c_str());
       return 2;
     }
   }

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 #include <map>
+#include <unistd.h>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -13,8 +13,10 @@
 #include "app/app.h"
 #include "app/file_watcher.h"
 #include "app/run_world.h"
+#include "app/video_pipe.h"
 #include "core/error.h"
 #include "render/offscreen_renderer.h"
+#include "script/world_script.h"
 #include "world/world_snapshot.h"
 
 namespace fs = std::filesystem;
@@ -31,38 +33,6 @@ bool parseParams(const std::vector<std::string>& in, std::map<std::string, std::
     out[p.substr(0, eq)] = p.substr(eq + 1);
   }
   return true;
-}
-
-WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::optional<long long> steps,
-                      std::optional<double> seconds, const StepHook& onStep) {
-  WorldRun r;
-  const auto t0 = std::chrono::steady_clock::now();
-  r.world = std::make_unique<World>(options);
-  World& w = *r.world;
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) {
-    r.loadError = file + ": cannot read world file (" + (fs::exists(file, ec) ? "not a regular file" : "no such file") + ")";
-    r.exitCode = 2;
-    return r;
-  }
-  try {
-    w.loadFile(file);
-  } catch (const InputError& e) {
-    r.loadError = e.what();
-    r.exitCode = 2;
-    return r;
-  }
-  long long limit = -1;
-  if (steps) limit = *steps;
-  if (seconds) limit = std::llround(*seconds / w.settings().dt);
-  while (limit >= 0 ? (w.steps() < limit && !w.stopped()) : !w.finished()) {
-    w.step();
-    if (onStep) onStep(w);
-  }
-  r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!w.scriptError().empty()) r.exitCode = 2;
-  else if (!w.failures().empty() || w.fatalFault()) r.exitCode = 1;
-  return r;
 }
 
 namespace {
@@ -111,6 +81,7 @@ int watchLoop(const RunArgs& a, const RunOptions& o) {
   std::printf("watching %zu files; edit and save to reload (Ctrl-C to stop)\n", watcher.size());
   std::fflush(stdout);
   for (;;) {
+    if (interruptSignal()) break;
     if (ok) {
       if (a.steps && w->steps() >= *a.steps) break;
       if (a.seconds && w->time() >= *a.seconds - 1e-9) break;
@@ -144,9 +115,14 @@ int watchLoop(const RunArgs& a, const RunOptions& o) {
       std::fflush(stdout);
     }
   }
+  if (ok && w->script() && w->scriptError().empty()) {
+    std::string err;
+    if (!w->script()->atEnd(w->time(), err)) std::fprintf(stderr, "rm3d: world script error: %s\n", err.c_str());
+  }
   if (ok)
-    std::printf("%s: %lld steps, %.2f s simulated, %zu modules, %d faults\n", a.world.c_str(), (long long)w->steps(), w->time(),
-                w->modules().size(), w->faultCount());
+    std::printf("%s: %lld steps, %.2f s simulated, %zu modules, %d faults%s\n", a.world.c_str(), (long long)w->steps(), w->time(),
+                w->modules().size(), w->faultCount(), interruptSignal() ? " (interrupted)" : "");
+  if (interruptSignal()) return 128 + interruptSignal();
   return ok ? 0 : 2;
 }
 
@@ -168,25 +144,20 @@ int runCommand(const RunArgs& a, const std::string& root) {
   o.strict = a.strict;
   o.threads = a.threads;
   o.echoLog = !a.quiet;
+  o.watchdogSeconds = a.watchdog;
   if (!a.video.empty() && !onPath("ffmpeg")) {
     std::fprintf(stderr, "rm3d run: --video needs ffmpeg, which is not installed (apt-get install ffmpeg); --png and --frames work without it\n");
     return 2;
   }
-  if (!a.frames.empty()) {
-    std::error_code ec;
-    fs::create_directories(a.frames, ec);
-    if (!fs::is_directory(a.frames)) {
-      std::fprintf(stderr, "rm3d run: --frames %s: cannot create the folder\n", a.frames.c_str());
-      return 2;
-    }
+  // Output paths are checked (and their folders made) before a long run, not after it.
+  if (!a.frames.empty() && !prepareOutputFolder("--frames", a.frames, err)) {
+    std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
+    return 2;
   }
-  // Check output paths before a long run, not after it.
   for (const auto& [flag, path] : {std::pair{"--json", a.json}, std::pair{"--png", a.png}, std::pair{"--graph", a.graph},
                                    std::pair{"--video", a.video}}) {
-    if (path.empty()) continue;
-    const fs::path dir = fs::absolute(path).parent_path();
-    if (!fs::is_directory(dir)) {
-      std::fprintf(stderr, "rm3d run: %s %s: folder %s does not exist\n", flag, path.c_str(), dir.string().c_str());
+    if (!path.empty() && !prepareOutputFile(flag, path, err)) {
+      std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
       return 2;
     }
   }
@@ -196,11 +167,14 @@ int runCommand(const RunArgs& a, const std::string& root) {
     std::fprintf(stderr, "rm3d run: --size %s: expected WIDTHxHEIGHT, e.g. 1280x720\n", a.size.c_str());
     return 2;
   }
+  installInterruptHandlers();
   if (a.watch) return watchLoop(a, o);
   // Pictures while running: PNG frames and/or a video piped to ffmpeg, every `every` steps.
   std::unique_ptr<OffscreenRenderer> renderer;
-  FILE* video = nullptr;
-  long long frameNo = 0;
+  VideoPipe video;
+  std::string videoError;  // the first problem with the video; the run goes on without it
+  long long frameNo = 0, videoFrames = 0;
+  std::string framesError;
   StepHook onStep;
   if (!a.frames.empty() || !a.video.empty()) {
     renderer = std::make_unique<OffscreenRenderer>();
@@ -212,58 +186,59 @@ int runCommand(const RunArgs& a, const std::string& root) {
     onStep = [&, every = a.every](World& w) {
       const int n = every > 0 ? every : std::max(1, int(std::lround(1.0 / (30.0 * w.settings().dt))));
       if (w.steps() % n != 0) return;
-      if (!video && !a.video.empty()) {
+      if (!a.video.empty() && !video.isOpen() && videoError.empty()) {
         const double fps = 1.0 / (n * w.settings().dt);
-        char cmd[1024];
-        std::snprintf(cmd, sizeof cmd,
-                      "ffmpeg -y -loglevel error -f rawvideo -pix_fmt rgba -s %dx%d -r %.3f -i - -pix_fmt yuv420p "
-                      "-vcodec libx264 -crf 23 '%s'", width, height, fps, a.video.c_str());
-        video = popen(cmd, "w");
+        if (!video.open(a.video, width, height, fps, videoError)) std::fprintf(stderr, "rm3d run: %s\n", videoError.c_str());
       }
       renderer->draw(buildSnapshot(w), worldCamera(w));
-      if (video) std::fwrite(renderer->rgba().data(), 1, renderer->rgba().size(), video);
+      if (video.isOpen() && !video.failed()) {
+        if (video.write(renderer->rgba().data(), renderer->rgba().size())) ++videoFrames;
+        else std::fprintf(stderr, "rm3d run: --video %s: ffmpeg stopped taking frames at t=%.3f s; the run goes on without the video\n",
+                          a.video.c_str(), w.time());
+      }
       if (!a.frames.empty()) {
         char name[64];
         std::snprintf(name, sizeof name, "frame_%06lld.png", frameNo);
-        std::string err;
-        renderer->writePng((fs::path(a.frames) / name).string(), err);
+        std::string perr;
+        if (!renderer->writePng((fs::path(a.frames) / name).string(), perr) && framesError.empty()) {
+          framesError = perr;
+          std::fprintf(stderr, "rm3d run: --frames: %s\n", perr.c_str());
+        }
       }
       ++frameNo;
     };
   }
   WorldRun r = runWorldFile(a.world, o, a.steps, a.seconds, onStep);
-  if (video && pclose(video) != 0) {
-    std::fprintf(stderr, "rm3d run: ffmpeg failed writing %s\n", a.video.c_str());
-    return 2;
-  }
-  if (video) std::printf("wrote %lld frames to %s\n", frameNo, a.video.c_str());
+  int code = r.exitCode;
+  std::vector<std::string> outputErrors;
+  if (video.isOpen() && !video.close(videoError)) std::fprintf(stderr, "rm3d run: %s\n", videoError.c_str());
+  else if (video.isOpen() || videoFrames > 0) std::printf("wrote %lld frames to %s\n", videoFrames, a.video.c_str());
+  if (!videoError.empty()) outputErrors.push_back(videoError);
+  if (!framesError.empty()) outputErrors.push_back("--frames: " + framesError);
   World& w = *r.world;
   if (!r.loadError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.loadError.c_str());
+  if (!r.runError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.runError.c_str());
   if (!w.scriptError().empty()) std::fprintf(stderr, "rm3d: world script error: %s\n", w.scriptError().c_str());
   if (!w.divergence().empty()) std::fprintf(stderr, "rm3d: %s\n", w.divergence().c_str());
   for (const Failure& f : w.failures()) std::fprintf(stderr, "FAILED at t=%.3f: %s\n", f.time, f.message.c_str());
+  for (const std::string& u : r.unrunChecks) std::fprintf(stderr, "rm3d: warning: %s\n", u.c_str());
+  if (r.signal)
+    std::fprintf(stderr, "rm3d: interrupted (%s) at t=%.3f s after %lld steps; summary written as usual\n", signalName(r.signal),
+                 w.time(), (long long)w.steps());
   if (r.loadError.empty()) {
     const double rtf = r.wallSeconds > 0 ? w.time() / r.wallSeconds : 0;
     std::printf("%s: %lld steps, %.2f s simulated in %.2f s (%.1fx real time), %zu modules, %d faults, %zu failed expectations\n",
                 a.world.c_str(), (long long)w.steps(), w.time(), r.wallSeconds, rtf, w.modules().size(), w.faultCount(),
                 w.failures().size());
   }
-  if (!a.json.empty()) {
-    std::ofstream f(a.json);
-    nlohmann::json j = r.loadError.empty() ? w.summary(r.wallSeconds) : nlohmann::json{{"error", r.loadError}};
-    f << j.dump(2) << "\n";
-    if (!f) {
-      std::fprintf(stderr, "rm3d run: cannot write %s\n", a.json.c_str());
-      return 2;
-    }
-  }
   if (!a.graph.empty() && r.loadError.empty()) {
     const bool dot = fs::path(a.graph).extension() == ".dot" || fs::path(a.graph).extension() == ".gv";
     std::ofstream f(a.graph);
     f << (dot ? w.graphDot() : w.graphJson() + "\n");
+    f.close();
     if (!f) {
-      std::fprintf(stderr, "rm3d run: cannot write %s\n", a.graph.c_str());
-      return 2;
+      std::fprintf(stderr, "rm3d run: --graph %s: cannot write the file\n", a.graph.c_str());
+      outputErrors.push_back("--graph " + a.graph + ": cannot write the file");
     }
   }
   if (!a.png.empty() && r.loadError.empty()) {
@@ -271,15 +246,38 @@ int runCommand(const RunArgs& a, const std::string& root) {
     std::string perr;
     if (!renderer.init(width, height, perr)) {
       std::fprintf(stderr, "rm3d run: --png: %s\n", perr.c_str());
-      return 2;
-    }
-    renderer.draw(buildSnapshot(w), worldCamera(w));
-    if (!renderer.writePng(a.png, perr)) {
-      std::fprintf(stderr, "rm3d run: %s\n", perr.c_str());
-      return 2;
+      outputErrors.push_back("--png: " + perr);
+    } else {
+      renderer.draw(buildSnapshot(w), worldCamera(w));
+      if (!renderer.writePng(a.png, perr)) {
+        std::fprintf(stderr, "rm3d run: --png: %s\n", perr.c_str());
+        outputErrors.push_back("--png: " + perr);
+      }
     }
   }
-  return r.exitCode;
+  // The summary last, so it lists every output that failed.
+  if (!a.json.empty()) {
+    nlohmann::json j = r.loadError.empty() ? w.summary(r.wallSeconds) : nlohmann::json{{"error", r.loadError}};
+    if (!r.runError.empty()) j["error"] = r.runError;
+    j["interrupted"] = r.signal != 0;
+    if (r.signal) {
+      j["signal"] = signalName(r.signal);
+      j["stop_time"] = w.time();
+    }
+    j["warnings"] = r.unrunChecks;
+    j["output_errors"] = outputErrors;
+    j["exit_code"] = std::max(code, outputErrors.empty() ? 0 : int(kExitBadInput));
+    std::ofstream f(a.json);
+    f << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+    f.close();
+    if (!f) {
+      std::fprintf(stderr, "rm3d run: --json %s: cannot write the file\n", a.json.c_str());
+      outputErrors.push_back("--json " + a.json + ": cannot write the file");
+    }
+  }
+  // An output that could not be written is exit code 2; an interrupt (130, 143) outranks it.
+  if (!outputErrors.empty()) code = std::max(code, int(kExitBadInput));
+  return code;
 }
 
 }  // namespace rm3d

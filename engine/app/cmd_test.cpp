@@ -7,6 +7,7 @@
 
 #include "app/app.h"
 #include "app/run_world.h"
+#include "script/world_script.h"
 
 namespace fs = std::filesystem;
 
@@ -21,7 +22,35 @@ struct Outcome {
   std::string message;
 };
 
-std::string xmlEscape(const std::string& s) {
+/// Invalid UTF-8 bytes become U+FFFD, so the XML report stays well-formed.
+std::string validUtf8(const std::string& s) {
+  std::string o;
+  for (size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    const size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 && c >= 0xC2 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E && c <= 0xF4 ? 4 : 0;
+    bool ok = n > 0 && i + n <= s.size();
+    for (size_t k = 1; ok && k < n; ++k) ok = (static_cast<unsigned char>(s[i + k]) & 0xC0) == 0x80;
+    if (ok && n == 3) {
+      const unsigned char d = static_cast<unsigned char>(s[i + 1]);
+      ok = !(c == 0xE0 && d < 0xA0) && !(c == 0xED && d >= 0xA0);  // overlong, surrogates
+    }
+    if (ok && n == 4) {
+      const unsigned char d = static_cast<unsigned char>(s[i + 1]);
+      ok = !(c == 0xF0 && d < 0x90) && !(c == 0xF4 && d >= 0x90);
+    }
+    if (ok) {
+      o.append(s, i, n);
+      i += n;
+    } else {
+      o += "\xEF\xBF\xBD";
+      ++i;
+    }
+  }
+  return o;
+}
+
+std::string xmlEscape(const std::string& raw) {
+  const std::string s = validUtf8(raw);
   std::string o;
   for (char c : s) {
     switch (c) {
@@ -35,6 +64,34 @@ std::string xmlEscape(const std::string& s) {
     }
   }
   return o;
+}
+
+std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
+
+/// What makes a world fail under `rm3d test` beyond its exit code: checks that never ran, and
+/// faulted modules the world did not declare with world.set{expect_faults=}.
+std::vector<std::string> testProblems(const WorldRun& r) {
+  std::vector<std::string> problems = r.unrunChecks;
+  const World& w = *r.world;
+  if (!r.loadError.empty() || !w.scriptError().empty() || w.fatalFault() || !w.script()) return problems;
+  const std::optional<int> expected = w.script()->expectFaults;
+  const int faulted = w.faultCount();
+  std::vector<std::string> faults;
+  for (const Module& m : w.modules())
+    if (!m.fault.empty()) faults.push_back("module " + m.name + " (id " + std::to_string(m.id) + ") faulted: " + firstLine(m.fault));
+  if (!expected && faulted > 0) {
+    problems.push_back(std::to_string(faulted) + (faulted == 1 ? " module" : " modules") +
+                       " faulted; a world that faults modules on purpose says so with world.set{expect_faults = true} "
+                       "(or the number of faulted modules)");
+    problems.insert(problems.end(), faults.begin(), faults.end());
+  } else if (expected && *expected < 0 && faulted == 0) {
+    problems.push_back("world.set{expect_faults = true}, but no module faulted");
+  } else if (expected && *expected >= 0 && faulted != *expected) {
+    problems.push_back("world.set{expect_faults = " + std::to_string(*expected) + "}, but " + std::to_string(faulted) +
+                       (faulted == 1 ? " module" : " modules") + " faulted");
+    problems.insert(problems.end(), faults.begin(), faults.end());
+  }
+  return problems;
 }
 
 bool writeJunit(const std::string& path, const std::vector<Outcome>& outcomes) {
@@ -58,6 +115,7 @@ bool writeJunit(const std::string& path, const std::vector<Outcome>& outcomes) {
     }
   }
   f << "</testsuite></testsuites>\n";
+  f.close();
   return bool(f);
 }
 
@@ -82,24 +140,40 @@ int testCommand(const TestArgs& a, const std::string& root) {
       return 2;
     }
   }
+  std::string err;
+  if (!a.junit.empty() && !prepareOutputFile("--junit", a.junit, err)) {
+    std::fprintf(stderr, "rm3d test: %s\n", err.c_str());
+    return 2;
+  }
+  installInterruptHandlers();
   std::vector<Outcome> outcomes;
-  int passed = 0, failed = 0;
+  int passed = 0, failed = 0, signal = 0;
   for (const std::string& file : files) {
     RunOptions o;
     o.projectRoot = root;
     o.threads = a.threads;
     o.strict = a.strict;
     o.echoLog = false;
+    o.watchdogSeconds = a.watchdog;
     WorldRun r = runWorldFile(file, o, std::nullopt, std::nullopt);
     const World& w = *r.world;
-    Outcome out{file, r.exitCode == 0, r.wallSeconds, {}};
+    if (r.signal) {
+      signal = r.signal;
+      std::printf("INTERRUPTED %s (%s at %.2f s simulated; no verdict)\n", file.c_str(), signalName(r.signal), w.time());
+      break;
+    }
+    const std::vector<std::string> problems = testProblems(r);
+    Outcome out{file, r.exitCode == 0 && problems.empty(), r.wallSeconds, {}};
+    auto add = [&out](const std::string& line) { out.message += (out.message.empty() ? "" : "\n") + line; };
     if (!r.loadError.empty()) out.message = r.loadError;
+    else if (!r.runError.empty()) out.message = r.runError;
     else if (!w.scriptError().empty()) out.message = "world script error: " + w.scriptError();
     else if (!w.divergence().empty()) out.message = w.divergence();
-    for (const Failure& f : w.failures()) out.message += (out.message.empty() ? "" : "\n") + f.message;
+    for (const Failure& f : w.failures()) add(f.message);
     if (w.fatalFault())
       for (const Module& m : w.modules())
-        if (!m.fault.empty()) out.message += (out.message.empty() ? "" : "\n") + ("fault in " + m.name + ": " + m.fault);
+        if (!m.fault.empty()) add("fault in " + m.name + ": " + m.fault);
+    for (const std::string& p : problems) add(p);
     std::printf("%s %s (%.2f s simulated, %.2f s)\n", out.passed ? "PASS" : "FAIL", file.c_str(), w.time(), r.wallSeconds);
     if (!out.passed) {
       std::string indented = "    " + out.message;
@@ -110,12 +184,18 @@ int testCommand(const TestArgs& a, const std::string& root) {
     (out.passed ? passed : failed)++;
     outcomes.push_back(std::move(out));
   }
+  int code = failed == 0 ? 0 : 1;
   if (!a.junit.empty() && !writeJunit(a.junit, outcomes)) {
-    std::fprintf(stderr, "rm3d test: cannot write %s\n", a.junit.c_str());
-    return 2;
+    std::fprintf(stderr, "rm3d test: --junit %s: cannot write the file\n", a.junit.c_str());
+    code = 2;
+  }
+  if (signal) {
+    std::printf("interrupted (%s): %zu of %zu worlds not run after it\n%d passed, %d failed\n", signalName(signal),
+                files.size() - outcomes.size() - 1, files.size(), passed, failed);
+    return 128 + signal;
   }
   std::printf("%d passed, %d failed\n", passed, failed);
-  return failed == 0 ? 0 : 1;
+  return code;
 }
 
 }  // namespace rm3d

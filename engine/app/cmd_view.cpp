@@ -23,6 +23,7 @@
 
 #include "app/app.h"
 #include "app/file_watcher.h"
+#include "app/run_world.h"
 #include "core/error.h"
 #include "render/picking.h"
 #include "render/scene_renderer.h"
@@ -690,14 +691,11 @@ int viewCommand(const ViewArgs& a, const std::string& root) {
   }
   if (a.seed) o.seed = *a.seed;
   o.threads = a.threads;
+  o.watchdogSeconds = a.watchdog;
   o.keepHistory = true;  // the inspector shows recent log lines and messages
-  if (a.frames > 0 && !a.screenshot.empty()) {
-    const fs::path dir = fs::absolute(a.screenshot).parent_path();
-    if (!fs::is_directory(dir)) {
-      std::fprintf(stderr, "rm3d view: --screenshot %s: folder %s does not exist\n", a.screenshot.c_str(),
-                   dir.string().c_str());
-      return 2;
-    }
+  if (a.frames > 0 && !a.screenshot.empty() && !prepareOutputFile("--screenshot", a.screenshot, err)) {
+    std::fprintf(stderr, "rm3d view: %s\n", err.c_str());
+    return 2;
   }
   if (!a.screenshot.empty() && a.frames <= 0) {
     std::fprintf(stderr, "rm3d view: --screenshot needs --frames N (the frame to save)\n");

@@ -15,6 +15,7 @@ struct ViewArgs {
   int frames = 0;          ///< > 0: render this many frames, then exit (with --screenshot)
   std::string screenshot;  ///< PNG of the last frame's window contents
   int select = -1;         ///< module id selected (inspector open) at start; -1: none
+  double watchdog = 5;     ///< --watchdog S (RunOptions::watchdogSeconds)
 };
 
 /// Exit codes: 0 closed (or screenshot written), 2 bad input, no display, or a failed screenshot.

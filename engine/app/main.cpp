@@ -1,8 +1,10 @@
 // rm3d: entry point. Parses the command line (CLI11) and dispatches to the commands.
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 
 #include "app/app.h"
@@ -18,7 +20,7 @@ std::string projectRoot(const std::string& given) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"RM3D: a physics-based simulator for self-reconfigurable modular robots"};
   app.require_subcommand(1);
   std::string root;
@@ -45,13 +47,16 @@ int main(int argc, char** argv) {
   runCmd->add_option("--graph", run.graph, "write the connection graph at the end (FILE.dot: Graphviz, else JSON)");
   runCmd->add_flag("--quiet", run.quiet, "no module log lines");
   runCmd->add_flag("--watch", run.watch, "run in real time and reload behaviours, lua/ and the world as they are saved");
+  const char* watchdogHelp = "stop a run that hangs this many seconds of wall time (exit code 3)";
+  runCmd->add_option("--watchdog", run.watchdog, watchdogHelp)->check(CLI::NonNegativeNumber);
 
   rm3d::TestArgs test;
   CLI::App* testCmd = app.add_subcommand("test", "run scripted test worlds headless; ends with 'N passed, N failed'");
   testCmd->add_option("paths", test.paths, "world files or folders (default: tests/worlds)");
   testCmd->add_option("--junit", test.junit, "write a JUnit XML report");
   testCmd->add_option("--threads", test.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
-  testCmd->add_flag("--strict", test.strict, "a module fault fails the world");
+  testCmd->add_flag("--strict", test.strict, "a module fault fails the world at once (even with world.set{expect_faults=})");
+  testCmd->add_option("--watchdog", test.watchdog, watchdogHelp)->check(CLI::NonNegativeNumber);
 
   rm3d::BenchArgs bench;
   CLI::App* benchCmd = app.add_subcommand("bench", "scale benchmarks (snake_1000, superbots_1000)");
@@ -75,6 +80,7 @@ int main(int argc, char** argv) {
   viewCmd->add_option("--frames", view.frames, "render this many frames, then exit (with --screenshot)")
       ->check(CLI::PositiveNumber);
   viewCmd->add_option("--screenshot", view.screenshot, "save the last frame's window as PNG (needs --frames)");
+  viewCmd->add_option("--watchdog", view.watchdog, watchdogHelp)->check(CLI::NonNegativeNumber);
   // Hidden: opens the inspector on a module at start (tests, README pictures).
   viewCmd->add_option("--select", view.select, "module id to select at start")->group("");
 
@@ -100,5 +106,20 @@ int main(int argc, char** argv) {
   if (*testCmd) return rm3d::testCommand(test, r);
   if (*benchCmd) return rm3d::benchCommand(bench, r);
   if (*viewCmd) return rm3d::viewCommand(view, r);
+  return 2;
+}
+
+int main(int argc, char** argv) {
+  // A reader that goes away (ffmpeg, `| head`) is an error from write(), not a silent death.
+  std::signal(SIGPIPE, SIG_IGN);
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "rm3d: error: %s\n", e.what());
+  } catch (...) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "rm3d: error: an unknown exception\n");
+  }
   return 2;
 }

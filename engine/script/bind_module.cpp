@@ -96,7 +96,7 @@ int moduleReceive(lua_State* L) {
     Module& me = self(L);
     char head[64];
     std::snprintf(head, sizeof head, "%.2f %s: ", msg.time, me.type->docks[size_t(msg.dock)].name.c_str());
-    me.recentMessages.push_back(head + luaValueToJson(msg.data).dump());
+    me.recentMessages.push_back(head + luaValueToJson(msg.data).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     if (me.recentMessages.size() > 20) me.recentMessages.pop_front();
   }
   lua_createtable(L, 0, 3);

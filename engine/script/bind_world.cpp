@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
+#include <string>
 
 #include "core/error.h"
 #include "docking/dock_frame.h"
@@ -28,12 +30,12 @@ constexpr double kMaxGravity = 1e4;  ///< m/s^2 (1000 g)
 constexpr double kMaxBounds = 1e7;   ///< m; single-precision positions out there are 1 m apart
 
 /// world.set{dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=, joint_iterations=, erp=,
-/// max_speed=, max_angular_speed=, bounds=}
+/// max_speed=, max_angular_speed=, bounds=, expect_faults=}
 int worldSet(lua_State* L) {
   const char* fn = "world.set";
   checkOptionKeys(L, 1, fn,
                   {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations", "erp", "max_speed",
-                   "max_angular_speed", "bounds"});
+                   "max_angular_speed", "bounds", "expect_faults"});
   WorldSettings s = world(L).settings();
   const double dt = optNumberField(L, 1, fn, "dt", s.dt);
   if (!(dt >= kMinDt && dt <= kMaxDt))
@@ -77,6 +79,19 @@ int worldSet(lua_State* L) {
   s.seed = uint64_t(seed);
   s.gravity = gravity;
   s.limits = lim;
+  // expect_faults = true: the world faults modules on purpose; = n: exactly n modules fault.
+  const int ef = lua_getfield(L, 1, "expect_faults");
+  if (ef == LUA_TBOOLEAN) {
+    script(L).expectFaults = lua_toboolean(L, -1) ? std::optional<int>(-1) : std::nullopt;
+  } else if (ef != LUA_TNIL) {
+    int isInt = 0;
+    const lua_Integer n = ef == LUA_TNUMBER ? lua_tointegerx(L, -1, &isInt) : -1;
+    if (!isInt || n < 0 || n > (1 << 30))
+      return luaL_error(L, "%s: expect_faults must be true, false or a whole number of faulted modules (0 or more), got %s", fn,
+                        luaL_tolstring(L, -1, nullptr));
+    script(L).expectFaults = int(n);
+  }
+  lua_pop(L, 1);
   world(L).setSettings(s);
   return 0;
 }
@@ -345,6 +360,14 @@ int worldComponents(lua_State* L) {
   return 1;
 }
 
+/// "file:line:" of the Lua code calling the current C function.
+std::string where(lua_State* L) {
+  luaL_where(L, 1);
+  std::string w = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  return w;
+}
+
 int storeFunction(lua_State* L, int arg) {
   luaL_checktype(L, arg, LUA_TFUNCTION);
   lua_pushvalue(L, arg);
@@ -362,7 +385,8 @@ int worldAt(lua_State* L) {
   const double t = luaL_checknumber(L, 1);
   if (!(t >= 0 && std::isfinite(t)))
     return luaL_error(L, "world.at: time must be a finite number of seconds >= 0, got %s", numText(t).s);
-  script(L).timed.push_back({t, 0.0, storeFunction(L, 2)});
+  const int ref = storeFunction(L, 2);
+  script(L).timed.push_back({t, 0.0, ref, where(L), t, 0});
   return 0;
 }
 
@@ -374,7 +398,15 @@ int worldEvery(lua_State* L) {
   if (!(p >= kMinDt && std::isfinite(p)))
     return luaL_error(L, "world.every: period must be a finite number of seconds >= %s, got %s", numText(kMinDt).s,
                       numText(p).s);
-  script(L).timed.push_back({p, p, storeFunction(L, 2)});
+  const int ref = storeFunction(L, 2);
+  script(L).timed.push_back({p, p, ref, where(L), p, 0});
+  return 0;
+}
+
+/// world.on_end(fn(t)): called once when the run ends, however it ends (duration, world.stop(),
+/// --seconds/--steps, Ctrl-C): the place for checks that must run whatever the run's length
+int worldOnEnd(lua_State* L) {
+  script(L).onEnd.push_back(storeFunction(L, 1));
   return 0;
 }
 
@@ -399,6 +431,7 @@ int worldDt(lua_State* L) {
 /// expect(cond, message) -> cond: a failed expectation is recorded with file:line; the run goes on
 int expectFn(lua_State* L) {
   luaL_checkany(L, 1);
+  ++script(L).expectCount;
   const bool ok = lua_toboolean(L, 1);
   if (!ok) {
     luaL_where(L, 1);
@@ -454,7 +487,7 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"spawn", worldSpawn},     {"connect", worldConnect}, {"modules", worldModules},
                                  {"module", worldModule},   {"components", worldComponents}, {"camera", worldCamera},
                                  {"channel", worldChannel}, {"graph", worldGraph}, {"events", worldEvents}, {"messages", worldMessages},
-                                 {"on_step", worldOnStep},  {"at", worldAt},           {"every", worldEvery},
+                                 {"on_step", worldOnStep},  {"on_end", worldOnEnd},  {"at", worldAt},           {"every", worldEvery},
                                  {"stop", worldStop},       {"time", worldTime},       {"dt", worldDt},
                                  {nullptr, nullptr}};
   luaL_newlib(L, fns);

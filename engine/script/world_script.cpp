@@ -3,6 +3,8 @@
 
 #include <lua.hpp>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "core/error.h"
@@ -56,6 +58,7 @@ bool WorldScript::afterStep(double t, std::string& err) {
     // Index, not reference: a hook may add hooks and grow the vector.
     if (timed[i].ref == LUA_NOREF || t + eps < timed[i].time) continue;
     const int ref = timed[i].ref;
+    ++timed[i].runs;
     if (timed[i].period > 0) {
       while (timed[i].time <= t + eps) timed[i].time += timed[i].period;
     } else {
@@ -66,6 +69,45 @@ bool WorldScript::afterStep(double t, std::string& err) {
     if (!m_vm.call(1, 0, err)) return false;
   }
   return true;
+}
+
+bool WorldScript::atEnd(double t, std::string& err) {
+  if (ended) return true;
+  ended = true;
+  lua_State* L = m_vm.L();
+  for (size_t i = 0; i < onEnd.size(); ++i) {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, onEnd[i]);
+    lua_pushnumber(L, t);
+    if (!m_vm.call(1, 0, err)) return false;
+  }
+  return true;
+}
+
+std::vector<std::string> WorldScript::hooksNeverRun(double endTime) const {
+  // One line per call site (a loop may schedule many hooks from one line).
+  std::vector<std::string> out;
+  std::vector<std::pair<std::string, std::vector<double>>> sites;  // "file:line: world.at", times
+  for (const Timed& h : timed) {
+    if (h.runs > 0) continue;
+    const std::string key = h.where + (h.period > 0 ? "world.every" : "world.at");
+    auto it = std::find_if(sites.begin(), sites.end(), [&](const auto& s) { return s.first == key; });
+    if (it == sites.end()) it = sites.insert(sites.end(), {key, {}});
+    it->second.push_back(h.first);
+  }
+  for (const auto& [key, times] : sites) {
+    std::string text = key + (times.size() == 1 ? "(" : " hooks (t = ");
+    for (size_t i = 0; i < times.size() && i < 4; ++i) {
+      char num[32];
+      std::snprintf(num, sizeof num, "%s%g", i ? ", " : "", times[i]);
+      text += num;
+    }
+    if (times.size() > 4) text += ", and " + std::to_string(times.size() - 4) + " more";
+    char tail[160];
+    std::snprintf(tail, sizeof tail, ") never ran: the run ended at t=%.3f s (world.on_end(fn) runs whatever the run's length)",
+                  endTime);
+    out.push_back(text + tail);
+  }
+  return out;
 }
 
 }  // namespace rm3d

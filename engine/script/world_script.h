@@ -2,6 +2,7 @@
 // keeps its hooks (on_step, at, every), called after each step.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,15 +20,29 @@ class WorldScript {
   void runString(const std::string& source, const std::string& chunkName);
   /// Calls the hooks due at time t. False and err when a hook raised an error.
   bool afterStep(double t, std::string& err);
+  /// Calls the world.on_end hooks (once; later calls do nothing). False and err on an error.
+  bool atEnd(double t, std::string& err);
+  /// One line per world.at / world.every hook that never ran ("file:line: world.at(2) never
+  /// ran: the run ended at t=1.000 s ...").
+  std::vector<std::string> hooksNeverRun(double endTime) const;
 
   struct Timed {
     double time;    ///< at: when; every: next time due
     double period;  ///< 0 for `at`
     int ref;
+    std::string where;  ///< "file:line:" of the world.at / world.every call
+    double first = 0;   ///< the time asked for (at) or the period (every)
+    int runs = 0;       ///< times called
   };
   World& world() { return m_world; }
   std::vector<int> onStep;
   std::vector<Timed> timed;
+  std::vector<int> onEnd;
+  bool ended = false;
+  long long expectCount = 0;  ///< expect() calls evaluated, passed or failed
+  /// world.set{expect_faults=}: unset: no module may fault (under `rm3d test`); -1 (true): one
+  /// or more; n >= 0: exactly n faulted modules.
+  std::optional<int> expectFaults;
 
  private:
   void setUp(const std::string& folder);

@@ -833,7 +833,7 @@ std::string World::graphJson() const {
     for (int m : comp) ids.push_back(m_modules[size_t(m)].id);
     j["components"].push_back(ids);
   }
-  return j.dump();
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 std::string World::graphDot() const {

@@ -44,6 +44,7 @@ struct RunOptions {
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
   bool echoLog = true;                        ///< print module log lines to stderr
   bool keepHistory = false;                   ///< keep recent log lines and messages per module (viewer)
+  double watchdogSeconds = 5;                 ///< --watchdog S
 };
 
 /// world.set{...}: fixed before the first step.
@@ -192,6 +193,8 @@ class World {
   const std::string& divergence() const { return m_divergence; }
   int faultCount() const;
   std::string worldFile() const { return m_worldFile; }
+  WorldScript* script() const { return m_script.get(); }  ///< null before a world is loaded
+  void setScriptError(const std::string& e) { if (m_scriptError.empty()) m_scriptError = e; }
 
   Pose modulePose(int m) const;
   Pose linkPose(int m, int link) const;

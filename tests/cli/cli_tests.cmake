@@ -172,3 +172,130 @@ else()
   expect_run("video without ffmpeg" 2 "needs ffmpeg" run ${SRC}/worlds/superbot_single.lua --steps 60 --video ${OUT}/v.mp4)
 endif()
 expect_run("bad --size" 2 "expected WIDTHxHEIGHT" run ${SRC}/worlds/superbot_single.lua --png ${OUT}/x.png --size big)
+
+# Like expect_run, for any command line (e.g. `cmake -E env PATH=... rm3d ...`).
+function(expect_cmd name code pattern)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+  set(all "${out}${err}")
+  if(NOT rc EQUAL ${code})
+    message(SEND_ERROR "${name}: exit code ${rc}, expected ${code}\n${all}")
+  elseif(NOT "${pattern}" STREQUAL "" AND NOT all MATCHES "${pattern}")
+    message(SEND_ERROR "${name}: output does not match '${pattern}':\n${all}")
+  else()
+    message(STATUS "ok: ${name}")
+  endif()
+endfunction()
+# The JSON summary `file` exists and parses; `outvar` gets its text.
+function(read_summary name file outvar)
+  if(NOT EXISTS ${file})
+    message(SEND_ERROR "${name}: no JSON summary ${file}")
+    set(${outvar} "{}" PARENT_SCOPE)
+    return()
+  endif()
+  file(READ ${file} j)
+  string(JSON t ERROR_VARIABLE e TYPE "${j}")
+  if(e)
+    message(SEND_ERROR "${name}: ${file} does not parse: ${e}")
+    set(j "{}")
+  endif()
+  set(${outvar} "${j}" PARENT_SCOPE)
+endfunction()
+
+# --- Output paths: folders are made before the run; a path that cannot be made stops it first.
+file(REMOVE_RECURSE ${OUT}/made)
+expect_run("json into a new folder" 0 "" run ${SRC}/worlds/superbot_single.lua --steps 10 --quiet
+  --json ${OUT}/made/deep/x.json --graph ${OUT}/made/g/x.dot)
+read_summary("json into a new folder" ${OUT}/made/deep/x.json j)
+string(JSON steps ERROR_VARIABLE e GET "${j}" steps)
+if(NOT steps EQUAL 10 OR NOT EXISTS ${OUT}/made/g/x.dot)
+  message(SEND_ERROR "json into a new folder: steps '${steps}', graph written: no")
+endif()
+file(WRITE ${OUT}/plainfile "not a folder\n")
+expect_run("json under a file" 2 "--json .*plainfile/x.json: cannot create the folder .*plainfile \\(Not a directory\\)"
+  run ${SRC}/worlds/superbot_single.lua --steps 10 --quiet --json ${OUT}/plainfile/x.json)
+expect_run("png under a file" 2 "--png .*plainfile/x.png: cannot create the folder" run ${SRC}/worlds/superbot_single.lua --steps 10 --png ${OUT}/plainfile/x.png)
+expect_run("frames under a file" 2 "--frames .*plainfile/f: cannot create the folder" run ${SRC}/worlds/superbot_single.lua --steps 10 --frames ${OUT}/plainfile/f)
+expect_run("json is a folder" 2 "--json .*made: is a folder" run ${SRC}/worlds/superbot_single.lua --steps 10 --json ${OUT}/made)
+expect_run("junit under a file" 2 "--junit .*plainfile/j.xml: cannot create the folder" test ${SRC}/tests/worlds/servo_45.lua --junit ${OUT}/plainfile/j.xml)
+
+# --- Video: ffmpeg is started without a shell; its failures are reported, the run still ends
+# with its summary (exit code 2). A stand-in ffmpeg that dies after the first frames:
+file(MAKE_DIRECTORY ${OUT}/fakebin)
+file(WRITE ${OUT}/fakebin.tmp "#!/bin/sh\nhead -c 100000 > /dev/null\necho 'fake ffmpeg: No space left on device' >&2\nexit 1\n")
+file(COPY_FILE ${OUT}/fakebin.tmp ${OUT}/fakebin/ffmpeg)
+file(CHMOD ${OUT}/fakebin/ffmpeg PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE GROUP_READ GROUP_EXECUTE WORLD_READ WORLD_EXECUTE)
+set(fakepath "PATH=${OUT}/fakebin:$ENV{PATH}")
+file(REMOVE ${OUT}/vdies.json)
+expect_cmd("ffmpeg dies" 2 "--video .*vdies.mp4: ffmpeg exited with status 1.*ffmpeg said: fake ffmpeg: No space left on device"
+  ${CMAKE_COMMAND} -E env ${fakepath} ${RM3D} run ${SRC}/worlds/superbot_single.lua --steps 120 --quiet --size 160x120
+  --video ${OUT}/vdies.mp4 --json ${OUT}/vdies.json)
+read_summary("ffmpeg dies" ${OUT}/vdies.json j)
+string(JSON steps ERROR_VARIABLE e GET "${j}" steps)
+string(JSON nerr ERROR_VARIABLE e LENGTH "${j}" output_errors)
+string(JSON code ERROR_VARIABLE e GET "${j}" exit_code)
+if(NOT steps EQUAL 120 OR NOT nerr EQUAL 1 OR NOT code EQUAL 2)
+  message(SEND_ERROR "ffmpeg dies: summary steps '${steps}', output_errors '${nerr}', exit_code '${code}'")
+endif()
+expect_cmd("video under a file" 2 "--video .*plainfile/v.mp4: cannot create the folder"
+  ${CMAKE_COMMAND} -E env ${fakepath} ${RM3D} run ${SRC}/worlds/superbot_single.lua --steps 10 --video ${OUT}/plainfile/v.mp4)
+if(FFMPEG)
+  # A file name with shell syntax in it is only a file name.
+  file(REMOVE ${OUT}/pwned)
+  set(odd "${OUT}/v'$(touch ${OUT}/pwned)'.mp4")
+  expect_run("video name with shell syntax" 0 "wrote 30 frames" run ${SRC}/worlds/superbot_single.lua --steps 60 --quiet
+    --size 160x120 --video ${odd})
+  if(EXISTS ${OUT}/pwned OR NOT EXISTS "${odd}")
+    message(SEND_ERROR "video name with shell syntax: a shell ran it, or the file was not written under its own name")
+  endif()
+  # ffmpeg refuses the output: the summary is still written.
+  file(REMOVE ${OUT}/vbad.json)
+  expect_run("ffmpeg refuses the output" 2 "--video .*v.notavideo: ffmpeg exited with status [0-9]+.*ffmpeg said: "
+    run ${SRC}/worlds/superbot_single.lua --steps 60 --quiet --size 160x120 --video ${OUT}/v.notavideo --json ${OUT}/vbad.json)
+  read_summary("ffmpeg refuses the output" ${OUT}/vbad.json j)
+  string(JSON steps ERROR_VARIABLE e GET "${j}" steps)
+  if(NOT steps EQUAL 60)
+    message(SEND_ERROR "ffmpeg refuses the output: summary steps '${steps}'")
+  endif()
+endif()
+
+# --- Every JSON string is valid UTF-8, whatever bytes a script puts in its messages.
+file(WRITE ${OUT}/utf8_behaviour.lua "function step(dt)\n  error('bad byte \\xff in a fault')\nend\n")
+file(WRITE ${OUT}/utf8.lua "world.set{duration = 0.1}\nworld.spawn('superbot', {name = 'n\\xfe', behavior = 'utf8_behaviour.lua'})\nexpect(false, 'bad byte \\xff in a failure')\n")
+file(REMOVE ${OUT}/utf8.json)
+expect_run("invalid UTF-8 in messages" 1 "bad byte .* in a failure" run ${OUT}/utf8.lua --quiet --json ${OUT}/utf8.json --graph ${OUT}/utf8_graph.json)
+read_summary("invalid UTF-8 in messages" ${OUT}/utf8.json j)
+string(JSON msg ERROR_VARIABLE e GET "${j}" failures 0 message)
+string(JSON fault ERROR_VARIABLE e GET "${j}" modules 0 error)
+string(JSON fffd GET "[\"\\uFFFD\"]" 0)  # U+FFFD, the replacement character, as UTF-8
+if(NOT msg MATCHES "bad byte ${fffd} in a failure" OR NOT fault MATCHES "bad byte ${fffd} in a fault")
+  message(SEND_ERROR "invalid UTF-8: expected U+FFFD in the summary, got '${msg}' and '${fault}'")
+endif()
+
+# --- Test verdicts: checks that never ran, world.on_end, declared faults.
+file(WRITE ${OUT}/never_ran.lua "world.set{duration = 1}\nworld.at(2, function() expect(false, 'x') end)\n")
+expect_run("test: at hook after the end" 1 "never_ran.lua:2: world.at\\(2\\) never ran: the run ended at t=1.000 s.*never_ran.lua: the world calls expect\\(\\) but none was evaluated.*0 passed, 1 failed"
+  test ${OUT}/never_ran.lua)
+expect_run("run: at hook after the end is a warning" 0 "warning: .*never_ran.lua:2: world.at\\(2\\) never ran" run ${OUT}/never_ran.lua)
+file(WRITE ${OUT}/every_late.lua "world.set{duration = 0.5}\nworld.every(1, function() expect(true) end)\n")
+expect_run("test: every hook that never ran" 1 "every_late.lua:2: world.every\\(1\\) never ran" test ${OUT}/every_late.lua)
+file(WRITE ${OUT}/on_end.lua "world.set{duration = 10}\nworld.on_end(function(t)\n  log('on_end ran at ' .. t)\n  expect(t < 1, 'ended at ' .. t)\nend)\n")
+expect_run("on_end at --steps" 0 "on_end ran at 0.5" run ${OUT}/on_end.lua --steps 30)
+expect_run("on_end at the duration" 1 "on_end.lua:4: ended at 10" run ${OUT}/on_end.lua)
+file(WRITE ${OUT}/on_end_ok.lua "world.set{duration = 0.5}\nworld.on_end(function(t) expect(math.abs(t - 0.5) < 1e-9, 'end time ' .. t) end)\n")
+expect_run("test: checks in on_end" 0 "1 passed, 0 failed" test ${OUT}/on_end_ok.lua)
+expect_run("test: undeclared fault" 1 "module superbot_1 \\(id 1\\) faulted: .*runtime_error.lua:7: attempt to index a nil value.*0 passed, 1 failed"
+  test ${OUT}/faulty_late.lua)
+file(WRITE ${OUT}/faults_declared.lua "world.set{duration = 1.5, expect_faults = 1}\nworld.spawn('superbot', {behavior = '${SRC}/tests/behaviors/runtime_error.lua'})\n")
+expect_run("test: declared fault" 0 "1 passed, 0 failed" test ${OUT}/faults_declared.lua)
+file(WRITE ${OUT}/faults_miscounted.lua "world.set{duration = 1.5, expect_faults = 2}\nworld.spawn('superbot', {behavior = '${SRC}/tests/behaviors/runtime_error.lua'})\n")
+expect_run("test: fault count differs" 1 "expect_faults = 2}, but 1 module faulted.*module superbot_1 \\(id 1\\) faulted: .*runtime_error.lua:7"
+  test ${OUT}/faults_miscounted.lua)
+file(WRITE ${OUT}/faults_missing.lua "world.set{duration = 0.2, expect_faults = true}\nworld.spawn('superbot')\n")
+expect_run("test: declared fault that did not happen" 1 "expect_faults = true}, but no module faulted" test ${OUT}/faults_missing.lua)
+file(WRITE ${OUT}/faults_bad.lua "world.set{expect_faults = 'many'}\n")
+expect_run("bad expect_faults" 2 "faults_bad.lua:1: world.set: expect_faults must be true, false or a whole number" run ${OUT}/faults_bad.lua)
+
+# --- --watchdog is accepted by run, test and view.
+expect_run("--watchdog" 0 "" run ${SRC}/worlds/superbot_single.lua --steps 2 --quiet --watchdog 2)
+expect_run("bad --watchdog" 2 "watchdog" run ${SRC}/worlds/superbot_single.lua --steps 2 --watchdog -1)
+expect_run("test --watchdog" 0 "1 passed" test ${SRC}/tests/worlds/servo_45.lua --watchdog 10)

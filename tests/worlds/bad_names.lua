@@ -1,6 +1,6 @@
 -- Unknown joint names and wrong argument types in a behaviour fault that module with a message
 -- naming file:line and what was expected; world-side mistakes raise errors the script can catch.
-world.set{duration = 0.2}
+world.set{duration = 0.2, expect_faults = 2}  -- both modules fault on purpose
 local a = world.spawn("superbot", {behavior = "../behaviors/bad_joint_name.lua"})
 local b = world.spawn("superbot", {at = {1, 0, 0}, behavior = "../behaviors/bad_argument.lua"})
 world.at(0.1, function()

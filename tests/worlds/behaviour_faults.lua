@@ -1,6 +1,6 @@
 -- A behaviour with a syntax error and one with a run-time error each fault only their own
 -- module, with file:line in the message; the healthy module beside them keeps moving.
-world.set{duration = 2}
+world.set{duration = 2, expect_faults = 2}  -- the syntax error and the runtime error
 world.ground{}
 local syntax = world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "../behaviors/syntax_error.lua"})
 local runtime = world.spawn("superbot", {at = {0, 0.5, 0.053}, behavior = "../behaviors/runtime_error.lua"})

@@ -1,7 +1,7 @@
 -- Messages in flight over a connection that goes are dropped and counted; sending on a free
 -- dock returns false; bad payloads (a function, over the size limit) fault only the sender
 -- with file:line.
-world.set{gravity = {0, 0, 0}, duration = 1}
+world.set{gravity = {0, 0, 0}, duration = 1, expect_faults = 2}  -- the two bad senders
 world.channel{delay = 10, max_bytes = 1000}
 local tx = world.spawn("superbot", {behavior = "../behaviors/chatter.lua", params = {role = "send", count = 5}})
 local rx = world.spawn("superbot", {behavior = "../behaviors/chatter.lua", params = {role = "recv"}})

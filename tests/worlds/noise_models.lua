@@ -6,7 +6,7 @@
 --   * bad declarations fail at load, each with the behaviour's file and the declaring line: a
 --     negative sigma, a dropout probability outside [0, 1], a non-number sigma, a percept naming a
 --     sensor the Wheelbot lacks, an action on a joint it lacks.
-world.set{duration = 2.5, seed = 7}
+world.set{duration = 2.5, seed = 7, expect_faults = 5}  -- the five misconfigured noise modules
 world.ground{}
 
 local stats = world.spawn("wheelbot", {name = "stats", at = {0, 0, 0.041}, behavior = "../behaviors/noise_stats.lua"})

@@ -1,6 +1,6 @@
 -- An endless loop and a memory hog each fault only their own module (instruction budget and
 -- per-VM memory cap); the world goes on.
-world.set{duration = 0.5}
+world.set{duration = 0.5, expect_faults = 2}  -- the endless loop and the memory eater
 local loop = world.spawn("superbot", {at = {0, 0, 1}, behavior = "../behaviors/endless_loop.lua"})
 local hog = world.spawn("superbot", {at = {1, 0, 1}, behavior = "../behaviors/memory_hog.lua"})
 local ok = world.spawn("superbot", {at = {2, 0, 1}, behavior = "behaviors/hold.lua"})

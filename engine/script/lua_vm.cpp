@@ -54,6 +54,30 @@ int safeSetmetatable(lua_State* L) {
   return 1;
 }
 
+/// xpcall's message handler, guarded: an error raised by our hook (budget, watchdog, memory)
+/// leaves Lua's hooks switched off while the handler runs, so the script's handler could loop
+/// unbounded. While the VM is aborting the handler is skipped and the message passes through.
+int guardedHandler(lua_State* L) {
+  if (LuaVm::from(L)->aborting()) return 1;
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, 1);
+  return 1;
+}
+
+int xpcallContinue(lua_State* L, int, lua_KContext) { return lua_gettop(L); }
+
+int safeXpcall(lua_State* L) {
+  luaL_checktype(L, 2, LUA_TFUNCTION);
+  lua_pushvalue(L, 2);
+  lua_pushcclosure(L, guardedHandler, 1);
+  lua_replace(L, 2);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_callk(L, lua_gettop(L) - 1, LUA_MULTRET, 0, xpcallContinue);
+  return lua_gettop(L);
+}
+
 /// string.rep with the result's size checked against the memory cap before it is built.
 int safeRep(lua_State* L) {
   size_t len = 0, seplen = 0;
@@ -172,38 +196,57 @@ int LuaVm::panic(lua_State* L) {
   std::abort();
 }
 
-void LuaVm::raiseAbort(lua_State* L) {
-  // Keep raising on every instruction of whatever runs next until the host has control again.
-  lua_sethook(L, &LuaVm::hook, LUA_MASKCOUNT, 1);
-  LuaVm* vm = from(L);
-  switch (vm->m_abort) {
+std::string LuaVm::abortMessage() const {
+  char buf[256];
+  switch (m_abort) {
     case Abort::Watchdog: {
-      const char* what = vm->m_what.load(std::memory_order_relaxed);
-      luaL_error(L, "watchdog: %s did not return within %g s", what ? what : "the call",
-                 vm->m_interruptSeconds.load(std::memory_order_relaxed));
+      const char* what = m_what.load(std::memory_order_relaxed);
+      std::snprintf(buf, sizeof buf, "watchdog: %s did not return within %g s", what ? what : "the call",
+                    m_interruptSeconds.load(std::memory_order_relaxed));
       break;
     }
     case Abort::Memory:
-      luaL_error(L, "out of memory: the %s's memory cap is %d MiB", vm->m_owner.c_str(), int((vm->m_limit + (1 << 19)) >> 20));
+      std::snprintf(buf, sizeof buf, "out of memory: the %s's memory cap is %d MiB", m_owner.c_str(), int((m_limit + (1 << 19)) >> 20));
       break;
     default:
-      if (vm->m_abortWhat)
-        luaL_error(L, "instruction budget exceeded in %s (over %I instructions' worth in one call; a pattern that backtracks too much?)",
-                   vm->m_abortWhat, lua_Integer(vm->m_budget));
-      luaL_error(L, "instruction budget exceeded (over %I instructions in one call; an endless loop?)", lua_Integer(vm->m_budget));
+      if (m_abortWhat)
+        std::snprintf(buf, sizeof buf,
+                      "instruction budget exceeded in %s (over %lld instructions' worth in one call; a pattern that backtracks too much?)",
+                      m_abortWhat, static_cast<long long>(m_budget));
+      else
+        std::snprintf(buf, sizeof buf, "instruction budget exceeded (over %lld instructions in one call; an endless loop?)",
+                      static_cast<long long>(m_budget));
   }
-  std::abort();  // luaL_error does not return
+  return buf;
+}
+
+void LuaVm::raiseAbort(lua_State* L, int level) {
+  // Keep raising on every instruction of whatever runs next, in this thread and in the one the
+  // call started on, until the host has control again.
+  LuaVm* vm = from(L);
+  lua_sethook(L, &LuaVm::hook, LUA_MASKCOUNT, 1);
+  if (L != vm->m_L) lua_sethook(vm->m_L, &LuaVm::hook, LUA_MASKCOUNT, 1);
+  char buf[256];
+  {
+    const std::string msg = vm->abortMessage();
+    std::snprintf(buf, sizeof buf, "%s", msg.c_str());
+  }
+  luaL_where(L, level);
+  lua_pushstring(L, buf);
+  lua_concat(L, 2);
+  lua_error(L);
+  std::abort();  // lua_error does not return
 }
 
 void LuaVm::abort(lua_State* L, Abort why) {
   if (m_abort == Abort::None) m_abort = why;
-  raiseAbort(L);
+  raiseAbort(L, 0);
 }
 
 void LuaVm::hook(lua_State* L, lua_Debug*) {
   LuaVm* vm = from(L);
   if (vm->m_depth == 0) return;  // lua_close, host pushes
-  if (vm->m_abort != Abort::None) raiseAbort(L);
+  if (vm->m_abort != Abort::None) raiseAbort(L, 0);
   const int n = lua_gethookcount(L);
   vm->m_count += n;
   if (n != kHookInterval) lua_sethook(L, &LuaVm::hook, LUA_MASKCOUNT, kHookInterval);
@@ -220,11 +263,11 @@ void LuaVm::charge(lua_State* L, int64_t n, const char* what) {
     if (vm->m_budget > 0 && vm->m_count > vm->m_budget) {
       vm->m_abort = Abort::Budget;
       vm->m_abortWhat = what;
-    }
-    else if (vm->m_interruptStamp.load(std::memory_order_relaxed) == vm->m_stamp.load(std::memory_order_relaxed))
+    } else if (vm->m_interruptStamp.load(std::memory_order_relaxed) == vm->m_stamp.load(std::memory_order_relaxed)) {
       vm->m_abort = Abort::Watchdog;
+    }
   }
-  if (vm->m_abort != Abort::None) raiseAbort(L);
+  if (vm->m_abort != Abort::None) raiseAbort(L, 1);
 }
 
 void LuaVm::interrupt(uint64_t stamp, double seconds) {
@@ -286,6 +329,9 @@ int openSandboxProtected(lua_State* L) {
   lua_getglobal(L, "setmetatable");
   lua_pushcclosure(L, safeSetmetatable, 1);
   lua_setglobal(L, "setmetatable");
+  lua_getglobal(L, "xpcall");
+  lua_pushcclosure(L, safeXpcall, 1);
+  lua_setglobal(L, "xpcall");
   lua_getglobal(L, "string");
   lua_getfield(L, -1, "rep");
   lua_pushcclosure(L, safeRep, 1);
@@ -375,6 +421,16 @@ bool LuaVm::call(int nargs, int nresults, std::string& err, const char* what) {
   if (m_depth == 0 && m_memArmed) lua_gc(m_L, LUA_GCCOLLECT);
   if (m_depth++ == 0) beginCall(what);
   const int status = lua_pcall(m_L, nargs, nresults, base);
+  // A limit tripped, but the error was swallowed on the way out (a coroutine that failed
+  // just before the call returned): the call still fails.
+  const bool aborted = m_depth == 1 && m_abort != Abort::None;
+  if (aborted && status == LUA_OK) {
+    err = abortMessage();
+    lua_settop(m_L, base - 1);
+    --m_depth;
+    endCall();
+    return false;
+  }
   if (--m_depth == 0) endCall();
   lua_remove(m_L, base);
   if (status != LUA_OK) {

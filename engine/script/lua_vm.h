@@ -92,6 +92,8 @@ class LuaVm {
   bool busy() const { return m_busy.load(std::memory_order_relaxed); }
   /// Asks the call identified by `stamp` to stop (no effect if it has returned meanwhile).
   void interrupt(uint64_t stamp, double seconds);
+  /// A limit tripped in the current call (every further instruction raises).
+  bool aborting() const { return m_abort != Abort::None; }
   const char* currentCall() const { return m_what.load(std::memory_order_relaxed); }
 
  private:
@@ -100,7 +102,8 @@ class LuaVm {
   static int require(lua_State* L);
   static int panic(lua_State* L);
   static void hook(lua_State* L, lua_Debug* ar);
-  [[noreturn]] static void raiseAbort(lua_State* L);
+  [[noreturn]] static void raiseAbort(lua_State* L, int level);
+  std::string abortMessage() const;
   void abort(lua_State* L, Abort why);
   void openSandbox();
   void beginCall(const char* what);

@@ -252,3 +252,26 @@ TEST_CASE("unread messages count against the mailbox limit; the overflow is repo
   CHECK(box.accept(message(), 10000) == A::Ok);  // room again after a read
   CHECK(box.bytes <= 10000);
 }
+
+#include "../test_world.h"
+#include "core/error.h"
+
+TEST_CASE("the world VM has a memory cap and a watchdog too") {
+  rm3d::RunOptions o = rm3d::test::options();
+  o.worldMemoryLimit = 8u << 20;
+  try {
+    rm3d::test::makeWorld("local t = {}\nfor i = 1, 1e8 do t[i] = {i} end", o);
+    CHECK(false);
+  } catch (const rm3d::InputError& e) {
+    CHECK(has(e.what(), "test_world.lua:2: out of memory: the world script's memory cap is 8 MiB"));
+  }
+  o = rm3d::test::options();
+  o.watchdogSeconds = 0.3;
+  o.worldBudget = 0;  // only the watchdog can stop it
+  try {
+    rm3d::test::makeWorld("local x = 0\nwhile true do x = x + 1 end", o);
+    CHECK(false);
+  } catch (const rm3d::InputError& e) {
+    CHECK(has(e.what(), "test_world.lua:2: watchdog: the world script's top level did not return within 0.3 s"));
+  }
+}

@@ -16,6 +16,7 @@ struct Message {
   double time = 0;   ///< sim time it was sent
   int64_t due = 0;   ///< step at whose start it becomes readable
   LuaValue data;
+  size_t bytes = 0;  ///< luaValueSize(data), counted against the receiver's mailbox limit
 };
 
 /// One module's message queues. The outbox is written only by the module's own behaviour
@@ -25,6 +26,24 @@ struct Mailbox {
   std::vector<Message> pending;  ///< routed to this module, in flight, in routing order
   std::deque<Message> inbox;     ///< readable now, oldest first
   size_t sent = 0, received = 0, dropped = 0;
+  size_t bytes = 0;           ///< unread bytes (pending + inbox)
+  bool overflowed = false;    ///< a message was dropped for lack of room (reported once)
+
+  enum class Accept { Ok, Dropped, FirstDrop };
+  /// Routes a message towards this module, unless its unread messages would exceed `limit`
+  /// bytes (0: no limit): then it is dropped (FirstDrop the first time, to be reported once).
+  Accept accept(Message&& msg, size_t limit) {
+    msg.bytes = luaValueSize(msg.data);
+    if (limit && bytes + msg.bytes > limit) {
+      ++dropped;
+      if (overflowed) return Accept::Dropped;
+      overflowed = true;
+      return Accept::FirstDrop;
+    }
+    bytes += msg.bytes;
+    pending.push_back(std::move(msg));
+    return Accept::Ok;
+  }
 
   /// Step phase 1: messages due by `step` become readable, keeping their order.
   void deliver(int64_t step) {
@@ -46,6 +65,7 @@ struct Mailbox {
       if (dock < 0 || it->dock == dock) {
         out = std::move(*it);
         inbox.erase(it);
+        bytes -= std::min(bytes, out.bytes);
         ++received;
         return true;
       }
@@ -54,6 +74,8 @@ struct Mailbox {
   /// Drops messages still in flight towards `dock` (its connection is gone); returns how many.
   size_t dropInFlight(int dock) {
     const size_t before = pending.size();
+    for (const Message& m : pending)
+      if (m.dock == dock) bytes -= std::min(bytes, m.bytes);
     pending.erase(std::remove_if(pending.begin(), pending.end(), [dock](const Message& m) { return m.dock == dock; }),
                   pending.end());
     dropped += before - pending.size();

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "script/bindings.h"
+#include "script/watchdog.h"
 
 namespace fs = std::filesystem;
 
@@ -18,6 +19,8 @@ Behaviour::Behaviour(const RunOptions& options, ModuleHandle module)
   m_vm.setUser(&m_ctx);
   m_vm.setDisplayRoot(options.projectRoot);
   m_vm.setInstructionBudget(options.behaviourBudget);
+  m_vm.setName("module " + module.self().name);
+  m_vm.setWatchdog(module.world().watchdog());
   openModuleApi(m_vm.L(), m_ctx);
 }
 
@@ -30,8 +33,7 @@ bool Behaviour::load(const std::string& path, std::string& err) {
   if (!m_vm.runFile(path, 0, err)) return false;
   // Check the percept and action declarations now, so a misspelt sensor is a load error.
   if (!checkDeclarations(path, err)) return false;
-  refreshCallbacks();
-  return true;
+  return refreshCallbacks(err);
 }
 
 namespace {
@@ -62,6 +64,46 @@ int lazyPerceptCall(lua_State* L) {
   lua_insert(L, 1);
   lua_call(L, nargs, LUA_MULTRET);
   return lua_gettop(L);
+}
+
+/// Protected: loads the percept machinery and runs module.__check().
+int checkPercepts(lua_State* L) {
+  requirePrelude(L);
+  lua_getglobal(L, "module");
+  lua_getfield(L, -1, "__check");
+  lua_call(L, 0, 0);
+  return 0;
+}
+
+/// Protected: module.__describe() if the percept machinery is loaded, else nil.
+int describeModule(lua_State* L) {
+  lua_getglobal(L, "module");
+  if (!lua_istable(L, -1)) return 0;
+  lua_getfield(L, -1, "__describe");
+  if (!lua_isfunction(L, -1)) return 0;
+  lua_call(L, 0, 1);
+  return 1;
+}
+
+/// Protected: the callbacks are looked up raw in _G (a behaviour's own _G metatable, e.g. a
+/// strict mode that errors on unknown names, is not consulted) and held as references.
+int refreshCallbackRefs(lua_State* L) {
+  auto* ctx = static_cast<BehaviourContext*>(lua_touserdata(L, 1));
+  struct Slot {
+    const char* name;
+    int* ref;
+  };
+  lua_pushglobaltable(L);
+  const int g = lua_gettop(L);
+  for (Slot s : {Slot{"step", &ctx->stepRef}, Slot{"init", &ctx->initRef}, Slot{"on_dock", &ctx->onDockRef},
+                 Slot{"on_reload", &ctx->onReloadRef}}) {
+    luaL_unref(L, LUA_REGISTRYINDEX, *s.ref);
+    *s.ref = LUA_NOREF;
+    lua_pushstring(L, s.name);
+    if (lua_rawget(L, g) == LUA_TFUNCTION) *s.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    else lua_pop(L, 1);
+  }
+  return 0;
 }
 
 }  // namespace
@@ -96,16 +138,20 @@ bool Behaviour::checkDeclarations(const std::string& path, std::string& err) {
   declared = lua_rawget(L, top + 1) != LUA_TNIL || declared;
   lua_settop(L, top);
   if (!declared) return true;
-  lua_pushcfunction(L, requirePrelude);
-  if (!m_vm.call(0, 0, err)) return false;
-  lua_getglobal(L, "module");
-  lua_getfield(L, -1, "__check");
-  lua_remove(L, -2);
-  if (!m_vm.call(0, 0, err)) {
+  if (!m_vm.protect(checkPercepts, nullptr, 0, err, "the percept check")) {
     err = locateDeclaration(path, err);
     return false;
   }
   return true;
+}
+
+std::string Behaviour::describePercepts() {
+  std::string err;
+  if (!m_vm.protect(describeModule, nullptr, 1, err, "module.__describe()")) return "(" + err + ")";
+  lua_State* L = m_vm.L();
+  std::string out = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+  lua_pop(L, 1);
+  return out;
 }
 
 std::string Behaviour::locateDeclaration(const std::string& path, const std::string& err) const {
@@ -140,18 +186,8 @@ std::string Behaviour::locateDeclaration(const std::string& path, const std::str
   return where + ": " + err;
 }
 
-void Behaviour::refreshCallbacks() {
-  lua_State* L = m_vm.L();
-  struct Slot {
-    const char* name;
-    int* ref;
-  };
-  for (Slot s : {Slot{"step", &m_ctx.stepRef}, Slot{"init", &m_ctx.initRef}, Slot{"on_dock", &m_ctx.onDockRef},
-                 Slot{"on_reload", &m_ctx.onReloadRef}}) {
-    luaL_unref(L, LUA_REGISTRYINDEX, *s.ref);
-    lua_getglobal(L, s.name);
-    *s.ref = lua_isfunction(L, -1) ? luaL_ref(L, LUA_REGISTRYINDEX) : (lua_pop(L, 1), LUA_NOREF);
-  }
+bool Behaviour::refreshCallbacks(std::string& err) {
+  return m_vm.protect(refreshCallbackRefs, &m_ctx, 0, err, "the callback look-up");
 }
 
 bool Behaviour::reload(const std::string& path, const std::string& source, std::string& err) {
@@ -178,7 +214,7 @@ bool Behaviour::reload(const std::string& path, const std::string& source, std::
   // Lua modules are required afresh, so edits in lua/ arrive too.
   lua_newtable(L);
   lua_setfield(L, LUA_REGISTRYINDEX, "rm3d.loaded");
-  if (!m_vm.call(0, 0, err)) {
+  if (!m_vm.call(0, 0, err, "the reloaded script's top level")) {
     lua_settop(L, top);
     return false;
   }
@@ -192,11 +228,10 @@ bool Behaviour::reload(const std::string& path, const std::string& source, std::
     lua_rawset(L, envIndex + 1);
   }
   lua_settop(L, top);
-  if (!checkDeclarations(path, err)) return false;
-  refreshCallbacks();
+  if (!checkDeclarations(path, err) || !refreshCallbacks(err)) return false;
   if (m_ctx.onReloadRef != LUA_NOREF) {
     lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.onReloadRef);
-    if (!m_vm.call(0, 0, err)) return false;
+    if (!m_vm.call(0, 0, err, "on_reload()")) return false;
   }
   return true;
 }
@@ -204,9 +239,8 @@ bool Behaviour::reload(const std::string& path, const std::string& source, std::
 bool Behaviour::callInit(std::string& err) {
   if (m_ctx.initRef == LUA_NOREF) return true;
   lua_rawgeti(m_vm.L(), LUA_REGISTRYINDEX, m_ctx.initRef);
-  if (!m_vm.call(0, 0, err)) return false;
-  refreshCallbacks();  // init may define step
-  return true;
+  if (!m_vm.call(0, 0, err, "init()")) return false;
+  return refreshCallbacks(err);  // init may define step
 }
 
 bool Behaviour::callOnDock(int dock, const char* event, std::string& err) {
@@ -217,7 +251,7 @@ bool Behaviour::callOnDock(int dock, const char* event, std::string& err) {
   lua_getfield(L, -1, m_ctx.module.self().type->docks[size_t(dock)].name.c_str());
   lua_remove(L, -2);
   lua_pushstring(L, event);
-  return m_vm.call(2, 0, err);
+  return m_vm.call(2, 0, err, "on_dock()");
 }
 
 bool Behaviour::callStep(double dt, std::string& err) {
@@ -225,7 +259,7 @@ bool Behaviour::callStep(double dt, std::string& err) {
   lua_State* L = m_vm.L();
   lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.stepRef);
   lua_pushnumber(L, dt);
-  return m_vm.call(1, 0, err);
+  return m_vm.call(1, 0, err, "step()");
 }
 
 }  // namespace rm3d

@@ -37,9 +37,11 @@ class Behaviour {
   /// on_reload(). On failure (syntax or run-time error) nothing changes; err has file:line.
   bool reload(const std::string& path, const std::string& source, std::string& err);
   LuaVm& vm() { return m_vm; }
+  /// module.__describe() (what the percept machinery declares), or "" / "(error)".
+  std::string describePercepts();
 
  private:
-  void refreshCallbacks();
+  bool refreshCallbacks(std::string& err);
   void installLazyPrelude();
   /// Loads the percept machinery and checks `percepts`/`actions` if the behaviour declares any.
   bool checkDeclarations(const std::string& path, std::string& err);

@@ -195,7 +195,7 @@ int worldSpawn(lua_State* L) {
     if (name) def.name = name;
     if (behaviour) def.behaviour = behaviour;
     std::string err;
-    if (paramsType == LUA_TTABLE && !readLuaValue(L, -1, def.params, 0, err)) throw InputError("params: " + err);
+    if (paramsType == LUA_TTABLE && !readLuaValue(L, -1, def.params, kParamsLimit, err)) throw InputError("params: " + err);
     for (const Module& m : world(L).modules())
       if (!def.name.empty() && m.name == def.name) throw InputError("a module named '" + def.name + "' exists already");
     pushModule(L, world(L).spawn(def));

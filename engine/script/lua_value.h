@@ -13,6 +13,9 @@ struct lua_State;
 
 namespace rm3d {
 
+/// Largest spawn `params` value (bytes as luaValueSize counts them).
+inline constexpr size_t kParamsLimit = 4u << 20;
+
 struct LuaValue {
   enum class Type : uint8_t { Nil, Boolean, Integer, Number, String, Table };
   Type type = Type::Nil;

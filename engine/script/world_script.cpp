@@ -8,14 +8,18 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "script/watchdog.h"
 #include "world/world.h"
 
 namespace fs = std::filesystem;
 
 namespace rm3d {
 
-WorldScript::WorldScript(World& world) : m_world(world) {
+WorldScript::WorldScript(World& world) : m_world(world), m_vm(world.options().worldMemoryLimit) {
   m_vm.setUser(this);
+  m_vm.setOwnerLabel("world script");
+  m_vm.setName("the world script");
+  m_vm.setWatchdog(world.watchdog());
   m_vm.setDisplayRoot(world.options().projectRoot);
   m_vm.setInstructionBudget(world.options().worldBudget);
   openWorldApi(m_vm.L(), *this);
@@ -38,11 +42,12 @@ void WorldScript::runString(const std::string& source, const std::string& chunkN
   std::string err;
   const std::string chunk = "@" + chunkName;
   if (luaL_loadbufferx(L, source.data(), source.size(), chunk.c_str(), "t") != LUA_OK) {
-    err = lua_tostring(L, -1);
+    err = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "cannot load " + chunkName;
+    makeValidUtf8(err);
     lua_pop(L, 1);
     throw InputError(err);
   }
-  if (!m_vm.call(0, 0, err)) throw InputError(err);
+  if (!m_vm.call(0, 0, err, "the world script's top level")) throw InputError(err);
 }
 
 bool WorldScript::afterStep(double t, std::string& err) {
@@ -52,7 +57,7 @@ bool WorldScript::afterStep(double t, std::string& err) {
   for (size_t i = 0; i < onStep.size(); ++i) {
     lua_rawgeti(L, LUA_REGISTRYINDEX, onStep[i]);
     lua_pushnumber(L, t);
-    if (!m_vm.call(1, 0, err)) return false;
+    if (!m_vm.call(1, 0, err, "a world.on_step hook")) return false;
   }
   for (size_t i = 0; i < timed.size(); ++i) {
     // Index, not reference: a hook may add hooks and grow the vector.
@@ -66,7 +71,7 @@ bool WorldScript::afterStep(double t, std::string& err) {
     }
     lua_rawgeti(L, LUA_REGISTRYINDEX, ref);
     lua_pushnumber(L, t);
-    if (!m_vm.call(1, 0, err)) return false;
+    if (!m_vm.call(1, 0, err, timed[i].period > 0 ? "a world.every hook" : "a world.at hook")) return false;
   }
   return true;
 }

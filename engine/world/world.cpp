@@ -18,6 +18,7 @@
 
 #include <lua.hpp>
 #include "script/module_type_loader.h"
+#include "script/watchdog.h"
 #include "script/world_script.h"
 #include "world/behaviour_pool.h"
 #include "world/module_handle.h"
@@ -84,6 +85,7 @@ void prepareType(ModuleTypeDef& t) {
 World::World(RunOptions options) : m_options(std::move(options)) {
   if (m_options.seed) m_settings.seed = *m_options.seed;
   m_pool = std::make_unique<BehaviourPool>(std::max(1, m_options.threads), std::max(1, m_options.chunkSize));
+  if (m_options.watchdogSeconds > 0) m_watchdog = std::make_unique<Watchdog>(m_options.watchdogSeconds);
 }
 
 World::~World() {
@@ -513,7 +515,9 @@ void World::routeMessages() {
       }
       msg.dock = d.peerDock;
       msg.due = m_steps + 1 + m_channel.delay;
-      m_mailboxes[size_t(d.peerModule)].pending.push_back(std::move(msg));
+      if (m_mailboxes[size_t(d.peerModule)].accept(std::move(msg), m_options.mailboxLimit) == Mailbox::Accept::FirstDrop)
+        m_modules[size_t(d.peerModule)].log.push_back("messages dropped: over " + std::to_string(m_options.mailboxLimit >> 20) +
+                                                      " MiB of unread messages (read them with module.receive)");
     }
     box.outbox.resize(kept);
   }
@@ -897,19 +901,7 @@ std::vector<std::string> World::watchedFiles() const {
 std::string World::describePercepts(int module) {
   Behaviour* b = m_behaviours[size_t(module)].get();
   if (!b) return {};
-  lua_State* L = b->vm().L();
-  lua_getglobal(L, "module");
-  lua_getfield(L, -1, "__describe");
-  lua_remove(L, -2);
-  std::string err;
-  if (!lua_isfunction(L, -1)) {
-    lua_pop(L, 1);
-    return {};
-  }
-  if (!b->vm().call(0, 1, err)) return "(" + err + ")";
-  std::string out = lua_isstring(L, -1) ? lua_tostring(L, -1) : "";
-  lua_pop(L, 1);
-  return out;
+  return b->describePercepts();
 }
 
 int World::reloadFile(const std::string& path, std::vector<std::string>& errors) {

@@ -30,6 +30,7 @@ class Behaviour;
 class WorldScript;
 class BehaviourPool;
 class ModuleHandle;
+class Watchdog;
 
 /// How to run: what the command line or a test gives.
 struct RunOptions {
@@ -42,9 +43,11 @@ struct RunOptions {
   size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
   int64_t behaviourBudget = 10'000'000;      ///< Lua instructions per callback
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
+  size_t worldMemoryLimit = 256u << 20;       ///< bytes for the world VM
+  size_t mailboxLimit = 8u << 20;             ///< bytes of unread messages per module; more are dropped
+  double watchdogSeconds = 5;                 ///< wall-clock limit on one call into a VM (0: none)
   bool echoLog = true;                        ///< print module log lines to stderr
   bool keepHistory = false;                   ///< keep recent log lines and messages per module (viewer)
-  double watchdogSeconds = 5;                 ///< --watchdog S
 };
 
 /// world.set{...}: fixed before the first step.
@@ -181,6 +184,8 @@ class World {
   int64_t steps() const { return m_steps; }
   const WorldSettings& settings() const { return m_settings; }
   const RunOptions& options() const { return m_options; }
+  /// Limits calls into this world's VMs to watchdogSeconds (nullptr when off).
+  Watchdog* watchdog() const { return m_watchdog.get(); }
   const std::vector<Module>& modules() const { return m_modules; }
   const Module& module(int i) const { return m_modules[size_t(i)]; }
   const std::vector<Failure>& failures() const { return m_failures; }
@@ -323,6 +328,7 @@ class World {
   std::vector<int> componentOf(int m) const;
 
   RunOptions m_options;
+  std::unique_ptr<Watchdog> m_watchdog;  ///< outlives the VMs (declared before them)
   WorldSettings m_settings;
   std::string m_worldFile;
   std::unique_ptr<PhysicsWorld> m_physics;

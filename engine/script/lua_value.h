@@ -24,7 +24,21 @@ struct LuaValue {
   double number = 0;
   std::string string;
   std::vector<std::pair<LuaValue, LuaValue>> table;  ///< keys sorted: copies are deterministic
+
+  // Declared here and defaulted below, with the exception specification spelled out: clang
+  // (with libstdc++) cannot deduce it for this recursive type and rejects the implicit ones.
+  LuaValue() = default;
+  LuaValue(const LuaValue&);
+  LuaValue(LuaValue&&) noexcept;
+  LuaValue& operator=(const LuaValue&);
+  LuaValue& operator=(LuaValue&&) noexcept;
+  ~LuaValue();
 };
+inline LuaValue::LuaValue(const LuaValue&) = default;
+inline LuaValue::LuaValue(LuaValue&&) noexcept = default;
+inline LuaValue& LuaValue::operator=(const LuaValue&) = default;
+inline LuaValue& LuaValue::operator=(LuaValue&&) noexcept = default;
+inline LuaValue::~LuaValue() = default;
 
 /// Copies the value at idx. On failure returns false and sets err (e.g. "a function at
 /// key 'f' cannot be copied"). `limit` bounds the copied size in bytes (0: none). Never raises.

@@ -7,7 +7,7 @@
 #include <deque>
 #include <vector>
 
-#include "script/lua_value.h"
+#include "messaging/value.h"
 
 namespace rm3d {
 
@@ -15,8 +15,8 @@ struct Message {
   int dock = -1;     ///< sending dock in an outbox; receiving dock once routed
   double time = 0;   ///< sim time it was sent
   int64_t due = 0;   ///< step at whose start it becomes readable
-  LuaValue data;
-  size_t bytes = 0;  ///< luaValueSize(data), counted against the receiver's mailbox limit
+  Value data;
+  size_t bytes = 0;  ///< valueSize(data), counted against the receiver's mailbox limit
 };
 
 /// One module's message queues. The outbox is written only by the module's own behaviour
@@ -33,7 +33,7 @@ struct Mailbox {
   /// Routes a message towards this module, unless its unread messages would exceed `limit`
   /// bytes (0: no limit): then it is dropped (FirstDrop the first time, to be reported once).
   Accept accept(Message&& msg, size_t limit) {
-    msg.bytes = luaValueSize(msg.data);
+    msg.bytes = valueSize(msg.data);
     if (limit && bytes + msg.bytes > limit) {
       ++dropped;
       if (overflowed) return Accept::Dropped;

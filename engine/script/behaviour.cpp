@@ -14,13 +14,13 @@ namespace fs = std::filesystem;
 
 namespace rm3d {
 
-Behaviour::Behaviour(const RunOptions& options, ModuleHandle module)
+Behaviour::Behaviour(const RunOptions& options, ModuleHandle module, Watchdog* watchdog)
     : m_vm(options.vmMemoryLimit), m_ctx{module} {
   m_vm.setUser(&m_ctx);
   m_vm.setDisplayRoot(options.projectRoot);
   m_vm.setInstructionBudget(options.behaviourBudget);
   m_vm.setName("module " + module.self().name);
-  m_vm.setWatchdog(module.world().watchdog());
+  m_vm.setWatchdog(watchdog);
   openModuleApi(m_vm.L(), m_ctx);
 }
 
@@ -236,14 +236,14 @@ bool Behaviour::reload(const std::string& path, const std::string& source, std::
   return true;
 }
 
-bool Behaviour::callInit(std::string& err) {
+bool Behaviour::init(std::string& err) {
   if (m_ctx.initRef == LUA_NOREF) return true;
   lua_rawgeti(m_vm.L(), LUA_REGISTRYINDEX, m_ctx.initRef);
   if (!m_vm.call(0, 0, err, "init()")) return false;
   return refreshCallbacks(err);  // init may define step
 }
 
-bool Behaviour::callOnDock(int dock, const char* event, std::string& err) {
+bool Behaviour::onDock(int dock, const char* event, std::string& err) {
   if (m_ctx.onDockRef == LUA_NOREF) return true;
   lua_State* L = m_vm.L();
   lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.onDockRef);
@@ -254,7 +254,7 @@ bool Behaviour::callOnDock(int dock, const char* event, std::string& err) {
   return m_vm.call(2, 0, err, "on_dock()");
 }
 
-bool Behaviour::callStep(double dt, std::string& err) {
+bool Behaviour::step(double dt, std::string& err) {
   if (m_ctx.stepRef == LUA_NOREF) return true;
   lua_State* L = m_vm.L();
   lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.stepRef);

@@ -8,6 +8,7 @@
 
 #include "script/lua_vm.h"
 #include "world/module_handle.h"
+#include "world/programs.h"
 
 namespace rm3d {
 
@@ -23,22 +24,25 @@ struct BehaviourContext {
   const void* dockMeta = nullptr;
 };
 
-class Behaviour {
+class Watchdog;
+
+class Behaviour : public ModuleProgram {
  public:
-  Behaviour(const RunOptions& options, ModuleHandle module);
+  /// watchdog: the world's (null: none).
+  Behaviour(const RunOptions& options, ModuleHandle module, Watchdog* watchdog);
   /// Loads and runs the behaviour file's top level. False and err on failure (the module faults).
   bool load(const std::string& path, std::string& err);
-  bool callInit(std::string& err);
-  bool callStep(double dt, std::string& err);
+  bool init(std::string& err) override;
+  bool step(double dt, std::string& err) override;
   /// on_dock(dock, event) if the behaviour defines it.
-  bool callOnDock(int dock, const char* event, std::string& err);
+  bool onDock(int dock, const char* event, std::string& err) override;
   /// Hot reload: runs new source for the behaviour in a scratch environment and, only if that
   /// succeeds, makes its definitions current (globals such as `state` survive) and calls
   /// on_reload(). On failure (syntax or run-time error) nothing changes; err has file:line.
-  bool reload(const std::string& path, const std::string& source, std::string& err);
+  bool reload(const std::string& path, const std::string& source, std::string& err) override;
   LuaVm& vm() { return m_vm; }
   /// module.__describe() (what the percept machinery declares), or "" / "(error)".
-  std::string describePercepts();
+  std::string describePercepts() override;
 
  private:
   bool refreshCallbacks(std::string& err);

@@ -1,6 +1,7 @@
 // Dock: module.dock(name) -> userdata {index}; state queries, enable/disable, send.
 #include <lua.hpp>
 
+#include "script/lua_value.h"
 #include "script/behaviour.h"
 #include "script/bindings.h"
 #include "world/world.h"

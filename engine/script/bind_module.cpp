@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "script/lua_value.h"
 #include "script/behaviour.h"
 #include "script/bindings.h"
 #include "script/lua_options.h"
@@ -96,7 +97,7 @@ int moduleReceive(lua_State* L) {
     Module& me = self(L);
     char head[64];
     std::snprintf(head, sizeof head, "%.2f %s: ", msg.time, me.type->docks[size_t(msg.dock)].name.c_str());
-    me.recentMessages.push_back(head + luaValueToJson(msg.data).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    me.recentMessages.push_back(head + valueToJson(msg.data).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     if (me.recentMessages.size() > 20) me.recentMessages.pop_front();
   }
   lua_createtable(L, 0, 3);

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "docking/dock_frame.h"
+#include "script/lua_value.h"
 #include "script/bindings.h"
 #include "script/lua_options.h"
 #include "script/world_handles.h"

@@ -135,32 +135,4 @@ void pushLuaValue(lua_State* L, const LuaValue& v) {
   }
 }
 
-size_t luaValueSize(const LuaValue& v) {
-  size_t s = 16 + v.string.size();
-  for (const auto& [k, val] : v.table) s += luaValueSize(k) + luaValueSize(val);
-  return s;
-}
-
-nlohmann::json luaValueToJson(const LuaValue& v) {
-  switch (v.type) {
-    case LuaValue::Type::Nil: return nullptr;
-    case LuaValue::Type::Boolean: return v.boolean;
-    case LuaValue::Type::Integer: return v.integer;
-    case LuaValue::Type::Number: return v.number;
-    case LuaValue::Type::String: return v.string;
-    case LuaValue::Type::Table: {
-      bool isArray = true;
-      for (size_t i = 0; i < v.table.size(); ++i)
-        if (v.table[i].first.type != LuaValue::Type::Integer || v.table[i].first.integer != int64_t(i + 1)) isArray = false;
-      nlohmann::json j = isArray && !v.table.empty() ? nlohmann::json::array() : nlohmann::json::object();
-      for (const auto& [k, val] : v.table) {
-        if (isArray) j.push_back(luaValueToJson(val));
-        else j[k.type == LuaValue::Type::String ? k.string : nlohmann::json(luaValueToJson(k)).dump()] = luaValueToJson(val);
-      }
-      return j;
-    }
-  }
-  return nullptr;
-}
-
 }  // namespace rm3d

@@ -157,14 +157,6 @@ void makeValidUtf8(std::string& s) {
   if (changed) s = std::move(out);
 }
 
-bool readTextFile(const std::string& path, std::string& out) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return false;
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  out = ss.str();
-  return !f.bad();
-}
 
 void* LuaVm::alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
   auto* vm = static_cast<LuaVm*>(ud);

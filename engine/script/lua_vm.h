@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include "core/text_file.h"
+
 struct lua_State;
 struct lua_Debug;
 
@@ -132,8 +134,6 @@ class LuaVm {
   std::string m_name;
 };
 
-/// Reads a file into a string; false if it cannot be read.
-bool readTextFile(const std::string& path, std::string& out);
 
 /// Replaces bytes that are not valid UTF-8 with '?' (fault texts end up in JSON and logs).
 void makeValidUtf8(std::string& s);

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "script/script_host.h"
 #include "script/watchdog.h"
 #include "world/world.h"
 
@@ -19,7 +20,7 @@ WorldScript::WorldScript(World& world) : m_world(world), m_vm(world.options().wo
   m_vm.setUser(this);
   m_vm.setOwnerLabel("world script");
   m_vm.setName("the world script");
-  m_vm.setWatchdog(world.watchdog());
+  m_vm.setWatchdog(scriptHostOf(world).watchdog());
   m_vm.setDisplayRoot(world.options().projectRoot);
   m_vm.setInstructionBudget(world.options().worldBudget);
   openWorldApi(m_vm.L(), *this);

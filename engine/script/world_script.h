@@ -7,19 +7,20 @@
 #include <vector>
 
 #include "script/lua_vm.h"
+#include "world/programs.h"
 
 namespace rm3d {
 
 class World;
 
-class WorldScript {
+class WorldScript : public WorldProgram {
  public:
   explicit WorldScript(World& world);
   /// Runs the script; throws InputError with file:line on any error.
   void runFile(const std::string& path);
   void runString(const std::string& source, const std::string& chunkName);
   /// Calls the hooks due at time t. False and err when a hook raised an error.
-  bool afterStep(double t, std::string& err);
+  bool afterStep(double t, std::string& err) override;
   /// Calls the world.on_end hooks (once; later calls do nothing). False and err on an error.
   bool atEnd(double t, std::string& err);
   /// One line per world.at / world.every hook that never ran ("file:line: world.at(2) never

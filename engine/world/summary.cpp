@@ -57,12 +57,12 @@ nlohmann::json World::summary(double wallSeconds) const {
   j["modules"] = mods;
   auto dockName = [&](int m, int d) { return m_modules[size_t(m)].type->docks[size_t(d)].name; };
   json conns = json::array();
-  for (const Connection& c : m_connections)
+  for (const Connection& c : connections())
     conns.push_back({m_modules[size_t(c.moduleA)].id, dockName(c.moduleA, c.dockA), m_modules[size_t(c.moduleB)].id,
                      dockName(c.moduleB, c.dockB)});
   j["connections"] = conns;
   json events = json::array();
-  for (const DockEvent& e : m_events) {
+  for (const DockEvent& e : World::events()) {
     json ej = {{"time", e.time},
                {"event", e.kind},
                {"module_a", m_modules[size_t(e.moduleA)].id},

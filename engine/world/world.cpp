@@ -12,14 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/text_file.h"
 #include "docking/dock_frame.h"
-#include "script/behaviour.h"
-#include "script/lua_vm.h"
-
-#include <lua.hpp>
-#include "script/module_type_loader.h"
-#include "script/watchdog.h"
-#include "script/world_script.h"
 #include "world/behaviour_pool.h"
 #include "world/module_handle.h"
 
@@ -85,27 +79,15 @@ void prepareType(ModuleTypeDef& t) {
 World::World(RunOptions options) : m_options(std::move(options)) {
   if (m_options.seed) m_settings.seed = *m_options.seed;
   m_pool = std::make_unique<BehaviourPool>(std::max(1, m_options.threads), std::max(1, m_options.chunkSize));
-  if (m_options.watchdogSeconds > 0) m_watchdog = std::make_unique<Watchdog>(m_options.watchdogSeconds);
 }
 
 World::~World() {
-  // Behaviour VMs and the world VM hold pointers into the world: close them first.
-  m_script.reset();
+  // The programs (VMs) hold pointers into the world: close them first, then their host.
+  m_program.reset();
   m_behaviours.clear();
+  m_host.reset();
 }
 
-void World::loadFile(const std::string& path) {
-  std::error_code ec;
-  m_worldFile = fs::absolute(path, ec).lexically_normal().string();
-  m_script = std::make_unique<WorldScript>(*this);
-  m_script->runFile(m_worldFile);
-}
-
-void World::loadString(const std::string& source, const std::string& chunkName) {
-  if (m_worldFile.empty()) m_worldFile = (fs::path(m_options.projectRoot) / "worlds" / "inline.lua").string();
-  m_script = std::make_unique<WorldScript>(*this);
-  m_script->runString(source, chunkName);
-}
 
 void World::setSettings(const WorldSettings& s) {
   m_settings = s;
@@ -168,11 +150,12 @@ std::string World::resolvePath(const std::string& path) const {
 const ModuleTypeDef& World::moduleType(const std::string& name) {
   auto it = m_types.find(name);
   if (it != m_types.end()) return *it->second;
+  if (!m_host) throw InputError("module type '" + name + "': module types are read by the script layer (load a world first)");
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".lua") == 0) {
     // A module-type file given by path (a variant kept next to a world, say).
     const std::string path = resolvePath(name);
     if (path.empty()) throw InputError("module type file '" + name + "' not found (looked in the world's folder and the project root)");
-    auto def = std::make_unique<ModuleTypeDef>(loadModuleType(path, m_options.projectRoot));
+    auto def = std::make_unique<ModuleTypeDef>(m_host->loadModuleType(path));
     prepareType(*def);
     const ModuleTypeDef& ref = *def;
     m_types.emplace(name, std::move(def));
@@ -193,7 +176,7 @@ const ModuleTypeDef& World::moduleType(const std::string& name) {
     for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
     throw InputError("unknown module type '" + name + "' (expected one of: " + known + ")");
   }
-  auto def = std::make_unique<ModuleTypeDef>(loadModuleType(file.string(), m_options.projectRoot));
+  auto def = std::make_unique<ModuleTypeDef>(m_host->loadModuleType(file.string()));
   prepareType(*def);
   const ModuleTypeDef& ref = *def;
   m_types.emplace(name, std::move(def));
@@ -259,137 +242,14 @@ int World::spawn(const SpawnDef& def) {
   m_mailboxes.emplace_back();
   m_behaviours.emplace_back();
   if (!behaviourPath.empty()) {
-    m_behaviours.back() = std::make_unique<Behaviour>(m_options, ModuleHandle(*this, index));
+    if (!m_host) throw InputError("behaviours are run by the script layer (load a world first)");
     std::string err;
-    if (!m_behaviours.back()->load(behaviourPath, err)) faultModule(index, err);
+    m_behaviours.back() = m_host->loadBehaviour(ModuleHandle(*this, index), behaviourPath, err);
+    if (!err.empty()) faultModule(index, err);
   }
   return index;
 }
 
-std::vector<int> World::componentOf(int m) const {
-  std::vector<int> out{m};
-  std::vector<char> seen(m_modules.size(), 0);
-  seen[size_t(m)] = 1;
-  for (size_t k = 0; k < out.size(); ++k)
-    for (const DockState& d : m_modules[size_t(out[k])].docks)
-      if (d.engaged && !seen[size_t(d.peerModule)]) {
-        seen[size_t(d.peerModule)] = 1;
-        out.push_back(d.peerModule);
-      }
-  return out;
-}
-
-void World::connect(int a, int da, int b, int db, int orientation) {
-  if (a == b) throw InputError("a module cannot dock to itself");
-  Module& ma = m_modules[size_t(a)];
-  Module& mb = m_modules[size_t(b)];
-  const DockDef& defA = ma.type->docks[size_t(da)];
-  const DockDef& defB = mb.type->docks[size_t(db)];
-  for (auto [m, d] : {std::pair<Module*, int>{&ma, da}, std::pair<Module*, int>{&mb, db}})
-    if (m->docks[size_t(d)].engaged)
-      throw InputError("dock '" + m->type->docks[size_t(d)].name + "' of " + m->name + " is already engaged");
-  if (!gendersMate(defA.gender, defB.gender))
-    throw InputError(std::string("a ") + genderName(defA.gender) + " dock cannot mate with a " +
-                     genderName(defB.gender) + " dock");
-  const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
-  if (orientation < 0 || orientation >= sym)
-    throw InputError("orientation must be 0.." + std::to_string(sym - 1) + ", got " + std::to_string(orientation));
-  const std::vector<int> comp = componentOf(b);
-  const DockError e = dockError(dockPose(a, da), dockPose(b, db));
-  const bool facing = e.gap <= 0.001 && e.angle <= 1.0 / kDegPerRad;
-  if (std::find(comp.begin(), comp.end(), a) != comp.end() && !facing) {
-    // Closing a loop: both docks are placed already; they must face each other.
-    throw InputError(ma.name + " and " + mb.name +
-                     " are already connected another way and these docks do not face each other (gap " +
-                     std::to_string(e.gap * 1000) + " mm, angle " + std::to_string(e.angle * kDegPerRad) +
-                     " deg; at most 1 mm and 1 deg)");
-  }
-  // Docks that already face each other are locked where they are (closing a loop, or modules
-  // placed by hand); otherwise b's side is moved so the faces mate exactly.
-  lock(a, da, b, db, orientation, !facing);
-}
-
-void World::lock(int a, int da, int b, int db, int orientation, bool snap) {
-  Module& ma = m_modules[size_t(a)];
-  Module& mb = m_modules[size_t(b)];
-  const DockDef& defA = ma.type->docks[size_t(da)];
-  const DockDef& defB = mb.type->docks[size_t(db)];
-  if (snap) {
-    // Move the side that is free to move (not holding a fixed module, not already joined to
-    // the other) so the two faces mate exactly.
-    std::vector<int> compB = componentOf(b), compA = componentOf(a);
-    const bool loop = std::find(compB.begin(), compB.end(), a) != compB.end();
-    auto holdsFixed = [&](const std::vector<int>& c) {
-      return std::any_of(c.begin(), c.end(), [&](int m) { return m_modules[size_t(m)].fixed; });
-    };
-    if (!loop) {
-      const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
-      if (!holdsFixed(compB)) {
-        const Pose delta = matingFrame(dockPose(a, da), orientation, sym) * dockPose(b, db).inverse();
-        std::vector<int> parts;
-        for (int m : compB)
-          for (int p : m_modules[size_t(m)].parts) parts.push_back(p);
-        m_physics->transformParts(parts, delta);
-      } else if (!holdsFixed(compA)) {
-        const Pose delta = matingFrame(dockPose(b, db), orientation, sym) * dockPose(a, da).inverse();
-        std::vector<int> parts;
-        for (int m : compA)
-          for (int p : m_modules[size_t(m)].parts) parts.push_back(p);
-        m_physics->transformParts(parts, delta);
-      }
-    }
-  }
-  m_physics->lockParts(ma.parts[size_t(defA.link)], mb.parts[size_t(defB.link)]);
-  ++m_topology;
-  for (auto [st, peer, peerDock] : {std::tuple{&ma.docks[size_t(da)], b, db}, std::tuple{&mb.docks[size_t(db)], a, da}}) {
-    st->engaged = true;
-    st->peerModule = peer;
-    st->peerDock = peerDock;
-    st->brokeFromModule = st->brokeFromDock = -1;
-  }
-  Connection c{a, da, b, db, m_time};
-  m_connections.push_back(c);
-  m_events.push_back({m_time, "engaged", a, da, b, db});
-  if (m_started) {
-    ma.dockEvents.emplace_back(da, "engaged");
-    mb.dockEvents.emplace_back(db, "engaged");
-  }
-}
-
-void World::release(size_t index, const char* kind, double force, double torque) {
-  const Connection c = std::move(m_connections[index]);
-  m_connections.erase(m_connections.begin() + std::ptrdiff_t(index));
-  Module& ma = m_modules[size_t(c.moduleA)];
-  Module& mb = m_modules[size_t(c.moduleB)];
-  m_physics->unlockParts(ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)],
-                         mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)]);
-  ++m_topology;
-  const bool broken = std::string_view(kind) == "broken";
-  ma.docks[size_t(c.dockA)].brokeFromModule = broken ? c.moduleB : -1;
-  ma.docks[size_t(c.dockA)].brokeFromDock = broken ? c.dockB : -1;
-  mb.docks[size_t(c.dockB)].brokeFromModule = broken ? c.moduleA : -1;
-  mb.docks[size_t(c.dockB)].brokeFromDock = broken ? c.dockA : -1;
-  for (auto [m, d] : {std::pair<Module*, int>{&ma, c.dockA}, std::pair<Module*, int>{&mb, c.dockB}}) {
-    DockState& st = m->docks[size_t(d)];
-    st.engaged = false;
-    st.peerModule = st.peerDock = -1;
-    m->dockEvents.emplace_back(d, kind);
-  }
-  m_mailboxes[size_t(c.moduleA)].dropInFlight(c.dockA);  // counted as dropped by the receiver
-  m_mailboxes[size_t(c.moduleB)].dropInFlight(c.dockB);
-  m_events.push_back({m_time, kind, c.moduleA, c.dockA, c.moduleB, c.dockB, force, torque});
-}
-
-bool World::disconnect(int m, int dock) {
-  for (size_t i = 0; i < m_connections.size(); ++i) {
-    const Connection& c = m_connections[i];
-    if ((c.moduleA == m && c.dockA == dock) || (c.moduleB == m && c.dockB == dock)) {
-      release(i, "disengaged", -1, -1);
-      return true;
-    }
-  }
-  return false;
-}
 
 void World::addFailure(const std::string& message) { m_failures.push_back({m_time, message}); }
 
@@ -406,14 +266,16 @@ void World::start() {
   if (m_started) return;
   ensurePhysics();
   m_started = true;
-  m_channelRng.seed(m_settings.seed, 0xC4A77E1ull);
+  m_router.seed(m_settings.seed);
+  double capture = 0.03;
   for (const auto& [name, type] : m_types)
-    for (const DockDef& d : type->docks) m_captureCell = std::max(m_captureCell, d.captureRadius);
+    for (const DockDef& d : type->docks) capture = std::max(capture, d.captureRadius);
+  m_docking.setCaptureCell(capture);
   for (size_t i = 0; i < m_modules.size(); ++i) {
-    Behaviour* b = m_behaviours[i].get();
+    ModuleProgram* b = m_behaviours[i].get();
     if (!b || !m_modules[i].fault.empty()) continue;
     std::string err;
-    if (!b->callInit(err)) faultModule(int(i), err);
+    if (!b->init(err)) faultModule(int(i), err);
   }
   reportModuleOutput();
 }
@@ -423,7 +285,7 @@ bool World::finished() const {
 }
 
 void World::runBehaviour(int i) {
-  Behaviour* b = m_behaviours[size_t(i)].get();
+  ModuleProgram* b = m_behaviours[size_t(i)].get();
   if (!b) {
     m_modules[size_t(i)].dockEvents.clear();
     return;
@@ -435,13 +297,13 @@ void World::runBehaviour(int i) {
   }
   std::string err;
   for (const auto& [dock, kind] : m.dockEvents)
-    if (!b->callOnDock(dock, kind, err)) {
+    if (!b->onDock(dock, kind, err)) {
       m.fault = err.empty() ? "fault" : err;
       m.dockEvents.clear();
       return;
     }
   m.dockEvents.clear();
-  if (!b->callStep(m_settings.dt, err)) m.fault = err.empty() ? "fault" : err;
+  if (!b->step(m_settings.dt, err)) m.fault = err.empty() ? "fault" : err;
 }
 
 void World::runBehaviours() {
@@ -488,248 +350,27 @@ void World::reportModuleOutput() {
   }
 }
 
-void World::routeMessages() {
-  for (size_t i = 0; i < m_mailboxes.size(); ++i) {
-    Mailbox& box = m_mailboxes[i];
-    if (box.outbox.empty()) continue;
-    const Module& m = m_modules[i];
-    if (m_channel.rate > 0) m_dockSent.assign(m.docks.size(), 0);
-    size_t kept = 0;
-    for (size_t k = 0; k < box.outbox.size(); ++k) {
-      Message& msg = box.outbox[k];
-      const DockState& d = m.docks[size_t(msg.dock)];
-      if (!d.engaged) {
-        ++box.dropped;
-        continue;
-      }
-      if (m_channel.rate > 0 && m_dockSent[size_t(msg.dock)]++ >= m_channel.rate) {
-        // Bandwidth: at most `rate` messages leave a dock per step; the rest wait, in order.
-        if (kept != k) box.outbox[kept] = std::move(msg);
-        ++kept;
-        continue;
-      }
-      ++box.sent;
-      if (m_channel.loss > 0 && m_channelRng.uniform() < m_channel.loss) {
-        ++m_lostMessages;
-        continue;
-      }
-      msg.dock = d.peerDock;
-      msg.due = m_steps + 1 + m_channel.delay;
-      if (m_mailboxes[size_t(d.peerModule)].accept(std::move(msg), m_options.mailboxLimit) == Mailbox::Accept::FirstDrop)
-        m_modules[size_t(d.peerModule)].log.push_back("messages dropped: over " + std::to_string(m_options.mailboxLimit >> 20) +
-                                                      " MiB of unread messages (read them with module.receive)");
-    }
-    box.outbox.resize(kept);
-  }
+
+
+
+void World::dropReleased() {
+  for (const auto& [module, dock] : m_docking.released()) m_mailboxes[size_t(module)].dropInFlight(dock);
+  m_docking.released().clear();
 }
 
-void World::undockPhase() {
-  for (size_t i = 0; i < m_connections.size();) {
-    const Connection& c = m_connections[i];
-    if (!m_modules[size_t(c.moduleA)].docks[size_t(c.dockA)].enabled ||
-        !m_modules[size_t(c.moduleB)].docks[size_t(c.dockB)].enabled)
-      release(i, "disengaged", -1, -1);
-    else
-      ++i;
-  }
+void World::connect(int a, int dockA, int b, int dockB, int orientation) {
+  ensurePhysics();
+  m_docking.connect(dockingScene(), a, dockA, b, dockB, orientation);
 }
 
-int World::bestOrientation(int a, int da, int b, int db) const {
-  const DockDef& defA = m_modules[size_t(a)].type->docks[size_t(da)];
-  const DockDef& defB = m_modules[size_t(b)].type->docks[size_t(db)];
-  const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
-  const Pose pa = dockPose(a, da), pb = dockPose(b, db);
-  int best = 0;
-  double bestAngle = 1e9;
-  for (int k = 0; k < sym; ++k) {
-    const Pose want = matingFrame(pa, k, sym);
-    const double ang = angleBetween(want.rot * Vec3::UnitZ(), pb.rot * Vec3::UnitZ());
-    if (ang < bestAngle) {
-      bestAngle = ang;
-      best = k;
-    }
-  }
-  return best;
-}
-
-void World::dockPhase() {
-  // Coarse pass: each module with a free dock is a box around its root link, as large as its
-  // docks can reach (ModuleTypeDef::dockReach); a sweep along x finds the boxes that overlap.
-  // Only those modules' docks are posed and searched below, so isolated modules cost one pose.
-  m_dockBoxes.clear();
-  for (size_t i = 0; i < m_modules.size(); ++i) {
-    const Module& m = m_modules[i];
-    bool anyFree = false;
-    for (const DockState& st : m.docks) anyFree |= st.enabled && !st.engaged;
-    if (!anyFree) continue;
-    const Vec3 c = modulePose(int(i)).pos;
-    const Vec3 r = Vec3::Constant(m.type->dockReach);
-    m_dockBoxes.push_back({c - r, c + r, i, false});
-  }
-  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(), [](const DockBox& a, const DockBox& b) {
-    return a.lo.x() < b.lo.x() || (a.lo.x() == b.lo.x() && a.module < b.module);
-  });
-  for (size_t a = 0; a < m_dockBoxes.size(); ++a)
-    for (size_t b = a + 1; b < m_dockBoxes.size() && m_dockBoxes[b].lo.x() <= m_dockBoxes[a].hi.x(); ++b) {
-      DockBox& ba = m_dockBoxes[a];
-      DockBox& bb = m_dockBoxes[b];
-      if (ba.lo.y() <= bb.hi.y() && bb.lo.y() <= ba.hi.y() && ba.lo.z() <= bb.hi.z() && bb.lo.z() <= ba.hi.z())
-        ba.near = bb.near = true;
-    }
-  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(), [](const DockBox& a, const DockBox& b) { return a.module < b.module; });
-  // Fine pass: the free docks of modules near another, hashed into cells.
-  m_freeDocks.clear();
-  for (const DockBox& box : m_dockBoxes) {
-    const int i = int(box.module);
-    Module& m = m_modules[box.module];
-    if (!box.near) {  // nothing within reach: any broken partner is far away by now
-      for (DockState& st : m.docks) st.brokeFromModule = st.brokeFromDock = -1;
-      continue;
-    }
-    m_linkPoseValid.assign(m.type->links.size(), 0);
-    if (m_linkPoses.size() < m.type->links.size()) m_linkPoses.resize(m.type->links.size());
-    for (size_t d = 0; d < m.docks.size(); ++d) {
-      DockState& st = m.docks[d];
-      if (!st.enabled || st.engaged || !st.latchable) continue;
-      const DockDef& def = m.type->docks[d];
-      if (!m_linkPoseValid[size_t(def.link)]) {  // one pose per link, not per dock
-        m_linkPoses[size_t(def.link)] = linkPose(i, def.link);
-        m_linkPoseValid[size_t(def.link)] = 1;
-      }
-      const Pose pose = m_linkPoses[size_t(def.link)] * def.frame;
-      if (st.brokeFromModule >= 0 &&
-          (pose.pos - dockPose(st.brokeFromModule, st.brokeFromDock).pos).norm() > def.captureRadius)
-        st.brokeFromModule = st.brokeFromDock = -1;
-      m_freeDocks.push_back({i, int(d), pose});
-    }
-  }
-  if (m_freeDocks.size() < 2) return;
-  // Cells twice the largest capture radius: every dock within reach of a point lies in the 2x2x2
-  // block of cells on the point's side of its own cell (8 look-ups, not 27).
-  const double cell = 2.0 * m_captureCell;
-  auto cellOf = [cell](const Vec3& p) {
-    return Eigen::Vector3i(int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell)), int(std::floor(p.z() / cell)));
-  };
-  auto key = [](const Eigen::Vector3i& c) {
-    return (uint64_t(uint32_t(c.x())) * 73856093ull) ^ (uint64_t(uint32_t(c.y())) * 19349663ull) ^
-           (uint64_t(uint32_t(c.z())) * 83492791ull);
-  };
-  // Open-addressing table of cells, each holding a chain of docks (head per slot, next per dock).
-  size_t cap = 16;
-  while (cap < 2 * m_freeDocks.size()) cap <<= 1;
-  m_cellKeys.resize(cap);
-  m_cellHead.assign(cap, -1);
-  m_cellNext.resize(m_freeDocks.size());
-  auto slotOf = [&](uint64_t k) {
-    size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
-    while (m_cellHead[h] >= 0 && m_cellKeys[h] != k) h = (h + 1) & (cap - 1);
-    return h;
-  };
-  for (size_t i = 0; i < m_freeDocks.size(); ++i) {
-    const uint64_t k = key(cellOf(m_freeDocks[i].pose.pos));
-    const size_t h = slotOf(k);
-    m_cellKeys[h] = k;
-    m_cellNext[i] = m_cellHead[h];
-    m_cellHead[h] = int(i);
-  }
-  m_latches.clear();
-  for (size_t i = 0; i < m_freeDocks.size(); ++i) {
-    const FreeDock& fa = m_freeDocks[i];
-    const Eigen::Vector3i c = cellOf(fa.pose.pos);
-    Eigen::Vector3i side;
-    for (int a = 0; a < 3; ++a) side[a] = fa.pose.pos[a] / cell - double(c[a]) < 0.5 ? -1 : 1;
-    for (int dx = 0; dx < 2; ++dx)
-      for (int dy = 0; dy < 2; ++dy)
-        for (int dz = 0; dz < 2; ++dz) {
-          const uint64_t k = key(c + Eigen::Vector3i(dx * side.x(), dy * side.y(), dz * side.z()));
-          for (int e = m_cellHead[slotOf(k)]; e >= 0; e = m_cellNext[size_t(e)]) {
-            if (e <= int(i)) continue;  // each pair once
-            const FreeDock& fb = m_freeDocks[size_t(e)];
-            if (fb.module == fa.module) continue;
-            const DockState& sa = m_modules[size_t(fa.module)].docks[size_t(fa.dock)];
-            if (sa.brokeFromModule == fb.module && sa.brokeFromDock == fb.dock) continue;
-            const DockDef& da = m_modules[size_t(fa.module)].type->docks[size_t(fa.dock)];
-            const DockDef& db = m_modules[size_t(fb.module)].type->docks[size_t(fb.dock)];
-            if (!gendersMate(da.gender, db.gender)) continue;
-            const Vec3 gapVec = fb.pose.pos - fa.pose.pos;
-            const double gap = gapVec.norm();
-            if (gap > std::min(da.captureRadius, db.captureRadius)) continue;
-            const Vec3 na = fa.pose.rot * Vec3::UnitX(), nb = fb.pose.rot * Vec3::UnitX();
-            const double facing = angleBetween(na, -nb);
-            if (facing > std::min(da.captureAngle, db.captureAngle)) continue;
-            const double latchAngle = std::min(da.latchAngle, db.latchAngle);
-            if (gap <= std::min(da.latchDistance, db.latchDistance) && facing <= latchAngle) {
-              const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
-              const Pose want = matingFrame(fa.pose, bestOrientation(fa.module, fa.dock, fb.module, fb.dock), sym);
-              if (angleBetween(want.rot * Vec3::UnitZ(), fb.pose.rot * Vec3::UnitZ()) <= latchAngle) {
-                m_latches.push_back(fa.module < fb.module ? Latch{fa.module, fa.dock, fb.module, fb.dock}
-                                                          : Latch{fb.module, fb.dock, fa.module, fa.dock});
-                continue;
-              }
-            }
-            // The magnet: equal and opposite pulls at the two faces, plus a torque turning the
-            // faces towards each other.
-            const double pull = std::min(da.pull, db.pull);
-            if (pull <= 0) continue;
-            const Vec3 dir = gap > 1e-9 ? Vec3(gapVec / gap) : Vec3(-na);
-            const Module& ma = m_modules[size_t(fa.module)];
-            const Module& mb = m_modules[size_t(fb.module)];
-            const int pa = ma.parts[size_t(da.link)], pb = mb.parts[size_t(db.link)];
-            m_physics->addForce(pa, pull * dir, fa.pose.pos);
-            m_physics->addForce(pb, -pull * dir, fb.pose.pos);
-            // Torques of the order pull x face size turn the faces square to each other and
-            // twist them about the normal into the nearest of their mating orientations.
-            const double arm = pull * std::min(da.size, db.size);
-            const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
-            const Vec3 wantUp = matingFrame(fa.pose, bestOrientation(fa.module, fa.dock, fb.module, fb.dock), sym).rot * Vec3::UnitZ();
-            const Vec3 turn = na.cross(-nb) * arm + (fb.pose.rot * Vec3::UnitZ()).cross(wantUp).dot(nb) * nb * arm;
-            m_physics->addTorque(pa, -turn);
-            m_physics->addTorque(pb, turn);
-          }
-        }
-  }
-  std::sort(m_latches.begin(), m_latches.end());
-  for (const Latch& l : m_latches) {
-    const Module& ma = m_modules[size_t(l.a)];
-    const Module& mb = m_modules[size_t(l.b)];
-    if (ma.docks[size_t(l.da)].engaged || mb.docks[size_t(l.db)].engaged) continue;  // took another this step
-    // An earlier latch this step may have moved one side: check the faces again.
-    const DockDef& da = ma.type->docks[size_t(l.da)];
-    const DockDef& db = mb.type->docks[size_t(l.db)];
-    const DockError e = dockError(dockPose(l.a, l.da), dockPose(l.b, l.db));
-    if (e.gap > std::min(da.latchDistance, db.latchDistance) || e.angle > std::min(da.latchAngle, db.latchAngle)) continue;
-    lock(l.a, l.da, l.b, l.db, bestOrientation(l.a, l.da, l.b, l.db), true);
-  }
+bool World::disconnect(int m, int dock) {
+  const bool released = m_docking.disconnect(dockingScene(), m, dock);
+  dropReleased();
+  return released;
 }
 
 Wrench World::connectionLoad(const Connection& c) const {
-  const Module& ma = m_modules[size_t(c.moduleA)];
-  const Module& mb = m_modules[size_t(c.moduleB)];
-  const int pa = ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)];
-  const int pb = mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)];
-  // B's side: the parts locked to B's link without crossing this connection. In a closed loop
-  // that reaches A's side too, so only B's own link is counted. Recomputed only when the lock
-  // graph has changed.
-  if (c.sideOf != m_topology) {
-    c.side = m_physics->lockedGroup(pb, pa, pb);
-    if (std::find(c.side.begin(), c.side.end(), pa) != c.side.end()) c.side = {pb};
-    c.sideOf = m_topology;
-  }
-  return m_physics->internalLoad(c.side, dockPose(c.moduleB, c.dockB).pos);
-}
-
-void World::breakagePhase() {
-  for (size_t i = 0; i < m_connections.size();) {
-    const Connection& c = m_connections[i];
-    const DockDef& da = m_modules[size_t(c.moduleA)].type->docks[size_t(c.dockA)];
-    const DockDef& db = m_modules[size_t(c.moduleB)].type->docks[size_t(c.dockB)];
-    const Wrench w = connectionLoad(c);
-    const double f = w.force.norm(), t = w.torque.norm();
-    if (f > std::min(da.strength, db.strength) || t > std::min(da.strengthTorque, db.strengthTorque))
-      release(i, "broken", f, t);
-    else
-      ++i;
-  }
+  return m_docking.connectionLoad({const_cast<std::vector<Module>&>(m_modules), *m_physics, m_time, m_started}, c);
 }
 
 void World::applyActuators() {
@@ -751,26 +392,28 @@ void World::step() {
   runBehaviours();
   const auto t2 = Clock::now();
   // 3. Route messages over engaged docks (readable next step).
-  routeMessages();
+  m_router.route(m_mailboxes, m_modules, m_steps, m_options.mailboxLimit);
   // 4. Undock: connections where either dock is now disabled are released.
-  undockPhase();
+  m_docking.undock(dockingScene());
   // 5. Dock: free compatible docks attract; aligned ones latch.
-  dockPhase();
+  m_docking.dock(dockingScene());
+  dropReleased();
   // 6. Actuators, then physics.
   applyActuators();
-  m_physics->setLoadTracking(!m_connections.empty());
+  m_physics->setLoadTracking(!m_docking.connections().empty());
   m_physics->setContactTracking(m_contactSensors);
   const auto t3 = Clock::now();
   m_physics->step(m_settings.dt, m_settings.substeps);
   const auto t4 = Clock::now();
   updateAccelerometers();
   // 7. Connections whose transmitted load exceeds the docks' strength break.
-  breakagePhase();
+  m_docking.breakage(dockingScene());
+  dropReleased();
   ++m_steps;
   m_time = double(m_steps) * m_settings.dt;
   if (checkDivergence(*this, m_divergence)) { m_fatal = true; return; }  // world/divergence.h
   std::string err;
-  if (m_script && !m_script->afterStep(m_time, err)) m_scriptError = err;
+  if (m_program && !m_program->afterStep(m_time, err)) m_scriptError = err;
   const auto t5 = Clock::now();
   m_times.behaviours = msSince(t1, t2);
   m_times.physics = msSince(t3, t4);
@@ -813,7 +456,7 @@ Quality World::quality() const {
   const HingeQuality h = m_physics->hingeQuality();
   q.hingeGapMm = h.maxGap * 1000;
   q.hingeAngleDeg = h.maxAngle * kDegPerRad;
-  for (const Connection& c : m_connections) {
+  for (const Connection& c : m_docking.connections()) {
     const DockError e = dockError(dockPose(c.moduleA, c.dockA), dockPose(c.moduleB, c.dockB));
     q.dockGapMm = std::max(q.dockGapMm, e.gap * 1000);
     q.dockAngleDeg = std::max(q.dockAngleDeg, e.angle * kDegPerRad);
@@ -822,58 +465,13 @@ Quality World::quality() const {
   return q;
 }
 
-std::string World::graphJson() const {
-  nlohmann::json j;
-  j["time"] = m_time;
-  j["modules"] = nlohmann::json::array();
-  for (const Module& m : m_modules) j["modules"].push_back({{"id", m.id}, {"name", m.name}, {"type", m.type->name}});
-  j["connections"] = nlohmann::json::array();
-  for (const Connection& c : m_connections)
-    j["connections"].push_back({m_modules[size_t(c.moduleA)].id, m_modules[size_t(c.moduleA)].type->docks[size_t(c.dockA)].name,
-                                m_modules[size_t(c.moduleB)].id, m_modules[size_t(c.moduleB)].type->docks[size_t(c.dockB)].name});
-  j["components"] = nlohmann::json::array();
-  for (const auto& comp : components()) {
-    nlohmann::json ids = nlohmann::json::array();
-    for (int m : comp) ids.push_back(m_modules[size_t(m)].id);
-    j["components"].push_back(ids);
-  }
-  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-
-std::string World::graphDot() const {
-  std::string out = "graph rm3d {\n  node [shape=box];\n";
-  char line[256];
-  for (const Module& m : m_modules) {
-    std::snprintf(line, sizeof line, "  m%d [label=\"%s\\n%s\"];\n", m.id, m.name.c_str(), m.type->name.c_str());
-    out += line;
-  }
-  for (const Connection& c : m_connections) {
-    const Module& a = m_modules[size_t(c.moduleA)];
-    const Module& b = m_modules[size_t(c.moduleB)];
-    std::snprintf(line, sizeof line, "  m%d -- m%d [taillabel=\"%s\", headlabel=\"%s\"];\n", a.id, b.id,
-                  a.type->docks[size_t(c.dockA)].name.c_str(), b.type->docks[size_t(c.dockB)].name.c_str());
-    out += line;
-  }
-  return out + "}\n";
-}
-
-World::MessageStats World::messageStats() const {
-  MessageStats st;
-  for (const Mailbox& b : m_mailboxes) {
-    st.sent += b.sent;
-    st.received += b.received;
-    st.dropped += b.dropped;
-  }
-  st.dropped += m_lostMessages;
-  return st;
-}
 
 std::vector<std::vector<int>> World::components() const {
   std::vector<std::vector<int>> out;
   std::vector<char> seen(m_modules.size(), 0);
   for (size_t i = 0; i < m_modules.size(); ++i) {
     if (seen[i]) continue;
-    std::vector<int> c = componentOf(int(i));
+    std::vector<int> c = componentOf(m_modules, int(i));
     for (int m : c) seen[size_t(m)] = 1;
     std::sort(c.begin(), c.end());
     out.push_back(std::move(c));
@@ -899,7 +497,7 @@ std::vector<std::string> World::watchedFiles() const {
 }
 
 std::string World::describePercepts(int module) {
-  Behaviour* b = m_behaviours[size_t(module)].get();
+  ModuleProgram* b = m_behaviours[size_t(module)].get();
   if (!b) return {};
   return b->describePercepts();
 }
@@ -910,7 +508,7 @@ int World::reloadFile(const std::string& path, std::vector<std::string>& errors)
   std::map<std::string, std::string> sources;  // each file read once
   for (size_t i = 0; i < m_modules.size(); ++i) {
     Module& m = m_modules[i];
-    Behaviour* b = m_behaviours[i].get();
+    ModuleProgram* b = m_behaviours[i].get();
     if (!b || (!library && m.behaviourFile != path)) continue;
     auto it = sources.find(m.behaviourFile);
     if (it == sources.end()) {

@@ -1,6 +1,8 @@
-// The World owns everything of one simulation: physics, module types, modules and their Lua
-// VMs, mailboxes, the connection graph, the world script's VM, RNG and clock. Several worlds
-// can live in one process. The step follows DESIGN.md's order (see World::step).
+// The World owns everything of one simulation: physics, module types, modules and their
+// programs (behaviour VMs), mailboxes and routing, docking and the connection graph, the world
+// script, RNG and clock. Several worlds can live in one process. World::step is the list of
+// DESIGN.md's phases; each phase's work lives in its subsystem (messaging/, docking/, physics/),
+// and the scripts are reached through world/programs.h, so nothing here includes Lua.
 #pragma once
 
 #include <cstdint>
@@ -18,19 +20,21 @@
 
 #include "core/rng.h"
 #include "core/types.h"
+#include "docking/docking.h"
 #include "messaging/mailbox.h"
+#include "messaging/router.h"
+#include "messaging/value.h"
+#include "modules/module.h"
 #include "modules/module_type.h"
 #include "physics/physics_world.h"
-#include "script/lua_value.h"
 #include "world/divergence.h"
+#include "world/programs.h"
 
 namespace rm3d {
 
-class Behaviour;
 class WorldScript;
 class BehaviourPool;
 class ModuleHandle;
-class Watchdog;
 
 /// How to run: what the command line or a test gives.
 struct RunOptions {
@@ -63,90 +67,6 @@ struct WorldSettings {
   DivergenceLimits limits;  ///< max_speed, max_angular_speed, bounds (world/divergence.h)
 };
 
-enum class JointMode : uint8_t { Off, Servo, Velocity };
-
-struct JointCommand {
-  JointMode mode = JointMode::Servo;  ///< a powered module holds its pose
-  double value = 0;
-};
-
-struct DockState {
-  bool latchable = true;  ///< false after an injected fault: the dock no longer latches
-  bool enabled = true;
-  bool engaged = false;
-  int peerModule = -1;
-  int peerDock = -1;
-  /// After a break, the dock ignores that peer until the two faces are farther apart than the
-  /// capture radius (else the magnet would latch the broken pair again at once).
-  int brokeFromModule = -1;
-  int brokeFromDock = -1;
-};
-
-/// One sensor reading, as the behaviour sees it before percepts.
-struct SensorReading {
-  enum class Kind : uint8_t { Nil, Number, Vector, Quaternion, Boolean, Dock } kind = Kind::Nil;
-  double v[4] = {0, 0, 0, 0};
-  bool flag = false;                     ///< Boolean; Dock: enabled
-  bool engaged = false;                  ///< Dock
-  double proximity = -1;                 ///< Dock: distance to the nearest free partner, < 0: none
-};
-
-struct Module {
-  int id = 0;
-  std::string name;
-  const ModuleTypeDef* type = nullptr;
-  std::vector<int> parts;   ///< physics part per link
-  std::vector<int> hinges;  ///< physics hinge per joint
-  std::vector<JointCommand> commands;
-  std::vector<DockState> docks;
-  /// dock:enable()/disable() during the behaviour phase, applied after it in module order:
-  /// per dock -1 (none), 0 (disable) or 1 (enable).
-  std::vector<int8_t> dockRequests;
-  bool hasDockRequests = false;
-  std::string behaviourFile;  ///< absolute, empty: none
-  LuaValue params;
-  Rng rng;
-  std::string fault;  ///< empty: healthy
-  bool faultReported = false;
-  bool fixed = false;  ///< root link held in place (a base)
-  /// on_dock events for the module's next step: (dock, "engaged" | "disengaged" | "broken").
-  std::vector<std::pair<int, const char*>> dockEvents;
-  /// Sensors by code (joints, then docks, then the type's sensors): per-step cache and faults.
-  std::vector<std::pair<int64_t, SensorReading>> sensorCache;
-  std::vector<char> deadSensors;
-  std::vector<Vec3> accelPrevVel, accelWorld;  ///< per type sensor (accelerometers)
-  bool accelInUse = false;                     ///< an accelerometer has been read
-  int64_t accelSteps = 0;                      ///< steps tracked since
-  std::vector<char> stalled;                   ///< per joint: an injected stall
-  std::vector<double> stallAngle;
-  std::vector<std::string> log;  ///< lines written this step, flushed in id order
-  std::deque<std::string> recentLog;       ///< with keepHistory: the last 20 lines ("t: text")
-  std::deque<std::string> recentMessages;  ///< with keepHistory: the last 20 messages read
-};
-
-struct Connection {
-  int moduleA, dockA, moduleB, dockB;
-  double time = 0;  ///< when it was made
-  /// Cache for load measurement: the parts on B's side, valid for topology version `sideOf`.
-  mutable std::vector<int> side;
-  mutable uint64_t sideOf = 0;
-};
-
-struct DockEvent {
-  double time;
-  std::string kind;  ///< "engaged", "disengaged", "broken"
-  int moduleA, dockA, moduleB, dockB;
-  double force = -1, torque = -1;  ///< measured load for "broken" (N, N m), else -1
-};
-
-/// world.channel{...}: how messages travel over a connection (seeded, deterministic).
-struct ChannelDef {
-  double loss = 0;           ///< probability that a message is lost
-  int delay = 0;             ///< extra steps in flight (a message sent at t is read at t+1+delay)
-  int rate = 0;              ///< messages per step per dock (0: unlimited); the rest wait their turn
-  size_t maxBytes = 65536;   ///< payload size limit
-};
-
 struct Failure {
   double time;
   std::string message;
@@ -167,9 +87,15 @@ class World {
   World& operator=(const World&) = delete;
 
   /// Runs a world script (throws InputError for bad input: the message names file and line).
+  /// Defined by the script layer (script/world_script.cpp), which sets the ScriptHost and the
+  /// WorldProgram below.
   void loadFile(const std::string& path);
   /// Runs world-script source held in memory; `chunkName` is what messages call it.
   void loadString(const std::string& source, const std::string& chunkName = "world");
+  void setScriptHost(std::unique_ptr<ScriptHost> host) { m_host = std::move(host); }
+  ScriptHost* scriptHost() const { return m_host.get(); }
+  void setWorldFile(const std::string& absolutePath) { m_worldFile = absolutePath; }
+  void setProgram(std::unique_ptr<WorldProgram> program) { m_program = std::move(program); }
   /// Calls init() of every behaviour. Done by the first step() if not called.
   void start();
   /// One control step of settings().dt (DESIGN.md's seven phases, then world hooks).
@@ -184,13 +110,11 @@ class World {
   int64_t steps() const { return m_steps; }
   const WorldSettings& settings() const { return m_settings; }
   const RunOptions& options() const { return m_options; }
-  /// Limits calls into this world's VMs to watchdogSeconds (nullptr when off).
-  Watchdog* watchdog() const { return m_watchdog.get(); }
   const std::vector<Module>& modules() const { return m_modules; }
   const Module& module(int i) const { return m_modules[size_t(i)]; }
   const std::vector<Failure>& failures() const { return m_failures; }
-  const std::vector<DockEvent>& events() const { return m_events; }
-  const std::vector<Connection>& connections() const { return m_connections; }
+  const std::vector<DockEvent>& events() const { return m_docking.events(); }
+  const std::vector<Connection>& connections() const { return m_docking.connections(); }
   /// A world-script error (bad input at run time), or empty.
   const std::string& scriptError() const { return m_scriptError; }
   bool fatalFault() const { return m_fatal; }
@@ -198,7 +122,8 @@ class World {
   const std::string& divergence() const { return m_divergence; }
   int faultCount() const;
   std::string worldFile() const { return m_worldFile; }
-  WorldScript* script() const { return m_script.get(); }  ///< null before a world is loaded
+  /// The world script (null before a world is loaded); defined by the script layer.
+  WorldScript* script() const;
   void setScriptError(const std::string& e) { if (m_scriptError.empty()) m_scriptError = e; }
 
   Pose modulePose(int m) const;
@@ -247,7 +172,7 @@ class World {
     Pose pose;
     std::string name;
     std::string behaviour;  ///< path as written; resolved against the world's folder, then root
-    LuaValue params;
+    Value params;
     bool fixed = false;     ///< the root link does not move
   };
   /// Throws InputError (without location: the caller adds it).
@@ -255,18 +180,16 @@ class World {
   void connect(int a, int dockA, int b, int dockB, int orientation);
   /// Releases the connection at module m's dock (as if a dock were disabled). False if none.
   bool disconnect(int m, int dock);
-  void setChannel(const ChannelDef& c) { m_channel = c; }
-  const ChannelDef& channel() const { return m_channel; }
+  void setChannel(const ChannelDef& c) { m_router.setChannel(c); }
+  const ChannelDef& channel() const { return m_router.channel(); }
   /// The connection graph now, as JSON ({"modules": [...], "connections": [...]}) or Graphviz DOT.
   std::string graphJson() const;
   std::string graphDot() const;
   /// Load through a connection during the last step (force N, torque N m about the dock face).
   Wrench connectionLoad(const Connection& c) const;
   /// Messages counted over the run: sent, delivered (read), lost in flight.
-  struct MessageStats {
-    size_t sent = 0, received = 0, dropped = 0;
-  };
-  MessageStats messageStats() const;
+  using MessageStats = rm3d::MessageStats;
+  MessageStats messageStats() const { return m_router.stats(m_mailboxes); }
   void addFailure(const std::string& message);
   void requestStop() { m_stopRequested = true; }
   /// Resolves a path from a world script: the world's folder first, then the project root.
@@ -316,61 +239,29 @@ class World {
   void runBehaviours();
   void reportModuleOutput();
   void runBehaviour(int i);
-  void routeMessages();
-  void undockPhase();
-  void dockPhase();
-  void breakagePhase();
   void applyActuators();
-  /// Locks two docks: optionally moves b's component so the faces mate exactly first.
-  void lock(int a, int da, int b, int db, int orientation, bool snap);
-  void release(size_t connection, const char* kind, double force, double torque);
-  int bestOrientation(int a, int da, int b, int db) const;
-  std::vector<int> componentOf(int m) const;
+  DockingScene dockingScene() { return {m_modules, *m_physics, m_time, m_started}; }
+  /// Drops the messages in flight at docks that docking released.
+  void dropReleased();
+  struct FreeDock {
+    int module, dock;
+    Pose pose;
+  };
 
   RunOptions m_options;
-  std::unique_ptr<Watchdog> m_watchdog;  ///< outlives the VMs (declared before them)
   WorldSettings m_settings;
   std::string m_worldFile;
   std::unique_ptr<PhysicsWorld> m_physics;
   std::map<std::string, std::unique_ptr<ModuleTypeDef>> m_types;
   std::vector<Module> m_modules;
-  std::vector<std::unique_ptr<Behaviour>> m_behaviours;  ///< one VM per module (null: none)
+  std::unique_ptr<ScriptHost> m_host;  ///< outlives the programs (declared before them)
+  std::vector<std::unique_ptr<ModuleProgram>> m_behaviours;  ///< one per module (null: none)
   std::vector<Mailbox> m_mailboxes;
-  std::vector<Connection> m_connections;
-  std::vector<DockEvent> m_events;
+  Router m_router;
+  Docking m_docking;
   std::vector<Failure> m_failures;
   std::vector<Obstacle> m_obstacles;
   CameraDef m_camera;
-  ChannelDef m_channel;
-  Rng m_channelRng;
-  size_t m_lostMessages = 0;
-  std::vector<int> m_dockSent;  ///< per dock, this step (channel rate)
-  /// Reused every step by the dock phase (no allocation once warm).
-  struct FreeDock {
-    int module, dock;
-    Pose pose;
-  };
-  std::vector<FreeDock> m_freeDocks;
-  struct DockBox {
-    Vec3 lo, hi;  ///< where a module's docks can reach
-    size_t module;
-    bool near;
-  };
-  std::vector<DockBox> m_dockBoxes;
-  std::vector<uint64_t> m_cellKeys;  ///< dock hash: slot -> cell key
-  std::vector<int> m_cellHead;       ///< slot -> first dock in the cell, or -1
-  std::vector<int> m_cellNext;       ///< dock -> next dock in its cell, or -1
-  std::vector<Pose> m_linkPoses;     ///< one module's link poses, computed once per step
-  std::vector<char> m_linkPoseValid;
-  struct Latch {
-    int a, da, b, db;
-    bool operator<(const Latch& o) const {
-      return std::tie(a, da, b, db) < std::tie(o.a, o.da, o.b, o.db);
-    }
-  };
-  std::vector<Latch> m_latches;
-  double m_captureCell = 0.03;
-  uint64_t m_topology = 1;  ///< bumped whenever a lock is made or released
   // Dock proximity (dock sensors): free docks sorted by x. Built before the behaviour phase once
   // any dock sensor has been read (the first read builds it under the mutex: dock states are
   // frozen during the phase, so either way every reader sees the same index).
@@ -381,7 +272,7 @@ class World {
   void buildProximity() const;
   void updateAccelerometers();
   bool m_contactSensors = false;
-  std::unique_ptr<WorldScript> m_script;
+  std::unique_ptr<WorldProgram> m_program;
   std::unique_ptr<BehaviourPool> m_pool;
   bool m_groundAdded = false;
   double m_groundFriction = 0.8, m_groundRestitution = 0;

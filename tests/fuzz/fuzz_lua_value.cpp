@@ -223,7 +223,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::string err2;
   if (!rm3d::readLuaValue(B, -1, back, 0, err2)) std::abort();  // a copy copies again
   if (!same(v, back)) std::abort();
-  (void)rm3d::luaValueToJson(v).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  (void)rm3d::valueToJson(v).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   lua_settop(A, 0);
   lua_settop(B, 0);
   lua_gc(A, LUA_GCCOLLECT);

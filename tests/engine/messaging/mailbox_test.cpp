@@ -10,7 +10,7 @@ TEST_CASE("pending messages become readable on deliver, oldest first, and readin
   for (int i = 0; i < 3; ++i) {
     Message m;
     m.dock = i % 2;
-    m.data.type = LuaValue::Type::Integer;
+    m.data.type = Value::Type::Integer;
     m.data.integer = i;
     box.pending.push_back(m);
   }

@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "messaging/mailbox.h"
+#include "script/lua_value.h"
 #include "script/lua_vm.h"
 #include "script/watchdog.h"
 

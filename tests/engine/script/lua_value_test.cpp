@@ -19,7 +19,7 @@ TEST_CASE("plain values survive a copy from one VM to another") {
   lua_setglobal(b.L(), "v");
   CHECK(luaL_dostring(b.L(), "assert(v[1] == 1 and math.type(v[1]) == 'integer' and v[2] == 2.5 and v[3] == 'three' "
                              "and v[4] == true and v.nested.x.y == 'z')") == LUA_OK);
-  CHECK(luaValueToJson(v)["nested"]["x"]["y"] == "z");
+  CHECK(valueToJson(v)["nested"]["x"]["y"] == "z");
 }
 
 TEST_CASE("functions, cycles and oversized values are refused with a reason") {

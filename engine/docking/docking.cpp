@@ -1,0 +1,348 @@
+// Docking: initial connections, the magnet and latching, undocking and breakage.
+#include "docking/docking.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <string_view>
+
+#include "core/error.h"
+#include "docking/dock_frame.h"
+
+namespace rm3d {
+
+std::vector<int> componentOf(const std::vector<Module>& modules, int m) {
+  std::vector<int> out{m};
+  std::vector<char> seen(modules.size(), 0);
+  seen[size_t(m)] = 1;
+  for (size_t k = 0; k < out.size(); ++k)
+    for (const DockState& d : modules[size_t(out[k])].docks)
+      if (d.engaged && !seen[size_t(d.peerModule)]) {
+        seen[size_t(d.peerModule)] = 1;
+        out.push_back(d.peerModule);
+      }
+  return out;
+}
+
+void Docking::connect(const DockingScene& s, int a, int da, int b, int db, int orientation) {
+  if (a == b) throw InputError("a module cannot dock to itself");
+  Module& ma = s.modules[size_t(a)];
+  Module& mb = s.modules[size_t(b)];
+  const DockDef& defA = ma.type->docks[size_t(da)];
+  const DockDef& defB = mb.type->docks[size_t(db)];
+  for (auto [m, d] : {std::pair<Module*, int>{&ma, da}, std::pair<Module*, int>{&mb, db}})
+    if (m->docks[size_t(d)].engaged)
+      throw InputError("dock '" + m->type->docks[size_t(d)].name + "' of " + m->name + " is already engaged");
+  if (!gendersMate(defA.gender, defB.gender))
+    throw InputError(std::string("a ") + genderName(defA.gender) + " dock cannot mate with a " +
+                     genderName(defB.gender) + " dock");
+  const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
+  if (orientation < 0 || orientation >= sym)
+    throw InputError("orientation must be 0.." + std::to_string(sym - 1) + ", got " + std::to_string(orientation));
+  const std::vector<int> comp = componentOf(s.modules, b);
+  const DockError e = dockError(dockPose(s.physics, s.modules[size_t(a)], da), dockPose(s.physics, s.modules[size_t(b)], db));
+  const bool facing = e.gap <= 0.001 && e.angle <= 1.0 / kDegPerRad;
+  if (std::find(comp.begin(), comp.end(), a) != comp.end() && !facing) {
+    // Closing a loop: both docks are placed already; they must face each other.
+    throw InputError(ma.name + " and " + mb.name +
+                     " are already connected another way and these docks do not face each other (gap " +
+                     std::to_string(e.gap * 1000) + " mm, angle " + std::to_string(e.angle * kDegPerRad) +
+                     " deg; at most 1 mm and 1 deg)");
+  }
+  // Docks that already face each other are locked where they are (closing a loop, or modules
+  // placed by hand); otherwise b's side is moved so the faces mate exactly.
+  lock(s, a, da, b, db, orientation, !facing);
+}
+
+void Docking::lock(const DockingScene& s, int a, int da, int b, int db, int orientation, bool snap) {
+  Module& ma = s.modules[size_t(a)];
+  Module& mb = s.modules[size_t(b)];
+  const DockDef& defA = ma.type->docks[size_t(da)];
+  const DockDef& defB = mb.type->docks[size_t(db)];
+  if (snap) {
+    // Move the side that is free to move (not holding a fixed module, not already joined to
+    // the other) so the two faces mate exactly.
+    std::vector<int> compB = componentOf(s.modules, b), compA = componentOf(s.modules, a);
+    const bool loop = std::find(compB.begin(), compB.end(), a) != compB.end();
+    auto holdsFixed = [&](const std::vector<int>& c) {
+      return std::any_of(c.begin(), c.end(), [&](int m) { return s.modules[size_t(m)].fixed; });
+    };
+    if (!loop) {
+      const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
+      if (!holdsFixed(compB)) {
+        const Pose delta = matingFrame(dockPose(s.physics, s.modules[size_t(a)], da), orientation, sym) * dockPose(s.physics, s.modules[size_t(b)], db).inverse();
+        std::vector<int> parts;
+        for (int m : compB)
+          for (int p : s.modules[size_t(m)].parts) parts.push_back(p);
+        s.physics.transformParts(parts, delta);
+      } else if (!holdsFixed(compA)) {
+        const Pose delta = matingFrame(dockPose(s.physics, s.modules[size_t(b)], db), orientation, sym) * dockPose(s.physics, s.modules[size_t(a)], da).inverse();
+        std::vector<int> parts;
+        for (int m : compA)
+          for (int p : s.modules[size_t(m)].parts) parts.push_back(p);
+        s.physics.transformParts(parts, delta);
+      }
+    }
+  }
+  s.physics.lockParts(ma.parts[size_t(defA.link)], mb.parts[size_t(defB.link)]);
+  ++m_topology;
+  for (auto [st, peer, peerDock] : {std::tuple{&ma.docks[size_t(da)], b, db}, std::tuple{&mb.docks[size_t(db)], a, da}}) {
+    st->engaged = true;
+    st->peerModule = peer;
+    st->peerDock = peerDock;
+    st->brokeFromModule = st->brokeFromDock = -1;
+  }
+  Connection c{a, da, b, db, s.time};
+  m_connections.push_back(c);
+  m_events.push_back({s.time, "engaged", a, da, b, db});
+  if (s.started) {
+    ma.dockEvents.emplace_back(da, "engaged");
+    mb.dockEvents.emplace_back(db, "engaged");
+  }
+}
+
+void Docking::release(const DockingScene& s, size_t index, const char* kind, double force, double torque) {
+  const Connection c = std::move(m_connections[index]);
+  m_connections.erase(m_connections.begin() + std::ptrdiff_t(index));
+  Module& ma = s.modules[size_t(c.moduleA)];
+  Module& mb = s.modules[size_t(c.moduleB)];
+  s.physics.unlockParts(ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)],
+                         mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)]);
+  ++m_topology;
+  const bool broken = std::string_view(kind) == "broken";
+  ma.docks[size_t(c.dockA)].brokeFromModule = broken ? c.moduleB : -1;
+  ma.docks[size_t(c.dockA)].brokeFromDock = broken ? c.dockB : -1;
+  mb.docks[size_t(c.dockB)].brokeFromModule = broken ? c.moduleA : -1;
+  mb.docks[size_t(c.dockB)].brokeFromDock = broken ? c.dockA : -1;
+  for (auto [m, d] : {std::pair<Module*, int>{&ma, c.dockA}, std::pair<Module*, int>{&mb, c.dockB}}) {
+    DockState& st = m->docks[size_t(d)];
+    st.engaged = false;
+    st.peerModule = st.peerDock = -1;
+    m->dockEvents.emplace_back(d, kind);
+  }
+  m_released.push_back({c.moduleA, c.dockA});  // their messages in flight are dropped
+  m_released.push_back({c.moduleB, c.dockB});
+  m_events.push_back({s.time, kind, c.moduleA, c.dockA, c.moduleB, c.dockB, force, torque});
+}
+
+bool Docking::disconnect(const DockingScene& s, int m, int dock) {
+  for (size_t i = 0; i < m_connections.size(); ++i) {
+    const Connection& c = m_connections[i];
+    if ((c.moduleA == m && c.dockA == dock) || (c.moduleB == m && c.dockB == dock)) {
+      release(s, i, "disengaged", -1, -1);
+      return true;
+    }
+  }
+  return false;
+}
+
+void Docking::undock(const DockingScene& s) {
+  for (size_t i = 0; i < m_connections.size();) {
+    const Connection& c = m_connections[i];
+    if (!s.modules[size_t(c.moduleA)].docks[size_t(c.dockA)].enabled ||
+        !s.modules[size_t(c.moduleB)].docks[size_t(c.dockB)].enabled)
+      release(s, i, "disengaged", -1, -1);
+    else
+      ++i;
+  }
+}
+
+int Docking::bestOrientation(const DockingScene& s, int a, int da, int b, int db) const {
+  const DockDef& defA = s.modules[size_t(a)].type->docks[size_t(da)];
+  const DockDef& defB = s.modules[size_t(b)].type->docks[size_t(db)];
+  const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
+  const Pose pa = dockPose(s.physics, s.modules[size_t(a)], da), pb = dockPose(s.physics, s.modules[size_t(b)], db);
+  int best = 0;
+  double bestAngle = 1e9;
+  for (int k = 0; k < sym; ++k) {
+    const Pose want = matingFrame(pa, k, sym);
+    const double ang = angleBetween(want.rot * Vec3::UnitZ(), pb.rot * Vec3::UnitZ());
+    if (ang < bestAngle) {
+      bestAngle = ang;
+      best = k;
+    }
+  }
+  return best;
+}
+
+void Docking::dock(const DockingScene& s) {
+  // Coarse pass: each module with a free dock is a box around its root link, as large as its
+  // docks can reach (ModuleTypeDef::dockReach); a sweep along x finds the boxes that overlap.
+  // Only those modules' docks are posed and searched below, so isolated modules cost one pose.
+  m_dockBoxes.clear();
+  for (size_t i = 0; i < s.modules.size(); ++i) {
+    const Module& m = s.modules[i];
+    bool anyFree = false;
+    for (const DockState& st : m.docks) anyFree |= st.enabled && !st.engaged;
+    if (!anyFree) continue;
+    const Vec3 c = linkPose(s.physics, m, m.type->rootLink).pos;
+    const Vec3 r = Vec3::Constant(m.type->dockReach);
+    m_dockBoxes.push_back({c - r, c + r, i, false});
+  }
+  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(), [](const DockBox& a, const DockBox& b) {
+    return a.lo.x() < b.lo.x() || (a.lo.x() == b.lo.x() && a.module < b.module);
+  });
+  for (size_t a = 0; a < m_dockBoxes.size(); ++a)
+    for (size_t b = a + 1; b < m_dockBoxes.size() && m_dockBoxes[b].lo.x() <= m_dockBoxes[a].hi.x(); ++b) {
+      DockBox& ba = m_dockBoxes[a];
+      DockBox& bb = m_dockBoxes[b];
+      if (ba.lo.y() <= bb.hi.y() && bb.lo.y() <= ba.hi.y() && ba.lo.z() <= bb.hi.z() && bb.lo.z() <= ba.hi.z())
+        ba.near = bb.near = true;
+    }
+  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(), [](const DockBox& a, const DockBox& b) { return a.module < b.module; });
+  // Fine pass: the free docks of modules near another, hashed into cells.
+  m_freeDocks.clear();
+  for (const DockBox& box : m_dockBoxes) {
+    const int i = int(box.module);
+    Module& m = s.modules[box.module];
+    if (!box.near) {  // nothing within reach: any broken partner is far away by now
+      for (DockState& st : m.docks) st.brokeFromModule = st.brokeFromDock = -1;
+      continue;
+    }
+    m_linkPoseValid.assign(m.type->links.size(), 0);
+    if (m_linkPoses.size() < m.type->links.size()) m_linkPoses.resize(m.type->links.size());
+    for (size_t d = 0; d < m.docks.size(); ++d) {
+      DockState& st = m.docks[d];
+      if (!st.enabled || st.engaged || !st.latchable) continue;
+      const DockDef& def = m.type->docks[d];
+      if (!m_linkPoseValid[size_t(def.link)]) {  // one pose per link, not per dock
+        m_linkPoses[size_t(def.link)] = linkPose(s.physics, m, def.link);
+        m_linkPoseValid[size_t(def.link)] = 1;
+      }
+      const Pose pose = m_linkPoses[size_t(def.link)] * def.frame;
+      if (st.brokeFromModule >= 0 &&
+          (pose.pos - dockPose(s.physics, s.modules[size_t(st.brokeFromModule)], st.brokeFromDock).pos).norm() > def.captureRadius)
+        st.brokeFromModule = st.brokeFromDock = -1;
+      m_freeDocks.push_back({i, int(d), pose});
+    }
+  }
+  if (m_freeDocks.size() < 2) return;
+  // Cells twice the largest capture radius: every dock within reach of a point lies in the 2x2x2
+  // block of cells on the point's side of its own cell (8 look-ups, not 27).
+  const double cell = 2.0 * m_captureCell;
+  auto cellOf = [cell](const Vec3& p) {
+    return Eigen::Vector3i(int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell)), int(std::floor(p.z() / cell)));
+  };
+  auto key = [](const Eigen::Vector3i& c) {
+    return (uint64_t(uint32_t(c.x())) * 73856093ull) ^ (uint64_t(uint32_t(c.y())) * 19349663ull) ^
+           (uint64_t(uint32_t(c.z())) * 83492791ull);
+  };
+  // Open-addressing table of cells, each holding a chain of docks (head per slot, next per dock).
+  size_t cap = 16;
+  while (cap < 2 * m_freeDocks.size()) cap <<= 1;
+  m_cellKeys.resize(cap);
+  m_cellHead.assign(cap, -1);
+  m_cellNext.resize(m_freeDocks.size());
+  auto slotOf = [&](uint64_t k) {
+    size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
+    while (m_cellHead[h] >= 0 && m_cellKeys[h] != k) h = (h + 1) & (cap - 1);
+    return h;
+  };
+  for (size_t i = 0; i < m_freeDocks.size(); ++i) {
+    const uint64_t k = key(cellOf(m_freeDocks[i].pose.pos));
+    const size_t h = slotOf(k);
+    m_cellKeys[h] = k;
+    m_cellNext[i] = m_cellHead[h];
+    m_cellHead[h] = int(i);
+  }
+  m_latches.clear();
+  for (size_t i = 0; i < m_freeDocks.size(); ++i) {
+    const FreeDock& fa = m_freeDocks[i];
+    const Eigen::Vector3i c = cellOf(fa.pose.pos);
+    Eigen::Vector3i side;
+    for (int a = 0; a < 3; ++a) side[a] = fa.pose.pos[a] / cell - double(c[a]) < 0.5 ? -1 : 1;
+    for (int dx = 0; dx < 2; ++dx)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dz = 0; dz < 2; ++dz) {
+          const uint64_t k = key(c + Eigen::Vector3i(dx * side.x(), dy * side.y(), dz * side.z()));
+          for (int e = m_cellHead[slotOf(k)]; e >= 0; e = m_cellNext[size_t(e)]) {
+            if (e <= int(i)) continue;  // each pair once
+            const FreeDock& fb = m_freeDocks[size_t(e)];
+            if (fb.module == fa.module) continue;
+            const DockState& sa = s.modules[size_t(fa.module)].docks[size_t(fa.dock)];
+            if (sa.brokeFromModule == fb.module && sa.brokeFromDock == fb.dock) continue;
+            const DockDef& da = s.modules[size_t(fa.module)].type->docks[size_t(fa.dock)];
+            const DockDef& db = s.modules[size_t(fb.module)].type->docks[size_t(fb.dock)];
+            if (!gendersMate(da.gender, db.gender)) continue;
+            const Vec3 gapVec = fb.pose.pos - fa.pose.pos;
+            const double gap = gapVec.norm();
+            if (gap > std::min(da.captureRadius, db.captureRadius)) continue;
+            const Vec3 na = fa.pose.rot * Vec3::UnitX(), nb = fb.pose.rot * Vec3::UnitX();
+            const double facing = angleBetween(na, -nb);
+            if (facing > std::min(da.captureAngle, db.captureAngle)) continue;
+            const double latchAngle = std::min(da.latchAngle, db.latchAngle);
+            if (gap <= std::min(da.latchDistance, db.latchDistance) && facing <= latchAngle) {
+              const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
+              const Pose want = matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym);
+              if (angleBetween(want.rot * Vec3::UnitZ(), fb.pose.rot * Vec3::UnitZ()) <= latchAngle) {
+                m_latches.push_back(fa.module < fb.module ? Latch{fa.module, fa.dock, fb.module, fb.dock}
+                                                          : Latch{fb.module, fb.dock, fa.module, fa.dock});
+                continue;
+              }
+            }
+            // The magnet: equal and opposite pulls at the two faces, plus a torque turning the
+            // faces towards each other.
+            const double pull = std::min(da.pull, db.pull);
+            if (pull <= 0) continue;
+            const Vec3 dir = gap > 1e-9 ? Vec3(gapVec / gap) : Vec3(-na);
+            const Module& ma = s.modules[size_t(fa.module)];
+            const Module& mb = s.modules[size_t(fb.module)];
+            const int pa = ma.parts[size_t(da.link)], pb = mb.parts[size_t(db.link)];
+            s.physics.addForce(pa, pull * dir, fa.pose.pos);
+            s.physics.addForce(pb, -pull * dir, fb.pose.pos);
+            // Torques of the order pull x face size turn the faces square to each other and
+            // twist them about the normal into the nearest of their mating orientations.
+            const double arm = pull * std::min(da.size, db.size);
+            const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
+            const Vec3 wantUp = matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym).rot * Vec3::UnitZ();
+            const Vec3 turn = na.cross(-nb) * arm + (fb.pose.rot * Vec3::UnitZ()).cross(wantUp).dot(nb) * nb * arm;
+            s.physics.addTorque(pa, -turn);
+            s.physics.addTorque(pb, turn);
+          }
+        }
+  }
+  std::sort(m_latches.begin(), m_latches.end());
+  for (const Latch& l : m_latches) {
+    const Module& ma = s.modules[size_t(l.a)];
+    const Module& mb = s.modules[size_t(l.b)];
+    if (ma.docks[size_t(l.da)].engaged || mb.docks[size_t(l.db)].engaged) continue;  // took another this step
+    // An earlier latch this step may have moved one side: check the faces again.
+    const DockDef& da = ma.type->docks[size_t(l.da)];
+    const DockDef& db = mb.type->docks[size_t(l.db)];
+    const DockError e = dockError(dockPose(s.physics, s.modules[size_t(l.a)], l.da), dockPose(s.physics, s.modules[size_t(l.b)], l.db));
+    if (e.gap > std::min(da.latchDistance, db.latchDistance) || e.angle > std::min(da.latchAngle, db.latchAngle)) continue;
+    lock(s, l.a, l.da, l.b, l.db, bestOrientation(s, l.a, l.da, l.b, l.db), true);
+  }
+}
+
+Wrench Docking::connectionLoad(const DockingScene& s, const Connection& c) const {
+  const Module& ma = s.modules[size_t(c.moduleA)];
+  const Module& mb = s.modules[size_t(c.moduleB)];
+  const int pa = ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)];
+  const int pb = mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)];
+  // B's side: the parts locked to B's link without crossing this connection. In a closed loop
+  // that reaches A's side too, so only B's own link is counted. Recomputed only when the lock
+  // graph has changed.
+  if (c.sideOf != m_topology) {
+    c.side = s.physics.lockedGroup(pb, pa, pb);
+    if (std::find(c.side.begin(), c.side.end(), pa) != c.side.end()) c.side = {pb};
+    c.sideOf = m_topology;
+  }
+  return s.physics.internalLoad(c.side, dockPose(s.physics, s.modules[size_t(c.moduleB)], c.dockB).pos);
+}
+
+void Docking::breakage(const DockingScene& s) {
+  for (size_t i = 0; i < m_connections.size();) {
+    const Connection& c = m_connections[i];
+    const DockDef& da = s.modules[size_t(c.moduleA)].type->docks[size_t(c.dockA)];
+    const DockDef& db = s.modules[size_t(c.moduleB)].type->docks[size_t(c.dockB)];
+    const Wrench w = connectionLoad(s, c);
+    const double f = w.force.norm(), t = w.torque.norm();
+    if (f > std::min(da.strength, db.strength) || t > std::min(da.strengthTorque, db.strengthTorque))
+      release(s, i, "broken", f, t);
+    else
+      ++i;
+  }
+}
+
+}  // namespace rm3d

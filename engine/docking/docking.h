@@ -1,0 +1,106 @@
+// Docking (DESIGN.md steps 4, 5 and 7): the connection graph, run-time latching by magnet,
+// undocking, initial connections from world scripts, and breakage from measured loads.
+//
+// Docked links are locked into one rigid body in the physics (PhysicsWorld::lockParts), so a
+// dock has no gap or twist; releasing splits the body again by the remaining locks.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "core/types.h"
+#include "modules/module.h"
+#include "physics/physics_world.h"
+
+namespace rm3d {
+
+struct Connection {
+  int moduleA, dockA, moduleB, dockB;
+  double time = 0;  ///< when it was made
+  /// Cache for load measurement: the parts on B's side, valid for topology version `sideOf`.
+  mutable std::vector<int> side;
+  mutable uint64_t sideOf = 0;
+};
+
+struct DockEvent {
+  double time;
+  std::string kind;  ///< "engaged", "disengaged", "broken"
+  int moduleA, dockA, moduleB, dockB;
+  double force = -1, torque = -1;  ///< measured load for "broken" (N, N m), else -1
+};
+
+/// What docking works on: the World's modules and physics, and the clock.
+struct DockingScene {
+  std::vector<Module>& modules;
+  PhysicsWorld& physics;
+  double time;
+  bool started;  ///< behaviours hear on_dock events only once the run has started
+};
+
+/// The modules connected to module m through engaged docks (m first).
+std::vector<int> componentOf(const std::vector<Module>& modules, int m);
+
+class Docking {
+ public:
+  const std::vector<Connection>& connections() const { return m_connections; }
+  const std::vector<DockEvent>& events() const { return m_events; }
+  /// The largest capture radius of the types in use (the dock hash's cell size).
+  void setCaptureCell(double radius) { m_captureCell = radius; }
+
+  /// world.connect: places b's side so the docks mate (unless they face each other already, as
+  /// when closing a loop) and locks them. Throws InputError (without location).
+  void connect(const DockingScene& s, int a, int dockA, int b, int dockB, int orientation);
+  /// Releases the connection at module m's dock. False if none.
+  bool disconnect(const DockingScene& s, int m, int dock);
+
+  /// Step 4: connections where either dock is now disabled are released.
+  void undock(const DockingScene& s);
+  /// Step 5: free compatible docks within reach attract (the magnet); aligned ones latch.
+  void dock(const DockingScene& s);
+  /// Step 7: connections whose transmitted load exceeds the docks' strength break.
+  void breakage(const DockingScene& s);
+  /// Load through a connection during the last step (force N, torque N m about the dock face).
+  Wrench connectionLoad(const DockingScene& s, const Connection& c) const;
+
+  /// Docks released since the last call, (module, dock): the messages in flight there are lost.
+  std::vector<std::pair<int, int>>& released() { return m_released; }
+
+ private:
+  /// Locks two docks: optionally moves b's component so the faces mate exactly first.
+  void lock(const DockingScene& s, int a, int da, int b, int db, int orientation, bool snap);
+  void release(const DockingScene& s, size_t connection, const char* kind, double force, double torque);
+  int bestOrientation(const DockingScene& s, int a, int da, int b, int db) const;
+
+  std::vector<Connection> m_connections;
+  std::vector<DockEvent> m_events;
+  std::vector<std::pair<int, int>> m_released;
+  uint64_t m_topology = 1;  ///< bumped whenever a lock is made or released
+  double m_captureCell = 0.03;
+  // Reused every step by the dock phase (no allocation once warm).
+  struct FreeDock {
+    int module, dock;
+    Pose pose;
+  };
+  std::vector<FreeDock> m_freeDocks;
+  struct DockBox {
+    Vec3 lo, hi;  ///< where a module's docks can reach
+    size_t module;
+    bool near;
+  };
+  std::vector<DockBox> m_dockBoxes;
+  std::vector<uint64_t> m_cellKeys;  ///< dock hash: slot -> cell key
+  std::vector<int> m_cellHead;       ///< slot -> first dock in the cell, or -1
+  std::vector<int> m_cellNext;       ///< dock -> next dock in its cell, or -1
+  std::vector<Pose> m_linkPoses;     ///< one module's link poses, computed once per step
+  std::vector<char> m_linkPoseValid;
+  struct Latch {
+    int a, da, b, db;
+    bool operator<(const Latch& o) const { return std::tie(a, da, b, db) < std::tie(o.a, o.da, o.b, o.db); }
+  };
+  std::vector<Latch> m_latches;
+};
+
+}  // namespace rm3d

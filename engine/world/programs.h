@@ -1,0 +1,55 @@
+// What the World needs of the scripts that drive it, as interfaces: the script layer (script/)
+// implements them with Lua VMs, so world/, docking/ and messaging/ neither include nor know Lua.
+//
+//   ScriptHost     made when a world is loaded (World::loadFile, defined by the script layer);
+//                  reads module types (they are Lua data), makes a module's program when a
+//                  module with a behaviour is spawned, and owns what the VMs share (the
+//                  watchdog). It outlives every program.
+//   WorldProgram   the world script: its hooks run after each step.
+//   ModuleProgram  a module's behaviour: init, step, on_dock, hot reload.
+//
+// Every call returns false with a message ("file:line: ...") when the script failed; the World
+// then faults that module (or records a world-script error) and runs on.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "modules/module_type.h"
+
+namespace rm3d {
+
+class ModuleHandle;
+
+class ModuleProgram {
+ public:
+  virtual ~ModuleProgram() = default;
+  virtual bool init(std::string& err) = 0;
+  virtual bool step(double dt, std::string& err) = 0;
+  /// on_dock(dock, event); event is "engaged", "disengaged" or "broken".
+  virtual bool onDock(int dock, const char* event, std::string& err) = 0;
+  /// Hot reload: new source for the program's file; on failure the old code keeps running.
+  virtual bool reload(const std::string& path, const std::string& source, std::string& err) = 0;
+  /// Declared percepts and their last values, one "name = value" per line (viewer).
+  virtual std::string describePercepts() = 0;
+};
+
+class WorldProgram {
+ public:
+  virtual ~WorldProgram() = default;
+  /// Calls the hooks due at time t (after each step).
+  virtual bool afterStep(double t, std::string& err) = 0;
+};
+
+class ScriptHost {
+ public:
+  virtual ~ScriptHost() = default;
+  /// Reads a module-type file (assets/modules/*.lua). Throws InputError naming file:line.
+  virtual ModuleTypeDef loadModuleType(const std::string& path) = 0;
+  /// Loads a behaviour file into a new program for the module. On failure err is set and the
+  /// program is still returned (the module faults; a hot reload that loads cleanly revives it).
+  virtual std::unique_ptr<ModuleProgram> loadBehaviour(const ModuleHandle& module, const std::string& path,
+                                                       std::string& err) = 0;
+};
+
+}  // namespace rm3d

@@ -17,7 +17,7 @@
 #include "core/error.h"
 #include "render/offscreen_renderer.h"
 #include "script/world_script.h"
-#include "world/world_snapshot.h"
+#include "render/world_snapshot.h"
 
 namespace fs = std::filesystem;
 

@@ -29,7 +29,7 @@
 #include "render/scene_renderer.h"
 #include "render/view_math.h"
 #include "world/world.h"
-#include "world/world_snapshot.h"
+#include "render/world_snapshot.h"
 
 namespace fs = std::filesystem;
 

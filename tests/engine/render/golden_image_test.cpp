@@ -9,7 +9,7 @@
 
 #include "render/offscreen_renderer.h"
 #include "test_world.h"
-#include "world/world_snapshot.h"
+#include "render/world_snapshot.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"

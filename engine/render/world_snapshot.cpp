@@ -1,5 +1,5 @@
 // Snapshot building: one mesh per distinct shape, one item per link shape, obstacle and dock.
-#include "world/world_snapshot.h"
+#include "render/world_snapshot.h"
 
 #include <cmath>
 #include <cstdio>

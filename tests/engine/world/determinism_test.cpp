@@ -68,6 +68,7 @@ uint64_t stateHash(const World& w) {
   h.i(int64_t(ms.sent)), h.i(int64_t(ms.received)), h.i(int64_t(ms.dropped));
   nlohmann::json j = w.summary(0);
   j.erase("wall_seconds");
+  j.erase("world");  // the world file's absolute path: differs between checkouts
   h.s(j.dump());
   return h.h;
 }
@@ -94,7 +95,7 @@ Outcome run(int threads, int steps) {
 }
 
 // The golden hash of the state after kSteps steps (same for every thread count).
-constexpr uint64_t kGolden = 0x5bb931efa2b9c07bull;
+constexpr uint64_t kGolden = 0x0297420daf8b3afdull;
 constexpr int kSteps = 90;
 
 }  // namespace

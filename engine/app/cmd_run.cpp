@@ -205,7 +205,14 @@ int runCommand(const RunArgs& a, const std::string& root) {
   if (!w.scriptError().empty()) std::fprintf(stderr, "rm3d: world script error: %s\n", w.scriptError().c_str());
   if (!w.divergence().empty()) std::fprintf(stderr, "rm3d: %s\n", w.divergence().c_str());
   for (const Failure& f : w.failures()) std::fprintf(stderr, "FAILED at t=%.3f: %s\n", f.time, f.message.c_str());
+  // The fault that ended a --strict run (with the log echoed, it was printed when it happened).
+  if (w.fatalFault() && !o.echoLog)
+    for (const Module& m : w.modules())
+      if (!m.fault.empty()) std::fprintf(stderr, "rm3d: --strict: module %s faulted: %s\n", m.name.c_str(), m.fault.c_str());
   for (const std::string& u : r.unrunChecks) std::fprintf(stderr, "rm3d: warning: %s\n", u.c_str());
+  if (code == kExitWatchdog)
+    std::fprintf(stderr, "rm3d: the watchdog stopped a call that did not return within %g s (--watchdog); exit code %d\n",
+                 o.watchdogSeconds, int(kExitWatchdog));
   if (r.signal)
     std::fprintf(stderr, "rm3d: interrupted (%s) at t=%.3f s after %lld steps; summary written as usual\n", signalName(r.signal),
                  w.time(), (long long)w.steps());

@@ -127,6 +127,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
   if (a.seed) o.seed = *a.seed;
   o.strict = a.strict;
   o.threads = a.threads;
+  o.chunkSize = a.chunk;
   o.echoLog = !a.quiet;
   o.watchdogSeconds = a.watchdog;
   if (!a.video.empty() && !onPath("ffmpeg")) {

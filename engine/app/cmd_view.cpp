@@ -638,6 +638,8 @@ int viewCommand(const ViewArgs& a, const std::string& root) {
   }
   if (a.seed) o.seed = *a.seed;
   o.threads = a.threads;
+  o.chunkSize = a.chunk;
+  o.echoLog = !a.quiet;
   o.watchdogSeconds = a.watchdog;
   o.keepHistory = true;  // the inspector shows recent log lines and messages
   if (a.frames > 0 && !a.screenshot.empty() && !prepareOutputFile("--screenshot", a.screenshot, err)) {

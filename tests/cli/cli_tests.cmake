@@ -110,6 +110,12 @@ endif()
 if(NOT s1 STREQUAL s3)
   message(SEND_ERROR "1 and 2 threads gave different summaries")
 endif()
+# --chunk (modules a worker takes at a time) changes the work split, not the results.
+expect_run("seed run 2 threads, chunk 1" 0 "" run ${SRC}/worlds/snake.lua --steps 120 --seed 7 --quiet --threads 2 --chunk 1 --json ${OUT}/s4.json)
+summary_without_wall(${OUT}/s4.json s4)
+if(NOT s1 STREQUAL s4)
+  message(SEND_ERROR "--threads 2 --chunk 1 gave a different summary")
+endif()
 string(JSON x1 GET "${s1}" modules 0 position 0)
 if(x1 LESS_EQUAL 0)
   message(SEND_ERROR "the snake did not move (head x ${x1})")
@@ -341,3 +347,16 @@ expect_run("watchdog under --strict" 3 "churn.lua:2: watchdog: step\\(\\) did no
   run ${OUT}/hung_module.lua --quiet --strict --watchdog 0.5)
 expect_run("test: a module stopped by the watchdog fails" 1 "module stuck \\(id 1\\) faulted: .*churn.lua:2: watchdog.*0 passed, 1 failed"
   test ${OUT}/hung_module.lua --watchdog 0.5)
+
+# --- Numeric flags out of range say what was expected and what was given.
+expect_run("--seconds 0" 2 "--seconds must be a positive number of seconds, got 0\n\\(see rm3d run --help\\)" run ${SRC}/worlds/snake.lua --seconds 0)
+expect_run("--steps 0" 2 "--steps must be a positive whole number of steps, got 0" run ${SRC}/worlds/snake.lua --steps 0)
+expect_run("--steps 2.5" 2 "--steps must be a positive whole number of steps, got 2.5" run ${SRC}/worlds/snake.lua --steps 2.5)
+expect_run("--threads 0" 2 "--threads must be a whole number of threads from 1 to 256, got 0" run ${SRC}/worlds/snake.lua --threads 0)
+expect_run("--chunk 0" 2 "--chunk must be a whole number of modules from 1 to 1000000, got 0" test ${SRC}/tests/worlds/servo_45.lua --chunk 0)
+expect_run("--watchdog -1" 2 "--watchdog must be a number of seconds, 0 or more \\(0: no watchdog\\), got -1" run ${SRC}/worlds/snake.lua --watchdog -1)
+expect_run("view --frames 0" 2 "--frames must be a positive whole number of frames, got 0\n\\(see rm3d view --help\\)" view ${SRC}/worlds/snake.lua --frames 0)
+expect_run("test --chunk" 0 "1 passed" test ${SRC}/tests/worlds/servo_45.lua --threads 2 --chunk 1)
+# view takes run's flags that mean the same there (parsed, then it stops for want of a display).
+expect_cmd("view takes run's flags" 2 "no display available" ${CMAKE_COMMAND} -E env --unset=DISPLAY --unset=WAYLAND_DISPLAY
+  ${RM3D} view ${SRC}/worlds/nodders.lua --quiet --threads 2 --chunk 4 --watchdog 2 --param k=v --seed 3)

@@ -17,6 +17,7 @@ struct RunArgs {
   std::string json;
   bool strict = false;
   int threads = 1;
+  int chunk = 16;  ///< --chunk N (RunOptions::chunkSize)
   std::string png, video;
   std::string size;  ///< WxH for pictures
   std::string frames;  ///< folder for PNG frames
@@ -31,6 +32,7 @@ struct TestArgs {
   std::vector<std::string> paths;
   std::string junit;
   int threads = 1;
+  int chunk = 16;  ///< --chunk N (RunOptions::chunkSize)
   bool strict = false;
   double watchdog = 5;  ///< --watchdog S
 };

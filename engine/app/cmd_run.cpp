@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "app/app.h"
-#include "app/file_watcher.h"
 #include "app/run_world.h"
 #include "app/video_pipe.h"
+#include "app/world_session.h"
 #include "core/error.h"
 #include "render/offscreen_renderer.h"
 #include "script/world_script.h"
@@ -54,76 +54,60 @@ bool onPath(const char* program) {
   return false;
 }
 
-/// `run --watch`: steps in real time and applies edits as they are saved: a changed behaviour or
-/// lua/ file is reloaded into the running modules (state kept); a changed world script rebuilds
-/// the world. Ends at --seconds/--steps, world.stop(), or when interrupted.
+/// `run --watch`: steps in real time and applies edits as they are saved (WorldSession): a
+/// changed behaviour or lua/ file is reloaded into the running modules (state kept); a changed
+/// world script rebuilds the world (a rejected one keeps the last good world running). Ends at
+/// --seconds/--steps, world.stop(), or when interrupted.
 int watchLoop(const RunArgs& a, const RunOptions& o) {
-  auto load = [&](std::unique_ptr<World>& w) {
-    w = std::make_unique<World>(o);
-    try {
-      w->loadFile(a.world);
-      return true;
-    } catch (const InputError& e) {
-      std::fprintf(stderr, "rm3d: %s (fix it and save; watching)\n", e.what());
-      return false;
-    }
-  };
-  std::unique_ptr<World> w;
-  bool ok = load(w);
-  FileWatcher watcher;
-  auto snapshot = [&] {
-    watcher.reset(ok ? w->watchedFiles() : std::vector<std::string>{fs::absolute(a.world).string()});
-  };
-  snapshot();
+  WorldSession session(a.world, o);
+  if (!session.load()) std::fprintf(stderr, "rm3d: %s (fix it and save; watching)\n", session.worldError().c_str());
   auto start = WallClock::now();
-  auto lastCheck = start;
   double simAtStart = 0;
-  std::printf("watching %zu files; edit and save to reload (Ctrl-C to stop)\n", watcher.size());
+  std::printf("watching %zu files; edit and save to reload (Ctrl-C to stop)\n", session.watchedCount());
   std::fflush(stdout);
   for (;;) {
     if (interruptSignal()) break;
-    if (ok) {
-      if (a.steps && w->steps() >= *a.steps) break;
-      if (a.seconds && w->time() >= *a.seconds - 1e-9) break;
-      if (w->stopped()) break;
-      w->step();
+    if (session.hasWorld()) {
+      World& w = session.world();
+      if (a.steps && w.steps() >= *a.steps) break;
+      if (a.seconds && w.time() >= *a.seconds - 1e-9) break;
+      if (w.stopped()) break;
+      w.step();
       // Real time: the simulation never runs ahead of the clock.
-      const double ahead = (w->time() - simAtStart) - std::chrono::duration<double>(WallClock::now() - start).count();
+      const double ahead = (w.time() - simAtStart) - std::chrono::duration<double>(WallClock::now() - start).count();
       if (ahead > 0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
     } else {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
-    if (WallClock::now() - lastCheck < std::chrono::milliseconds(100)) continue;
-    lastCheck = WallClock::now();
-    for (const std::string& file : watcher.changed()) {
-      const auto t0 = WallClock::now();
-      if (!ok || file == w->worldFile()) {
-        ok = load(w);
-        if (ok) std::printf("world script changed: rebuilt %s (%zu modules)\n", a.world.c_str(), w->modules().size());
-        start = WallClock::now();
-        simAtStart = 0;
-        snapshot();
-        break;
-      }
-      std::vector<std::string> errors;
-      const int n = w->reloadFile(file, errors);
-      const double took = std::chrono::duration<double, std::milli>(WallClock::now() - t0).count();
-      for (const std::string& e : errors) std::printf("reload rejected, old code keeps running: %s\n", e.c_str());
-      if (n > 0)
-        std::printf("reloaded %s into %d modules at t=%.2f s (seen within 100 ms of saving; %.1f ms to reload)\n",
-                    file.c_str(), n, w->time(), took);
-      std::fflush(stdout);
+    const SessionChanges c = session.poll();
+    if (!c.worldError.empty())
+      std::fprintf(stderr, "rm3d: %s (fix it and save; %s)\n", c.worldError.c_str(),
+                   session.hasWorld() ? "the previous world keeps running" : "watching");
+    if (c.rebuilt) {
+      std::printf("world script changed: rebuilt %s (%zu modules)\n", a.world.c_str(), session.world().modules().size());
+      start = WallClock::now();
+      simAtStart = 0;
     }
+    for (const SessionChanges::Rejected& r : c.rejected)
+      std::printf("reload rejected, old code keeps running: %s\n", r.error.c_str());
+    for (const SessionChanges::Reload& r : c.reloaded)
+      std::printf("reloaded %s into %d modules at t=%.2f s (seen within 100 ms of saving; %.1f ms to reload)\n",
+                  r.file.c_str(), r.modules, session.world().time(), r.millis);
+    if (!c.empty()) std::fflush(stdout);
   }
-  if (ok && w->script() && w->scriptError().empty()) {
-    std::string err;
-    if (!w->script()->atEnd(w->time(), err)) std::fprintf(stderr, "rm3d: world script error: %s\n", err.c_str());
+  const bool ok = session.hasWorld();
+  if (ok) {
+    World& w = session.world();
+    if (w.script() && w.scriptError().empty()) {
+      std::string err;
+      if (!w.script()->atEnd(w.time(), err)) std::fprintf(stderr, "rm3d: world script error: %s\n", err.c_str());
+    }
+    std::printf("%s: %lld steps, %.2f s simulated, %zu modules, %d faults%s\n", a.world.c_str(), (long long)w.steps(), w.time(),
+                w.modules().size(), w.faultCount(), interruptSignal() ? " (interrupted)" : "");
   }
-  if (ok)
-    std::printf("%s: %lld steps, %.2f s simulated, %zu modules, %d faults%s\n", a.world.c_str(), (long long)w->steps(), w->time(),
-                w->modules().size(), w->faultCount(), interruptSignal() ? " (interrupted)" : "");
   if (interruptSignal()) return 128 + interruptSignal();
-  return ok ? 0 : 2;
+  // The world file as last saved must load (the previous world may have run on meanwhile).
+  return ok && session.worldError().empty() ? 0 : 2;
 }
 
 }  // namespace
@@ -143,6 +127,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
   if (a.seed) o.seed = *a.seed;
   o.strict = a.strict;
   o.threads = a.threads;
+  o.chunkSize = a.chunk;
   o.echoLog = !a.quiet;
   o.watchdogSeconds = a.watchdog;
   if (!a.video.empty() && !onPath("ffmpeg")) {
@@ -221,7 +206,14 @@ int runCommand(const RunArgs& a, const std::string& root) {
   if (!w.scriptError().empty()) std::fprintf(stderr, "rm3d: world script error: %s\n", w.scriptError().c_str());
   if (!w.divergence().empty()) std::fprintf(stderr, "rm3d: %s\n", w.divergence().c_str());
   for (const Failure& f : w.failures()) std::fprintf(stderr, "FAILED at t=%.3f: %s\n", f.time, f.message.c_str());
+  // The fault that ended a --strict run (with the log echoed, it was printed when it happened).
+  if (w.fatalFault() && !o.echoLog)
+    for (const Module& m : w.modules())
+      if (!m.fault.empty()) std::fprintf(stderr, "rm3d: --strict: module %s faulted: %s\n", m.name.c_str(), m.fault.c_str());
   for (const std::string& u : r.unrunChecks) std::fprintf(stderr, "rm3d: warning: %s\n", u.c_str());
+  if (code == kExitWatchdog)
+    std::fprintf(stderr, "rm3d: the watchdog stopped a call that did not return within %g s (--watchdog); exit code %d\n",
+                 o.watchdogSeconds, int(kExitWatchdog));
   if (r.signal)
     std::fprintf(stderr, "rm3d: interrupted (%s) at t=%.3f s after %lld steps; summary written as usual\n", signalName(r.signal),
                  w.time(), (long long)w.steps());

@@ -152,6 +152,7 @@ int testCommand(const TestArgs& a, const std::string& root) {
     RunOptions o;
     o.projectRoot = root;
     o.threads = a.threads;
+    o.chunkSize = a.chunk;
     o.strict = a.strict;
     o.echoLog = false;
     o.watchdogSeconds = a.watchdog;

@@ -22,8 +22,8 @@
 #include <backends/imgui_impl_opengl3.h>
 
 #include "app/app.h"
-#include "app/file_watcher.h"
 #include "app/run_world.h"
+#include "app/world_session.h"
 #include "core/error.h"
 #include "render/picking.h"
 #include "render/scene_renderer.h"
@@ -146,13 +146,15 @@ PixelStats countModulePixels(const World& w, const Snapshot& snap, const Camera&
 
 class Viewer {
  public:
-  Viewer(const ViewArgs& args, RunOptions options) : m_args(args), m_options(std::move(options)) {}
+  Viewer(const ViewArgs& args, RunOptions options) : m_args(args), m_session(args.world, std::move(options), kWatchInterval) {}
 
   /// Loads the world before any window opens, so a bad file is reported like `run` does.
   bool loadInitial(std::string& err) {
-    std::unique_ptr<World> w = build(err);
-    if (!w) return false;
-    m_world = std::move(w);
+    if (!m_session.load()) {
+      err = m_session.worldError();
+      return false;
+    }
+    m_world = &m_session.world();
     m_orbit = OrbitCamera::from(worldCamera(*m_world));
     if (m_world->camera().follow >= 0) {
       m_follow = true;
@@ -165,7 +167,6 @@ class Viewer {
         return false;
       }
     }
-    takeStamps();
     return true;
   }
 
@@ -173,49 +174,32 @@ class Viewer {
 
  private:
   // --- world lifetime ---
-  std::unique_ptr<World> build(std::string& err) const {
-    std::error_code ec;
-    if (!fs::is_regular_file(m_args.world, ec)) {
-      err = m_args.world + ": cannot read world file (" +
-            (fs::exists(m_args.world, ec) ? "not a regular file" : "no such file") + ")";
-      return nullptr;
+  /// After R or an edited world file (WorldSession::rebuild/poll): the new world takes over the
+  /// selection and the followed module by id; a rejected file keeps the previous world running
+  /// and shows why until a later save fixes it.
+  void applyChanges(const SessionChanges& c, const char* why) {
+    if (!c.worldError.empty())
+      std::fprintf(stderr, "rm3d view: %s (fix it and save; the previous world keeps running)\n", c.worldError.c_str());
+    if (c.rebuilt) {
+      const int selectedId = m_selected >= 0 ? m_world->module(m_selected).id : -1;
+      const int followId = m_followModule >= 0 ? m_world->module(m_followModule).id : -1;
+      m_world = &m_session.world();
+      m_selected = indexOfId(selectedId);
+      m_followModule = indexOfId(followId);
+      if (m_followModule < 0) m_follow = false;
+      m_owed = 0;
+      m_rtfSamples.clear();
+      m_pausedAtEnd = false;
+      std::printf("%s: rebuilt %s (%zu modules)\n", why, m_args.world.c_str(), m_world->modules().size());
     }
-    auto w = std::make_unique<World>(m_options);
-    try {
-      w->loadFile(m_args.world);
-    } catch (const InputError& e) {
-      err = e.what();
-      return nullptr;
-    }
-    return w;
+    for (const SessionChanges::Rejected& r : c.rejected)
+      std::fprintf(stderr, "rm3d view: reload rejected, old code keeps running: %s\n", r.error.c_str());
+    for (const SessionChanges::Reload& r : c.reloaded)
+      std::printf("reloaded %s into %d modules at t=%.2f s\n", r.file.c_str(), r.modules, m_world->time());
+    if (!c.empty()) std::fflush(stdout);
   }
 
-  /// R or an edited world file: a new world from the file. A rejected file keeps the previous
-  /// world running and shows why until a later save fixes it.
-  void rebuild(const char* why) {
-    std::string err;
-    std::unique_ptr<World> w = build(err);
-    if (!w) {
-      m_worldError = err;
-      std::fprintf(stderr, "rm3d view: %s (fix it and save; the previous world keeps running)\n", err.c_str());
-      takeStamps();
-      return;
-    }
-    const int selectedId = m_selected >= 0 ? m_world->module(m_selected).id : -1;
-    const int followId = m_followModule >= 0 ? m_world->module(m_followModule).id : -1;
-    m_world = std::move(w);
-    m_worldError.clear();
-    m_reloadErrors.clear();
-    m_selected = indexOfId(selectedId);
-    m_followModule = indexOfId(followId);
-    if (m_followModule < 0) m_follow = false;
-    m_owed = 0;
-    m_rtfSamples.clear();
-    m_pausedAtEnd = false;
-    std::printf("%s: rebuilt %s (%zu modules)\n", why, m_args.world.c_str(), m_world->modules().size());
-    std::fflush(stdout);
-    takeStamps();
-  }
+  void rebuild(const char* why) { applyChanges(m_session.rebuild(), why); }
 
   int indexOfId(int id) const {
     if (id < 0) return -1;
@@ -226,42 +210,7 @@ class Viewer {
   }
 
   // --- hot reload ---
-  void takeStamps() {
-    // While the world file is rejected, keep watching what the last good world used too: the
-    // mistake may sit in a required lua/ file.
-    std::vector<std::string> files = m_world->watchedFiles();
-    files.push_back(fs::absolute(m_args.world).lexically_normal().string());
-    if (!m_worldError.empty())
-      for (const std::string& f : m_watcher.files()) files.push_back(f);
-    m_watcher.reset(files);
-  }
-
-  void watch() {
-    const auto now = Clock::now();
-    if (now - m_lastWatch < kWatchInterval) return;
-    m_lastWatch = now;
-    const std::string worldFile = fs::absolute(m_args.world).lexically_normal().string();
-    for (const std::string& file : m_watcher.changed()) {
-      if (!m_worldError.empty() || file == worldFile || file == m_world->worldFile()) {
-        rebuild("world script changed");
-        return;  // the stamps were retaken
-      }
-      std::vector<std::string> errors;
-      const int n = m_world->reloadFile(file, errors);
-      if (errors.empty()) {
-        m_reloadErrors.erase(file);
-      } else {
-        std::string text;
-        for (const std::string& e : errors) {
-          std::fprintf(stderr, "rm3d view: reload rejected, old code keeps running: %s\n", e.c_str());
-          text += (text.empty() ? "" : "\n") + e;
-        }
-        m_reloadErrors[file] = text;
-      }
-      if (n > 0) std::printf("reloaded %s into %d modules at t=%.2f s\n", file.c_str(), n, m_world->time());
-      std::fflush(stdout);
-    }
-  }
+  void watch() { applyChanges(m_session.poll(), "world script changed"); }
 
   // --- time ---
   void advance(double wallDt) {
@@ -460,16 +409,18 @@ class Viewer {
   /// error, failed expectations.
   void drawErrors(int width, int height) {
     const World& w = *m_world;
-    if (m_worldError.empty() && m_reloadErrors.empty() && w.scriptError().empty() && w.failures().empty()) return;
+    const std::string& worldError = m_session.worldError();
+    const std::map<std::string, std::string>& reloadErrors = m_session.reloadErrors();
+    if (worldError.empty() && reloadErrors.empty() && w.scriptError().empty() && w.failures().empty()) return;
     ImGui::SetNextWindowPos(ImVec2(8, float(height) - 8), ImGuiCond_Always, ImVec2(0, 1));
     ImGui::SetNextWindowSizeConstraints(ImVec2(200, 0), ImVec2(float(width) * 0.6f, float(height) * 0.4f));
     ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.25f, 0.02f, 0.02f, 0.9f));
     ImGui::Begin("Errors", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
     ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
     ImGui::PushTextWrapPos(float(width) * 0.58f);
-    if (!m_worldError.empty())
-      ImGui::Text("world file rejected (the previous world keeps running):\n%s", m_worldError.c_str());
-    for (const auto& [file, text] : m_reloadErrors)
+    if (!worldError.empty())
+      ImGui::Text("world file rejected (the previous world keeps running):\n%s", worldError.c_str());
+    for (const auto& [file, text] : reloadErrors)
       ImGui::Text("reload rejected, old code keeps running:\n%s", text.c_str());
     if (!w.scriptError().empty()) ImGui::Text("world script error: %s", w.scriptError().c_str());
     for (const Failure& f : w.failures()) ImGui::Text("FAILED at t=%.3f: %s", f.time, f.message.c_str());
@@ -498,7 +449,7 @@ class Viewer {
     ImGui::Begin(title.c_str(), &open, ImGuiWindowFlags_NoSavedSettings);
     ImGui::Text("%s   type %s   id %d", m.name.c_str(), m.type->name.c_str(), m.id);
     if (!m.behaviourFile.empty()) {
-      const std::string rel = fs::path(m.behaviourFile).lexically_relative(m_options.projectRoot).string();
+      const std::string rel = fs::path(m.behaviourFile).lexically_relative(m_session.options().projectRoot).string();
       ImGui::TextDisabled("behaviour %s", rel.empty() || rel.starts_with("..") ? m.behaviourFile.c_str() : rel.c_str());
     }
     if (m.fixed) ImGui::TextDisabled("fixed base");
@@ -575,12 +526,8 @@ class Viewer {
   }
 
   const ViewArgs& m_args;
-  RunOptions m_options;
-  std::unique_ptr<World> m_world;
-  std::string m_worldError;                          // the world file as saved is rejected
-  std::map<std::string, std::string> m_reloadErrors;  // file -> why its last edit was rejected
-  FileWatcher m_watcher;
-  Clock::time_point m_lastWatch = Clock::now();
+  WorldSession m_session;
+  World* m_world = nullptr;  // m_session's current world
   OrbitCamera m_orbit;
   Snapshot m_snapshot;  // what is on screen: clicks pick against it
   Camera m_camera;
@@ -691,6 +638,8 @@ int viewCommand(const ViewArgs& a, const std::string& root) {
   }
   if (a.seed) o.seed = *a.seed;
   o.threads = a.threads;
+  o.chunkSize = a.chunk;
+  o.echoLog = !a.quiet;
   o.watchdogSeconds = a.watchdog;
   o.keepHistory = true;  // the inspector shows recent log lines and messages
   if (a.frames > 0 && !a.screenshot.empty() && !prepareOutputFile("--screenshot", a.screenshot, err)) {

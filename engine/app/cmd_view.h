@@ -12,6 +12,8 @@ struct ViewArgs {
   std::optional<unsigned long long> seed;
   std::vector<std::string> params;  ///< key=value
   int threads = 1;
+  int chunk = 16;          ///< --chunk N (RunOptions::chunkSize)
+  bool quiet = false;      ///< --quiet: no module log lines on the terminal
   int frames = 0;          ///< > 0: render this many frames, then exit (with --screenshot)
   std::string screenshot;  ///< PNG of the last frame's window contents
   int select = -1;         ///< module id selected (inspector open) at start; -1: none

@@ -1,11 +1,15 @@
 // rm3d: entry point. Parses the command line (CLI11) and dispatches to the commands.
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <functional>
+#include <string>
 
 #include "app/app.h"
 #include "app/cmd_view.h"
@@ -17,6 +21,33 @@ std::string projectRoot(const std::string& given) {
   if (const char* env = std::getenv("RM3D_ROOT")) return std::filesystem::absolute(env).lexically_normal().string();
   return RM3D_SOURCE_DIR;
 }
+
+/// A CLI11 check on a number whose message says what was expected: the parse error reads
+/// "--steps must be a positive whole number of steps, got 0". `ok` sees the parsed value; `whole`
+/// also requires an integer. (CLI11's own range checks print their bounds as 300-digit numbers.)
+CLI::Validator numberCheck(std::string expected, std::function<bool(double)> ok, bool whole = false) {
+  return CLI::Validator(
+      [expected, ok, whole](std::string& in) -> std::string {
+        const char* begin = in.c_str();
+        char* end = nullptr;
+        errno = 0;
+        const double v = std::strtod(begin, &end);
+        const bool number = end != begin && *end == '\0' && errno != ERANGE;
+        if (number && (!whole || (std::isfinite(v) && v == std::floor(v))) && ok(v)) return {};
+        return "must be " + expected + ", got " + (in.empty() ? "nothing" : in);
+      },
+      expected, "");
+}
+
+const CLI::Validator kSeconds = numberCheck("a positive number of seconds", [](double v) { return !(v <= 0); });
+const CLI::Validator kWatchdogSeconds =
+    numberCheck("a number of seconds, 0 or more (0: no watchdog)", [](double v) { return v >= 0 && std::isfinite(v); });
+CLI::Validator positiveWhole(const std::string& what) {
+  return numberCheck("a positive whole number of " + what, [](double v) { return v >= 1 && v <= 9e18; }, true);
+}
+const CLI::Validator kThreads = numberCheck("a whole number of threads from 1 to 256", [](double v) { return v >= 1 && v <= 256; }, true);
+const CLI::Validator kChunk =
+    numberCheck("a whole number of modules from 1 to 1000000", [](double v) { return v >= 1 && v <= 1e6; }, true);
 
 }  // namespace
 
@@ -31,43 +62,48 @@ int run(int argc, char** argv) {
   runCmd->add_option("world", run.world, "world script (.lua)")->required();
   bool headless = true;
   runCmd->add_flag("--headless", headless, "no window (runs are always headless; `view` opens a window)");
-  auto* secOpt = runCmd->add_option("--seconds", run.seconds, "simulated seconds (default: the world's duration)")->check(CLI::PositiveNumber);
-  runCmd->add_option("--steps", run.steps, "number of steps")->check(CLI::PositiveNumber)->excludes(secOpt);
+  auto* secOpt = runCmd->add_option("--seconds", run.seconds, "simulated seconds (default: the world's duration)")->check(kSeconds);
+  runCmd->add_option("--steps", run.steps, "number of steps")->check(positiveWhole("steps"))->excludes(secOpt);
   runCmd->add_option("--seed", run.seed, "world seed (overrides world.set{seed=})");
   runCmd->add_option("--param", run.params, "key=value, seen as args.key in the world script")->take_all();
   runCmd->add_option("--json", run.json, "write the run summary as JSON");
   runCmd->add_flag("--strict", run.strict, "a module fault ends the run with exit code 1");
-  runCmd->add_option("--threads", run.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
+  runCmd->add_option("--threads", run.threads, "behaviour worker threads")->check(kThreads);
+  const char* chunkHelp = "modules a worker thread takes at a time (default 16)";
+  runCmd->add_option("--chunk", run.chunk, chunkHelp)->check(kChunk);
   runCmd->add_option("--png", run.png, "write the last frame as PNG");
   runCmd->add_option("--video", run.video, "write a video (MP4)");
   runCmd->add_option("--size", run.size, "picture size WxH (default 1280x720)");
   runCmd->add_option("--frames", run.frames, "write a PNG every --every steps into this folder");
   runCmd->add_option("--every", run.every, "steps between frames for --frames and --video (default: 30 frames per second)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveWhole("steps"));
   runCmd->add_option("--graph", run.graph, "write the connection graph at the end (FILE.dot: Graphviz, else JSON)");
   runCmd->add_flag("--quiet", run.quiet, "no module log lines");
   runCmd->add_flag("--watch", run.watch, "run in real time and reload behaviours, lua/ and the world as they are saved");
   const char* watchdogHelp = "stop a run that hangs this many seconds of wall time (exit code 3)";
-  runCmd->add_option("--watchdog", run.watchdog, watchdogHelp)->check(CLI::NonNegativeNumber);
+  runCmd->add_option("--watchdog", run.watchdog, watchdogHelp)->check(kWatchdogSeconds);
 
   rm3d::TestArgs test;
   CLI::App* testCmd = app.add_subcommand("test", "run scripted test worlds headless; ends with 'N passed, N failed'");
   testCmd->add_option("paths", test.paths, "world files or folders (default: tests/worlds)");
   testCmd->add_option("--junit", test.junit, "write a JUnit XML report");
-  testCmd->add_option("--threads", test.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
+  testCmd->add_option("--threads", test.threads, "behaviour worker threads")->check(kThreads);
+  testCmd->add_option("--chunk", test.chunk, chunkHelp)->check(kChunk);
   testCmd->add_flag("--strict", test.strict, "a module fault fails the world at once (even with world.set{expect_faults=})");
-  testCmd->add_option("--watchdog", test.watchdog, watchdogHelp)->check(CLI::NonNegativeNumber);
+  testCmd->add_option("--watchdog", test.watchdog, watchdogHelp)->check(kWatchdogSeconds);
 
   rm3d::BenchArgs bench;
   CLI::App* benchCmd = app.add_subcommand("bench", "scale benchmarks (snake_1000, superbots_1000)");
   benchCmd->add_option("scenes", bench.scenes, "scene names (default: all)");
-  benchCmd->add_option("--dt", bench.dt, "control step, s (default: 1/30 and 1/60)")->check(CLI::PositiveNumber);
-  benchCmd->add_option("--steps", bench.steps, "measured steps per scene")->check(CLI::PositiveNumber);
-  benchCmd->add_option("--threads", bench.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
-  benchCmd->add_option("--modules", bench.modules, "modules per scene (default 1000)")->check(CLI::PositiveNumber);
-  benchCmd->add_option("--iterations", bench.iterations, "solver iterations (default 10, as the reference)")->check(CLI::PositiveNumber);
-  benchCmd->add_option("--substeps", bench.substeps, "physics substeps per step (default 1)")->check(CLI::PositiveNumber);
-  benchCmd->add_option("--joint-iterations", bench.jointIterations, "solver iterations for hinge rows (default: as --iterations)")->check(CLI::NonNegativeNumber);
+  benchCmd->add_option("--dt", bench.dt, "control step, s (default: 1/30 and 1/60)")
+      ->check(numberCheck("a positive number of seconds", [](double v) { return v > 0 && std::isfinite(v); }));
+  benchCmd->add_option("--steps", bench.steps, "measured steps per scene")->check(positiveWhole("steps"));
+  benchCmd->add_option("--threads", bench.threads, "behaviour worker threads")->check(kThreads);
+  benchCmd->add_option("--modules", bench.modules, "modules per scene (default 1000)")->check(positiveWhole("modules"));
+  benchCmd->add_option("--iterations", bench.iterations, "solver iterations (default 10, as the reference)")->check(positiveWhole("iterations"));
+  benchCmd->add_option("--substeps", bench.substeps, "physics substeps per step (default 1)")->check(positiveWhole("substeps"));
+  benchCmd->add_option("--joint-iterations", bench.jointIterations, "solver iterations for hinge rows (default: as --iterations)")
+      ->check(numberCheck("a whole number of iterations, 0 or more", [](double v) { return v >= 0 && v <= 1e9; }, true));
   benchCmd->add_option("--type", bench.type, "module type (default superbot; superbot_box: brackets as boxes)");
   benchCmd->add_option("--json", bench.json, "write results as JSON");
 
@@ -76,11 +112,13 @@ int run(int argc, char** argv) {
   viewCmd->add_option("world", view.world, "world script (.lua)")->required();
   viewCmd->add_option("--seed", view.seed, "world seed (overrides world.set{seed=})");
   viewCmd->add_option("--param", view.params, "key=value, seen as args.key in the world script")->take_all();
-  viewCmd->add_option("--threads", view.threads, "behaviour worker threads")->check(CLI::Range(1, 256));
+  viewCmd->add_option("--threads", view.threads, "behaviour worker threads")->check(kThreads);
+  viewCmd->add_option("--chunk", view.chunk, chunkHelp)->check(kChunk);
+  viewCmd->add_flag("--quiet", view.quiet, "no module log lines on the terminal (the inspector still shows them)");
   viewCmd->add_option("--frames", view.frames, "render this many frames, then exit (with --screenshot)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveWhole("frames"));
   viewCmd->add_option("--screenshot", view.screenshot, "save the last frame's window as PNG (needs --frames)");
-  viewCmd->add_option("--watchdog", view.watchdog, watchdogHelp)->check(CLI::NonNegativeNumber);
+  viewCmd->add_option("--watchdog", view.watchdog, watchdogHelp)->check(kWatchdogSeconds);
   // Hidden: opens the inspector on a module at start (tests, README pictures).
   viewCmd->add_option("--select", view.select, "module id to select at start")->group("");
 
@@ -98,7 +136,13 @@ int run(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "rm3d: %s\n(see rm3d --help, or rm3d run --help)\n", e.what());
+    // "--steps: must be ..." from numberCheck reads "--steps must be ...".
+    std::string msg = e.what();
+    const size_t at = msg.find(": must be ");
+    if (at != std::string::npos && msg.compare(0, 2, "--") == 0) msg.erase(at, 1);
+    const CLI::App* sub = app.get_subcommands().empty() ? nullptr : app.get_subcommands().front();
+    const std::string help = sub ? "rm3d " + sub->get_name() + " --help" : "rm3d --help, or rm3d run --help";
+    std::fprintf(stderr, "rm3d: %s\n(see %s)\n", msg.c_str(), help.c_str());
     return 2;
   }
   const std::string r = projectRoot(root);

@@ -14,6 +14,8 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "script/script_host.h"
+#include "script/watchdog.h"
 #include "script/world_script.h"
 
 namespace fs = std::filesystem;
@@ -121,7 +123,7 @@ WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::o
     w.loadFile(file);
   } catch (const InputError& e) {
     r.loadError = e.what();
-    r.exitCode = kExitBadInput;
+    r.exitCode = w.script() && w.script()->stoppedByWatchdog() ? kExitWatchdog : kExitBadInput;
     return r;
   }
   long long limit = -1;
@@ -154,6 +156,13 @@ WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::o
   r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!w.scriptError().empty() || !r.runError.empty()) r.exitCode = kExitBadInput;
   else if (!w.failures().empty() || w.fatalFault()) r.exitCode = kExitFailed;
+  // The watchdog stopped the world script (its error ended the run), or under --strict a module
+  // (whose fault ended it): a hung run, exit 3 (the message names file:line and "watchdog").
+  const int scriptStops = script && script->stoppedByWatchdog() ? 1 : 0;
+  const Watchdog* dog = w.scriptHost() ? static_cast<LuaScriptHost*>(w.scriptHost())->watchdog() : nullptr;
+  const bool moduleStopped = dog && dog->stops() > scriptStops;
+  if ((scriptStops && !w.scriptError().empty()) || (options.strict && w.fatalFault() && moduleStopped))
+    r.exitCode = kExitWatchdog;
   if (r.signal) r.exitCode = 128 + r.signal;
   return r;
 }

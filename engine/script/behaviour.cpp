@@ -7,7 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "script/bindings.h"
+#include "script/behaviour_bindings.h"
 #include "script/watchdog.h"
 
 namespace fs = std::filesystem;

@@ -237,8 +237,16 @@ void LuaVm::raiseAbort(lua_State* L, int level) {
 }
 
 void LuaVm::abort(lua_State* L, Abort why) {
-  if (m_abort == Abort::None) m_abort = why;
+  if (m_abort == Abort::None) {
+    m_abort = why;
+    if (why == Abort::Watchdog) noteWatchdogStop();
+  }
   raiseAbort(L, 0);
+}
+
+void LuaVm::noteWatchdogStop() {
+  ++m_watchdogStops;
+  if (m_watchdog) m_watchdog->noteStop();
 }
 
 void LuaVm::hook(lua_State* L, lua_Debug*) {
@@ -263,6 +271,7 @@ void LuaVm::charge(lua_State* L, int64_t n, const char* what) {
       vm->m_abortWhat = what;
     } else if (vm->m_interruptStamp.load(std::memory_order_relaxed) == vm->m_stamp.load(std::memory_order_relaxed)) {
       vm->m_abort = Abort::Watchdog;
+      vm->noteWatchdogStop();
     }
   }
   if (vm->m_abort != Abort::None) raiseAbort(L, 1);

@@ -97,6 +97,8 @@ class LuaVm {
   /// A limit tripped in the current call (every further instruction raises).
   bool aborting() const { return m_abort != Abort::None; }
   const char* currentCall() const { return m_what.load(std::memory_order_relaxed); }
+  /// Calls on this VM the watchdog has stopped so far (read once the calls are over).
+  int watchdogStops() const { return m_watchdogStops; }
 
  private:
   enum class Abort : uint8_t { None, Budget, Watchdog, Memory };
@@ -107,6 +109,7 @@ class LuaVm {
   [[noreturn]] static void raiseAbort(lua_State* L, int level);
   std::string abortMessage() const;
   void abort(lua_State* L, Abort why);
+  void noteWatchdogStop();
   void openSandbox();
   void beginCall(const char* what);
   void endCall();
@@ -120,6 +123,7 @@ class LuaVm {
   Abort m_abort = Abort::None;
   const char* m_abortWhat = nullptr;  ///< C work that spent the budget (charge's `what`)
   bool m_memArmed = false;  ///< over the soft cap since it was last below
+  int m_watchdogStops = 0;  ///< calls ended by the watchdog (m_abort was Watchdog)
   void* m_user = nullptr;
   Watchdog* m_watchdog = nullptr;
   LuaVm* m_outer = nullptr;  ///< the VM whose call this thread was in when ours began

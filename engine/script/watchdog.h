@@ -5,6 +5,7 @@
 // message on stderr and exit code 3 (kWatchdogExitCode).
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -28,6 +29,10 @@ class Watchdog {
   double seconds() const { return m_seconds; }
   void add(LuaVm* vm);
   void remove(LuaVm* vm);
+  /// Calls the watchdog actually stopped (an interrupted call that returned first does not
+  /// count), over every VM registered with it. LuaVm reports each stop.
+  int stops() const { return m_stops.load(std::memory_order_relaxed); }
+  void noteStop() { m_stops.fetch_add(1, std::memory_order_relaxed); }
 
  private:
   struct Entry {
@@ -43,6 +48,7 @@ class Watchdog {
   std::condition_variable m_wake;
   bool m_stop = false;
   std::vector<Entry> m_entries;
+  std::atomic<int> m_stops{0};
   std::thread m_thread;
 };
 

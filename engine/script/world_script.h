@@ -36,6 +36,8 @@ class WorldScript : public WorldProgram {
     int runs = 0;       ///< times called
   };
   World& world() { return m_world; }
+  /// True once the watchdog stopped a call into the world script (its load or a hook).
+  bool stoppedByWatchdog() const { return m_vm.watchdogStops() > 0; }
   std::vector<int> onStep;
   std::vector<Timed> timed;
   std::vector<int> onEnd;

@@ -110,6 +110,12 @@ endif()
 if(NOT s1 STREQUAL s3)
   message(SEND_ERROR "1 and 2 threads gave different summaries")
 endif()
+# --chunk (modules a worker takes at a time) changes the work split, not the results.
+expect_run("seed run 2 threads, chunk 1" 0 "" run ${SRC}/worlds/snake.lua --steps 120 --seed 7 --quiet --threads 2 --chunk 1 --json ${OUT}/s4.json)
+summary_without_wall(${OUT}/s4.json s4)
+if(NOT s1 STREQUAL s4)
+  message(SEND_ERROR "--threads 2 --chunk 1 gave a different summary")
+endif()
 string(JSON x1 GET "${s1}" modules 0 position 0)
 if(x1 LESS_EQUAL 0)
   message(SEND_ERROR "the snake did not move (head x ${x1})")
@@ -299,3 +305,58 @@ expect_run("bad expect_faults" 2 "faults_bad.lua:1: world.set: expect_faults mus
 expect_run("--watchdog" 0 "" run ${SRC}/worlds/superbot_single.lua --steps 2 --quiet --watchdog 2)
 expect_run("bad --watchdog" 2 "watchdog" run ${SRC}/worlds/superbot_single.lua --steps 2 --watchdog -1)
 expect_run("test --watchdog" 0 "1 passed" test ${SRC}/tests/worlds/servo_45.lua --watchdog 10)
+
+# --- The watchdog's exit code: a world hook that never returns is stopped within seconds and the
+# run exits 3 naming file:line; a behaviour stuck in slow C calls (cheap in instructions, so the
+# budget does not fire first) faults only its module (exit 0), or ends the run with 3 under --strict.
+file(WRITE ${OUT}/hung_hook.lua "world.spawn('superbot', {at = {0, 0, 0.053}})\nworld.on_step(function(t)\n  while true do end\nend)\n")
+file(WRITE ${OUT}/hung_load.lua "world.spawn('superbot', {at = {0, 0, 0.053}})\nwhile true do end\n")
+file(WRITE ${OUT}/churn.lua "function step(dt)\n  while true do local s = string.rep('x', 1e6) end\nend\n")
+file(WRITE ${OUT}/hung_module.lua "world.set{duration = 0.5}\nworld.spawn('superbot', {at = {0, 0, 0.053}, behavior = 'churn.lua', name = 'stuck'})\nworld.spawn('superbot', {at = {1, 0, 0.053}, name = 'fine'})\n")
+string(TIMESTAMP t0 "%s")
+expect_run("watchdog stops a world hook" 3 "hung_hook.lua:3: watchdog: a world.on_step hook did not return within 0.5 s.*exit code 3"
+  run ${OUT}/hung_hook.lua --quiet --watchdog 0.5 --json ${OUT}/hung_hook.json)
+string(TIMESTAMP t1 "%s")
+math(EXPR took "${t1} - ${t0}")
+if(took GREATER 20)
+  message(SEND_ERROR "watchdog stops a world hook: took ${took} s, expected a few")
+endif()
+read_summary("watchdog stops a world hook" ${OUT}/hung_hook.json hung)
+string(JSON hcode ERROR_VARIABLE e GET "${hung}" exit_code)
+string(JSON herr ERROR_VARIABLE e GET "${hung}" error)
+if(NOT hcode EQUAL 3 OR NOT herr MATCHES "hung_hook.lua:3: watchdog")
+  message(SEND_ERROR "hung hook summary: exit_code '${hcode}', error '${herr}'")
+endif()
+expect_run("watchdog stops the world script's top level" 3 "hung_load.lua:2: watchdog: the script's top level did not return"
+  run ${OUT}/hung_load.lua --watchdog 0.5)
+expect_run("watchdog faults only the stuck module" 0 "2 modules, 1 faults"
+  run ${OUT}/hung_module.lua --quiet --watchdog 0.5 --json ${OUT}/hung_module.json)
+read_summary("watchdog faults only the stuck module" ${OUT}/hung_module.json hm)
+string(JSON n ERROR_VARIABLE e LENGTH "${hm}" modules)
+foreach(i RANGE 1)
+  string(JSON mname ERROR_VARIABLE e GET "${hm}" modules ${i} name)
+  string(JSON mtype ERROR_VARIABLE e TYPE "${hm}" modules ${i} error)
+  string(JSON merr ERROR_VARIABLE e GET "${hm}" modules ${i} error)
+  if(mname STREQUAL "stuck" AND NOT merr MATCHES "churn.lua:2: watchdog: step\\(\\) did not return within 0.5 s")
+    message(SEND_ERROR "stuck module: error is '${merr}'")
+  elseif(mname STREQUAL "fine" AND NOT mtype STREQUAL "NULL")
+    message(SEND_ERROR "fine module: error is '${merr}', expected null")
+  endif()
+endforeach()
+expect_run("watchdog under --strict" 3 "churn.lua:2: watchdog: step\\(\\) did not return.*exit code 3"
+  run ${OUT}/hung_module.lua --quiet --strict --watchdog 0.5)
+expect_run("test: a module stopped by the watchdog fails" 1 "module stuck \\(id 1\\) faulted: .*churn.lua:2: watchdog.*0 passed, 1 failed"
+  test ${OUT}/hung_module.lua --watchdog 0.5)
+
+# --- Numeric flags out of range say what was expected and what was given.
+expect_run("--seconds 0" 2 "--seconds must be a positive number of seconds, got 0\n\\(see rm3d run --help\\)" run ${SRC}/worlds/snake.lua --seconds 0)
+expect_run("--steps 0" 2 "--steps must be a positive whole number of steps, got 0" run ${SRC}/worlds/snake.lua --steps 0)
+expect_run("--steps 2.5" 2 "--steps must be a positive whole number of steps, got 2.5" run ${SRC}/worlds/snake.lua --steps 2.5)
+expect_run("--threads 0" 2 "--threads must be a whole number of threads from 1 to 256, got 0" run ${SRC}/worlds/snake.lua --threads 0)
+expect_run("--chunk 0" 2 "--chunk must be a whole number of modules from 1 to 1000000, got 0" test ${SRC}/tests/worlds/servo_45.lua --chunk 0)
+expect_run("--watchdog -1" 2 "--watchdog must be a number of seconds, 0 or more \\(0: no watchdog\\), got -1" run ${SRC}/worlds/snake.lua --watchdog -1)
+expect_run("view --frames 0" 2 "--frames must be a positive whole number of frames, got 0\n\\(see rm3d view --help\\)" view ${SRC}/worlds/snake.lua --frames 0)
+expect_run("test --chunk" 0 "1 passed" test ${SRC}/tests/worlds/servo_45.lua --threads 2 --chunk 1)
+# view takes run's flags that mean the same there (parsed, then it stops for want of a display).
+expect_cmd("view takes run's flags" 2 "no display available" ${CMAKE_COMMAND} -E env --unset=DISPLAY --unset=WAYLAND_DISPLAY
+  ${RM3D} view ${SRC}/worlds/nodders.lua --quiet --threads 2 --chunk 4 --watchdog 2 --param k=v --seed 3)

@@ -1,9 +1,10 @@
-// Dock: module.dock(name) -> userdata {index}; state queries, enable/disable, send.
+// Behaviour side: the Dock type (module.dock(name) -> userdata {index}): state queries,
+// enable/disable, send, peer.
 #include <lua.hpp>
 
 #include "script/lua_value.h"
 #include "script/behaviour.h"
-#include "script/bindings.h"
+#include "script/behaviour_bindings.h"
 #include "world/world.h"
 
 namespace rm3d {

@@ -1,14 +1,12 @@
-// Module and Body handles of the world script.
-#include "script/world_handles.h"
+// World side: the Module handle (rm3d.Module) the world script gets from world.spawn,
+// world.module(s) and world.components: pose, joints, docks, sensors, pushes, fault injection.
+#include "script/world_bindings.h"
 
 #include <cmath>
 #include <cstring>
 
-#include "assets/mesh_loader.h"
-#include "core/error.h"
-#include "script/bindings.h"
 #include "script/lua_options.h"
-#include "script/world_script.h"
+#include "script/sensor_reading.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -16,9 +14,8 @@ namespace rm3d {
 namespace {
 
 constexpr const char* kModuleMeta = "rm3d.Module";
-constexpr const char* kBodyMeta = "rm3d.Body";
 
-World& world(lua_State* L) { return static_cast<WorldScript*>(LuaVm::from(L)->user())->world(); }
+World& world(lua_State* L) { return scriptWorld(L); }
 
 int checkJointName(lua_State* L, int arg, int module) {
   const char* name = luaL_checkstring(L, arg);
@@ -264,29 +261,9 @@ int moduleEq(lua_State* L) {
   return 1;
 }
 
-int checkBody(lua_State* L) { return *static_cast<int*>(luaL_checkudata(L, 1, kBodyMeta)); }
-
-/// b:position() -> {x,y,z}
-int bodyPosition(lua_State* L) {
-  pushVec3(L, world(L).obstaclePose(checkBody(L)).pos);
-  return 1;
-}
-
-/// b:orientation() -> {w,x,y,z}
-int bodyOrientation(lua_State* L) {
-  pushQuat(L, world(L).obstaclePose(checkBody(L)).rot);
-  return 1;
-}
-
-/// b:velocity() -> {x,y,z}
-int bodyVelocity(lua_State* L) {
-  pushVec3(L, world(L).obstacleVelocity(checkBody(L)));
-  return 1;
-}
-
 }  // namespace
 
-void openWorldHandles(lua_State* L) {
+void openModuleHandle(lua_State* L) {
   static const luaL_Reg moduleMethods[] = {
       {"position", modulePosition},         {"orientation", moduleOrientation},   {"velocity", moduleVelocity},
       {"link_position", moduleLinkPosition}, {"joint_angle", moduleJointAngle},    {"joint_angles", moduleJointAngles},
@@ -303,13 +280,6 @@ void openWorldHandles(lua_State* L) {
   lua_setfield(L, -2, "__tostring");
   lua_pushcfunction(L, moduleEq);
   lua_setfield(L, -2, "__eq");
-  lua_pop(L, 1);
-
-  static const luaL_Reg bodyMethods[] = {
-      {"position", bodyPosition}, {"orientation", bodyOrientation}, {"velocity", bodyVelocity}, {nullptr, nullptr}};
-  luaL_newmetatable(L, kBodyMeta);
-  luaL_newlib(L, bodyMethods);
-  lua_setfield(L, -2, "__index");
   lua_pop(L, 1);
 }
 
@@ -331,23 +301,6 @@ int checkDockName(lua_State* L, int arg, int module) {
   lua_pushliteral(L, ")");
   lua_concat(L, int(t.docks.size()) + 3);
   return lua_error(L);
-}
-
-void pushBody(lua_State* L, int part) {
-  *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = part;
-  luaL_setmetatable(L, kBodyMeta);
-}
-
-void loadHullShape(World& w, const char* file, double scale, ShapeDef& out) {
-  const std::string path = w.resolvePath(file);
-  if (path.empty()) throw InputError(std::string("mesh file '") + file + "' not found (looked in the world's folder and the project root)");
-  MeshData mesh;
-  std::string err;
-  if (!loadMesh(path, scale, mesh, err)) throw InputError(err);
-  out.kind = ShapeKind::Hull;
-  out.points = std::move(mesh.points);
-  out.triangles = std::move(mesh.triangles);
-  out.source = file;
 }
 
 }  // namespace rm3d

@@ -1,10 +1,11 @@
-// Joint: module.joint(name) -> userdata {index}; angle, velocity, set_target, set_velocity, free.
+// Behaviour side: the Joint type (module.joint(name) -> userdata {index}): angle, velocity,
+// set_target, set_velocity, free, target, name, limits.
 #include <lua.hpp>
 
 #include <cmath>
 
 #include "script/behaviour.h"
-#include "script/bindings.h"
+#include "script/behaviour_bindings.h"
 #include "world/world.h"
 
 namespace rm3d {

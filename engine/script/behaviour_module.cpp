@@ -1,5 +1,6 @@
-// The behaviour API tables: `module` (identity, joints, docks, messages, percepts), `sim`
-// (clock and the module's random stream), `log`/`print`, and math.random on that stream.
+// Behaviour side: the `module` table (identity, joints, docks, messages, percepts) of a
+// behaviour VM, the helpers the behaviour bindings share, and openModuleApi, which sets up a
+// behaviour VM's globals (`module`, `sim` and `log` from behaviour_sim.cpp, `params`, `state`).
 #include <lua.hpp>
 
 #include <cmath>
@@ -10,8 +11,9 @@
 
 #include "script/lua_value.h"
 #include "script/behaviour.h"
-#include "script/bindings.h"
+#include "script/behaviour_bindings.h"
 #include "script/lua_options.h"
+#include "script/sensor_reading.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -152,95 +154,9 @@ int moduleHasSensor(lua_State* L) {
   return 2;
 }
 
-/// sim.time() -> seconds since the start
-int simTime(lua_State* L) {
-  lua_pushnumber(L, behaviourContext(L).module.world().time());
-  return 1;
-}
-
-/// sim.dt() -> the control step, seconds
-int simDt(lua_State* L) {
-  lua_pushnumber(L, behaviourContext(L).module.world().settings().dt);
-  return 1;
-}
-
-/// sim.random([m [, n]]) -> like math.random, from the module's own seeded stream
-int simRandom(lua_State* L) {
-  Rng& rng = self(L).rng;
-  const int n = lua_gettop(L);
-  if (n == 0) {
-    lua_pushnumber(L, rng.uniform());
-    return 1;
-  }
-  lua_Integer lo = 1, hi;
-  if (n == 1) {
-    hi = luaL_checkinteger(L, 1);
-  } else {
-    lo = luaL_checkinteger(L, 1);
-    hi = luaL_checkinteger(L, 2);
-  }
-  luaL_argcheck(L, lo <= hi, n, "interval is empty");
-  const uint64_t span = uint64_t(hi) - uint64_t(lo) + 1;
-  const uint64_t r = span == 0 ? rng.next() : rng.next() % span;
-  lua_pushinteger(L, lua_Integer(uint64_t(lo) + r));
-  return 1;
-}
-
-/// sim.gaussian([mu [, sigma]]) -> a normal deviate from the module's stream
-int simGaussian(lua_State* L) {
-  const double mu = luaL_optnumber(L, 1, 0.0);
-  const double sigma = luaL_optnumber(L, 2, 1.0);
-  luaL_argcheck(L, sigma >= 0, 2, "sigma must not be negative");
-  lua_pushnumber(L, self(L).rng.gaussian(mu, sigma));
-  return 1;
-}
-
-/// math.randomseed(x): restarts the module's stream from x (and the module id)
-int simRandomSeed(lua_State* L) {
-  const lua_Integer s = luaL_checkinteger(L, 1);
-  self(L).rng.seed(uint64_t(s), uint64_t(self(L).id) ^ 0x5eed5eed00000000ull);
-  return 0;
-}
-
-/// log(...) / print(...): a line in the run's log, tagged with time and module
-int logLine(lua_State* L) {
-  const int n = lua_gettop(L);
-  luaL_Buffer b;
-  luaL_buffinit(L, &b);
-  for (int i = 1; i <= n; ++i) {
-    luaL_tolstring(L, i, nullptr);
-    luaL_addvalue(&b);
-    if (i < n) luaL_addchar(&b, '\t');
-  }
-  luaL_pushresult(&b);
-  self(L).log.emplace_back(lua_tostring(L, -1));
-  return 0;
-}
-
 void setFunctions(lua_State* L, const luaL_Reg* fns) { luaL_setfuncs(L, fns, 0); }
 
 }  // namespace
-
-void pushSensorReading(lua_State* L, const SensorReading& r) {
-  switch (r.kind) {
-    case SensorReading::Kind::Nil: lua_pushnil(L); break;
-    case SensorReading::Kind::Number: lua_pushnumber(L, r.v[0]); break;
-    case SensorReading::Kind::Boolean: lua_pushboolean(L, r.flag); break;
-    case SensorReading::Kind::Vector: pushVec3(L, Vec3(r.v[0], r.v[1], r.v[2])); break;
-    case SensorReading::Kind::Quaternion: pushQuat(L, Quat(r.v[0], r.v[1], r.v[2], r.v[3])); break;
-    case SensorReading::Kind::Dock:
-      lua_createtable(L, 0, 3);
-      lua_pushboolean(L, r.flag);
-      lua_setfield(L, -2, "enabled");
-      lua_pushboolean(L, r.engaged);
-      lua_setfield(L, -2, "engaged");
-      if (r.proximity >= 0) {
-        lua_pushnumber(L, r.proximity);
-        lua_setfield(L, -2, "proximity");
-      }
-      break;
-  }
-}
 
 BehaviourContext& behaviourContext(lua_State* L) { return *static_cast<BehaviourContext*>(LuaVm::from(L)->user()); }
 
@@ -317,22 +233,7 @@ void openModuleApi(lua_State* L, BehaviourContext& ctx) {
   lua_setfield(L, -2, "has_sensor");
   lua_setglobal(L, "module");
 
-  static const luaL_Reg simFns[] = {{"time", simTime},         {"dt", simDt}, {"random", simRandom},
-                                    {"gaussian", simGaussian}, {nullptr, nullptr}};
-  luaL_newlib(L, simFns);
-  lua_setglobal(L, "sim");
-
-  lua_getglobal(L, "math");
-  lua_pushcfunction(L, simRandom);
-  lua_setfield(L, -2, "random");
-  lua_pushcfunction(L, simRandomSeed);
-  lua_setfield(L, -2, "randomseed");
-  lua_pop(L, 1);
-
-  lua_pushcfunction(L, logLine);
-  lua_setglobal(L, "log");
-  lua_pushcfunction(L, logLine);
-  lua_setglobal(L, "print");
+  openSimApi(L);
 
   pushLuaValue(L, m.params);
   if (!lua_istable(L, -1)) {

@@ -1,5 +1,5 @@
-// The world-script API: `world.*`, `expect`, `args`, `log`. Calls into World may throw
-// InputError; callWorld converts it into a Lua error with the caller's file:line.
+// World side: the world script's `world` table, `expect`, `args` and `log`/`print`. Calls into
+// World may throw InputError; callWorld converts it into a Lua error with the caller's file:line.
 #include <lua.hpp>
 
 #include <cmath>
@@ -11,9 +11,8 @@
 #include "core/error.h"
 #include "docking/dock_frame.h"
 #include "script/lua_value.h"
-#include "script/bindings.h"
 #include "script/lua_options.h"
-#include "script/world_handles.h"
+#include "script/world_bindings.h"
 #include "script/world_script.h"
 #include "world/world.h"
 
@@ -481,8 +480,11 @@ void pushArgs(lua_State* L, const std::map<std::string, std::string>& params) {
 
 }  // namespace
 
+World& scriptWorld(lua_State* L) { return script(L).world(); }
+
 void openWorldApi(lua_State* L, WorldScript& s) {
-  openWorldHandles(L);
+  openModuleHandle(L);
+  openBodyHandle(L);
   static const luaL_Reg fns[] = {{"set", worldSet},         {"ground", worldGround},   {"box", worldBox},
                                  {"sphere", worldSphere},   {"cylinder", worldCylinder}, {"mesh", worldMesh},
                                  {"spawn", worldSpawn},     {"connect", worldConnect}, {"modules", worldModules},

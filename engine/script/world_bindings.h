@@ -1,5 +1,8 @@
-// World-side handles: Module (a spawned module) and Body (an obstacle), as userdata holding an
-// index, plus the bridge that turns C++ exceptions from World into Lua errors.
+// World side: registration of the Lua types and tables the world script sees, one file each:
+// world_api.cpp (`world`, `expect`, `args`, `log`), world_module.cpp (the Module handle, a
+// spawned module), world_body.cpp (the Body handle, an obstacle). Handles are userdata holding an
+// index. Also the bridge that turns C++ exceptions from World into Lua errors. The behaviour
+// side is behaviour_bindings.h.
 #pragma once
 
 #include <exception>
@@ -11,7 +14,11 @@ namespace rm3d {
 class World;
 struct ShapeDef;
 
-void openWorldHandles(lua_State* L);
+/// The World of the world script running in L (world_api.cpp).
+World& scriptWorld(lua_State* L);
+
+void openModuleHandle(lua_State* L);
+void openBodyHandle(lua_State* L);
 void pushModule(lua_State* L, int index);
 /// The module index held by the Module handle at arg (errors otherwise).
 int checkModule(lua_State* L, int arg);

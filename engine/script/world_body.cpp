@@ -1,0 +1,67 @@
+// World side: the Body handle (rm3d.Body) of an obstacle made by world.box/sphere/cylinder/mesh,
+// and the convex-hull shape world.mesh reads from a mesh file.
+#include <string>
+
+#include "assets/mesh_loader.h"
+#include "core/error.h"
+#include "script/lua_options.h"
+#include "script/world_bindings.h"
+#include "world/world.h"
+
+namespace rm3d {
+
+namespace {
+
+constexpr const char* kBodyMeta = "rm3d.Body";
+
+World& world(lua_State* L) { return scriptWorld(L); }
+
+int checkBody(lua_State* L) { return *static_cast<int*>(luaL_checkudata(L, 1, kBodyMeta)); }
+
+/// b:position() -> {x,y,z}
+int bodyPosition(lua_State* L) {
+  pushVec3(L, world(L).obstaclePose(checkBody(L)).pos);
+  return 1;
+}
+
+/// b:orientation() -> {w,x,y,z}
+int bodyOrientation(lua_State* L) {
+  pushQuat(L, world(L).obstaclePose(checkBody(L)).rot);
+  return 1;
+}
+
+/// b:velocity() -> {x,y,z}
+int bodyVelocity(lua_State* L) {
+  pushVec3(L, world(L).obstacleVelocity(checkBody(L)));
+  return 1;
+}
+
+}  // namespace
+
+void openBodyHandle(lua_State* L) {
+  static const luaL_Reg bodyMethods[] = {
+      {"position", bodyPosition}, {"orientation", bodyOrientation}, {"velocity", bodyVelocity}, {nullptr, nullptr}};
+  luaL_newmetatable(L, kBodyMeta);
+  luaL_newlib(L, bodyMethods);
+  lua_setfield(L, -2, "__index");
+  lua_pop(L, 1);
+}
+
+void pushBody(lua_State* L, int part) {
+  *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = part;
+  luaL_setmetatable(L, kBodyMeta);
+}
+
+void loadHullShape(World& w, const char* file, double scale, ShapeDef& out) {
+  const std::string path = w.resolvePath(file);
+  if (path.empty()) throw InputError(std::string("mesh file '") + file + "' not found (looked in the world's folder and the project root)");
+  MeshData mesh;
+  std::string err;
+  if (!loadMesh(path, scale, mesh, err)) throw InputError(err);
+  out.kind = ShapeKind::Hull;
+  out.points = std::move(mesh.points);
+  out.triangles = std::move(mesh.triangles);
+  out.source = file;
+}
+
+}  // namespace rm3d

@@ -160,6 +160,7 @@ run_case() {
     local first
     first=$(grep -a -v -E '^\[ *[0-9.]+ ' "$all" | grep -m1 -E '.' | cut -c1-240)
     [ -z "$first" ] && first=$(grep -a -m1 . "$all" | cut -c1-240)
+    first=$(printf "%s" "$first" | LC_ALL=C tr -c "[:print:]" "?")
     detail="$detail; output: ${first:-<none>}"
   fi
   printf '%s\t%s\n' "$class" "$detail" > "$OUT/results/$id"

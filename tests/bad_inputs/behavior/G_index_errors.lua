@@ -1,0 +1,2 @@
+function step(dt) end
+setmetatable(_G, {__index = function(t, k) error('no global ' .. tostring(k)) end})

@@ -1,0 +1,2 @@
+function step(dt) end
+setmetatable(_G, {__metatable = 'locked', __index = function(t, k) return nil end})

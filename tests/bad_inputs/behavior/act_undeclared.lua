@@ -1,0 +1,3 @@
+function step(dt)
+  module.act('lift', 1) --!
+end

@@ -1,0 +1,2 @@
+actions = { lift = { joint = 'elbow' } } --!
+function step(dt) end

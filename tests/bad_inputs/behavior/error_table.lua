@@ -1,0 +1,1 @@
+function step(dt) error({code = 7}) end --!

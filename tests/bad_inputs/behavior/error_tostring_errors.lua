@@ -1,0 +1,1 @@
+function step(dt) error(setmetatable({}, {__tostring = function() error('tostring too') end})) end --!

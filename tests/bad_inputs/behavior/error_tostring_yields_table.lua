@@ -1,0 +1,1 @@
+function step(dt) error(setmetatable({}, {__tostring = function() return {} end})) end --!

@@ -1,0 +1,1 @@
+function step(dt) error('bytes \xff\xfe\xc3\x28 end') end --!

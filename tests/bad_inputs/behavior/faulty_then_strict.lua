@@ -1,0 +1,3 @@
+function step(dt)
+  error('strict failure') --!
+end

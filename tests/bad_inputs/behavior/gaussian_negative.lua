@@ -1,0 +1,3 @@
+function step(dt)
+  sim.gaussian(0, -1) --!
+end

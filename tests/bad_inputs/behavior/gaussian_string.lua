@@ -1,0 +1,3 @@
+function step(dt)
+  sim.gaussian('x') --!
+end

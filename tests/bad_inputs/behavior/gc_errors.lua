@@ -1,0 +1,2 @@
+g = setmetatable({}, {__gc = function() error('gc failed') end})
+function step(dt) end

@@ -1,0 +1,4 @@
+function init()
+  error('init failed') --!
+end
+function step(dt) end

@@ -1,0 +1,3 @@
+function step(dt)
+  module.joint(5) --!
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  load('while true do end')() --!
+end

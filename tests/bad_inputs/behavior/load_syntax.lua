@@ -1,0 +1,3 @@
+function step(dt)
+  assert(load('x = = 1')) --!
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  log(string.rep('L', 2e6))
+end

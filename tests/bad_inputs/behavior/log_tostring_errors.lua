@@ -1,0 +1,3 @@
+function step(dt)
+  log(setmetatable({}, {__tostring = function() error('no string') end})) --!
+end

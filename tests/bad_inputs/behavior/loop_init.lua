@@ -1,0 +1,3 @@
+function init()
+  while true do end --!
+end

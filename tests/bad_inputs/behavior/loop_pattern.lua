@@ -1,0 +1,4 @@
+local s = string.rep('a', 50000)
+function step(dt)
+  s:find('.-.-.-.-.-.-.-b') --!
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  while true do pcall(function() while true do end end) end --!
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  while true do pcall(error, 'x') end --!
+end

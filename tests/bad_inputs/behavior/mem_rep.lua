@@ -1,0 +1,3 @@
+function step(dt)
+  local s = string.rep('x', 1e9) --!
+end

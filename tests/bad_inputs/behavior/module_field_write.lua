@@ -1,0 +1,3 @@
+function step(dt)
+  module.id = 99; module.joint = nil; error('after writes') --!
+end

@@ -1,0 +1,2 @@
+local n = noise.gaussian(-1) --!
+function step(dt) end

@@ -1,0 +1,2 @@
+percepts = { tilt = { sensor = 'sonar' } } --!
+function step(dt) end

@@ -1,0 +1,3 @@
+function step(dt)
+  sim.random(5, 1) --!
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  sim.random(0/0) --!
+end

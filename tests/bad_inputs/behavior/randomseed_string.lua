@@ -1,0 +1,3 @@
+function step(dt)
+  math.randomseed('x') --!
+end

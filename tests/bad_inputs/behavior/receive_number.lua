@@ -1,0 +1,3 @@
+function step(dt)
+  module.receive(42) --!
+end

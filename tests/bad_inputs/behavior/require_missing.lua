@@ -1,0 +1,2 @@
+require('no_such_lib_xyz') --!
+function step(dt) end

@@ -1,0 +1,2 @@
+require('require_self') --!
+function step(dt) end

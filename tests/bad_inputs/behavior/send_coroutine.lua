@@ -1,0 +1,4 @@
+local d = module.dock('front')
+function step(dt)
+  d:send(coroutine.create(print)) --!
+end

@@ -1,0 +1,4 @@
+local d = module.dock('front')
+function step(dt)
+  d:send(setmetatable({1}, {__gc = function() error('gc copied') end})) --!
+end

@@ -1,0 +1,4 @@
+local d = module.dock('front')
+function step(dt)
+  d:send({[{}] = 1}) --!
+end

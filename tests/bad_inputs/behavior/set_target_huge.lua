@@ -1,0 +1,1 @@
+function step(dt) module.joint('pitch'):set_target(1e300) end

@@ -1,0 +1,3 @@
+function step(dt)
+  module.joint('pitch'):set_target('up') --!
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  module.joint('pitch'):set_velocity(-1/0) --!
+end

@@ -1,0 +1,4 @@
+function step(dt)
+  local t = nil
+  return t.x --!
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  if then --!
+end

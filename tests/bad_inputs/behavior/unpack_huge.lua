@@ -1,0 +1,3 @@
+function step(dt)
+  return table.unpack({}, 1, 1e8) --!
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  return utf8.char(-1) --!
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  coroutine.yield(1) --!
+end

@@ -1,0 +1,4 @@
+return {
+  name = 't',
+  links = { { name = 'body', shapes = { { box = {0.1, 0.1, 0.1} } } } },
+}

@@ -1,0 +1,2 @@
+world.set{duration = 0.2}
+error(string.rep('x', 4e6)) --!

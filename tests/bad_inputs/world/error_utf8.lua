@@ -1,0 +1,2 @@
+world.set{duration = 0.2}
+error('bad bytes \xff\xfe\xc3 here') --!

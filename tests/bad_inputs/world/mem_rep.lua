@@ -1,0 +1,2 @@
+world.set{duration = 0.2}
+local s = string.rep('x', 1e10) --!

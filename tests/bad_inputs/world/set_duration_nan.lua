@@ -1,0 +1,1 @@
+world.set({duration = 0/0}) --!

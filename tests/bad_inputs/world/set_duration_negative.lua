@@ -1,0 +1,1 @@
+world.set({duration = -1}) --!

@@ -1,0 +1,1 @@
+world.set({gravity = {0, 0, 0/0}}) --!

@@ -1,0 +1,1 @@
+world.set({solver_iterations = 1e12}) --!

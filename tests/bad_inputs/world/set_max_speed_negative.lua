@@ -1,0 +1,1 @@
+world.set({max_speed = -1}) --!

@@ -1,0 +1,1 @@
+world.set({seed = -1}) --!

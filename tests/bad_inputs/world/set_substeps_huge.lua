@@ -1,0 +1,1 @@
+world.set({substeps = 1e12}) --!

@@ -1,0 +1,1 @@
+world.set({substeps = 0}) --!

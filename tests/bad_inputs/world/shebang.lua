@@ -1,0 +1,2 @@
+#!/usr/bin/env rm3d
+world.set{duration = 0.1}

@@ -1,0 +1,2 @@
+world.set{duration = 5}
+world.on_step(function() world.stop(); world.stop() end)

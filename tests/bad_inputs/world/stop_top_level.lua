@@ -1,0 +1,2 @@
+world.set{duration = 5}
+world.stop()

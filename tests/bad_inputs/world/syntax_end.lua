@@ -1,0 +1,5 @@
+world.set{duration = 0.2}
+if true then
+  print(1)
+else else --!
+end

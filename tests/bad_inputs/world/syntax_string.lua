@@ -1,0 +1,3 @@
+world.set{duration = 0.2}
+local s = "abc --!
+print(s)

@@ -46,6 +46,14 @@ CLI::Validator positiveWhole(const std::string& what) {
   return numberCheck("a positive whole number of " + what, [](double v) { return v >= 1 && v <= 9e18; }, true);
 }
 const CLI::Validator kThreads = numberCheck("a whole number of threads from 1 to 256", [](double v) { return v >= 1 && v <= 256; }, true);
+/// A seed: a whole number from 0 to 2^63 - 1, in digits (no sign, no exponent, no wrap-around).
+const CLI::Validator kSeed(
+    [](std::string& in) -> std::string {
+      const bool digits = !in.empty() && in.size() <= 19 && in.find_first_not_of("0123456789") == std::string::npos;
+      if (digits && std::strtoull(in.c_str(), nullptr, 10) <= 9223372036854775807ull) return {};
+      return "must be a whole number from 0 to 9223372036854775807, got " + (in.empty() ? std::string("nothing") : in);
+    },
+    "SEED", "");
 const CLI::Validator kChunk =
     numberCheck("a whole number of modules from 1 to 1000000", [](double v) { return v >= 1 && v <= 1e6; }, true);
 
@@ -64,7 +72,7 @@ int run(int argc, char** argv) {
   runCmd->add_flag("--headless", headless, "no window (runs are always headless; `view` opens a window)");
   auto* secOpt = runCmd->add_option("--seconds", run.seconds, "simulated seconds (default: the world's duration)")->check(kSeconds);
   runCmd->add_option("--steps", run.steps, "number of steps")->check(positiveWhole("steps"))->excludes(secOpt);
-  runCmd->add_option("--seed", run.seed, "world seed (overrides world.set{seed=})");
+  runCmd->add_option("--seed", run.seed, "world seed (overrides world.set{seed=})")->check(kSeed);
   runCmd->add_option("--param", run.params, "key=value, seen as args.key in the world script")->take_all();
   runCmd->add_option("--json", run.json, "write the run summary as JSON");
   runCmd->add_flag("--strict", run.strict, "a module fault ends the run with exit code 1");
@@ -110,7 +118,7 @@ int run(int argc, char** argv) {
   rm3d::ViewArgs view;
   CLI::App* viewCmd = app.add_subcommand("view", "interactive window: real-time stepping, inspector, hot reload");
   viewCmd->add_option("world", view.world, "world script (.lua)")->required();
-  viewCmd->add_option("--seed", view.seed, "world seed (overrides world.set{seed=})");
+  viewCmd->add_option("--seed", view.seed, "world seed (overrides world.set{seed=})")->check(kSeed);
   viewCmd->add_option("--param", view.params, "key=value, seen as args.key in the world script")->take_all();
   viewCmd->add_option("--threads", view.threads, "behaviour worker threads")->check(kThreads);
   viewCmd->add_option("--chunk", view.chunk, chunkHelp)->check(kChunk);

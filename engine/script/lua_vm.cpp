@@ -378,6 +378,8 @@ bool LuaVm::loadFile(const std::string& path, std::string& err) {
   chunk += displayName(path);
   if (luaL_loadbufferx(m_L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK) {
     err = lua_type(m_L, -1) == LUA_TSTRING ? lua_tostring(m_L, -1) : "cannot load " + chunk.substr(1);
+    // Syntax errors name file:line already; a refused binary chunk does not.
+    if (err.rfind(chunk.substr(1), 0) != 0) err = chunk.substr(1) + ": " + err + " (expected a Lua text file)";
     makeValidUtf8(err);
     lua_pop(m_L, 1);
     return false;

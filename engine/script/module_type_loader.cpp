@@ -24,6 +24,12 @@ namespace rm3d {
 
 namespace {
 
+/// Largest size, mass or other magnitude a module type may give (SI units); beyond it the
+/// physics cannot mean anything.
+constexpr double kMaxMagnitude = 1e6;
+/// Shapes per link: a link is a rigid body, and each shape is tested in every contact pair.
+constexpr size_t kMaxShapesPerLink = 256;
+
 constexpr size_t kMemoryLimit = size_t(64) << 20;
 constexpr int64_t kInstructionBudget = 100000000;
 // Module types nest four levels deep; anything far deeper is a mistake, and the limit keeps the
@@ -282,6 +288,7 @@ class TypeReader {
   double toPositive(const LuaValue& v, const std::string& where) const {
     const double x = toNumber(v, where);
     if (x <= 0) fail(where, "must be greater than 0 (got " + formatNumber(x) + ")");
+    if (x > kMaxMagnitude) fail(where, "must be at most " + formatNumber(kMaxMagnitude) + " (got " + formatNumber(x) + ")");
     return x;
   }
 
@@ -375,6 +382,8 @@ class TypeReader {
     const std::string ws = childPath(where, "shapes");
     const auto shapes = toList(require(v, where, "shapes"), ws);
     if (shapes.empty()) fail(ws, "a link needs at least one shape");
+    if (shapes.size() > kMaxShapesPerLink)
+      fail(ws, "a link has at most " + std::to_string(kMaxShapesPerLink) + " shapes (got " + std::to_string(shapes.size()) + ")");
     double fixedMass = 0;
     for (size_t i = 0; i < shapes.size(); ++i) {
       link.shapes.push_back(readShape(*shapes[i], indexPath(ws, i + 1)));
@@ -413,8 +422,9 @@ class TypeReader {
       s.kind = ShapeKind::Box;
       s.size = toVec3(*box, w);
       for (int i = 0; i < 3; ++i)
-        if (s.size[i] <= 0)
-          fail(indexPath(w, i + 1), "box sides must be greater than 0 (got " + formatNumber(s.size[i]) + ")");
+        if (!(s.size[i] > 0 && s.size[i] <= kMaxMagnitude))
+          fail(indexPath(w, i + 1), "box sides must be greater than 0 and at most " + formatNumber(kMaxMagnitude) +
+                                        " (got " + formatNumber(s.size[i]) + ")");
     } else if (sphere) {
       s.kind = ShapeKind::Sphere;
       s.radius = toPositive(*sphere, childPath(where, "sphere"));
@@ -626,6 +636,23 @@ class TypeReader {
 
   /// Every link must hang together with the root through joints, or it would fall away.
   void checkConnected(const ModuleTypeDef& def) const {
+    // Joints form a tree over the links: a joint between links already joined (through other
+    // joints, or the same link twice) would close a loop the solver cannot hold.
+    std::vector<size_t> group(def.links.size());
+    for (size_t i = 0; i < group.size(); ++i) group[i] = i;
+    auto find = [&group](size_t i) {
+      while (group[i] != i) i = group[i] = group[group[i]];
+      return i;
+    };
+    for (size_t k = 0; k < def.joints.size(); ++k) {
+      const JointDef& j = def.joints[k];
+      const size_t a = find(size_t(j.parent)), b = find(size_t(j.child));
+      if (a == b)
+        fail(indexPath("joints", k + 1), "joint '" + j.name + "' joins links '" + def.links[size_t(j.parent)].name +
+                                             "' and '" + def.links[size_t(j.child)].name +
+                                             "', which other joints already join (joints must form a tree from the root link)");
+      group[a] = b;
+    }
     std::vector<bool> reached(def.links.size(), false);
     reached[size_t(def.rootLink)] = true;
     for (bool grew = true; grew;) {

@@ -54,6 +54,7 @@ int worldSet(lua_State* L) {
   const double duration = optNumberField(L, 1, fn, "duration", s.duration);
   if (duration < 0) return luaL_error(L, "%s: duration must be 0 or more seconds, got %s", fn, numText(duration).s);
   const long long seed = optIntegerField(L, 1, fn, "seed", (long long)s.seed);
+  if (seed < 0) return luaL_error(L, "%s: seed must be a whole number 0 or more, got %I", fn, (lua_Integer)seed);
   if (uint64_t(seed) != s.seed && !world(L).modules().empty())
     return luaL_error(L, "%s: set the seed before the first world.spawn", fn);
   const Vec3 gravity = optVec3Field(L, 1, fn, "gravity", s.gravity);

@@ -192,6 +192,8 @@ int World::spawn(const SpawnDef& def) {
     behaviourPath = resolvePath(def.behaviour);
     if (behaviourPath.empty())
       throw InputError("behavior '" + def.behaviour + "' not found (looked in the world's folder and the project root)");
+    if (!fs::is_regular_file(behaviourPath))
+      throw InputError("behavior '" + def.behaviour + "' is not a file (" + behaviourPath + "; expected a .lua file)");
   }
   const int index = int(m_modules.size());
   m_modules.emplace_back();

@@ -19,12 +19,12 @@ struct RunArgs {
   int threads = 1;
   int chunk = 16;  ///< --chunk N (RunOptions::chunkSize)
   std::string png, video;
-  std::string size;  ///< WxH for pictures
+  std::string size;    ///< WxH for pictures
   std::string frames;  ///< folder for PNG frames
   int every = 0;       ///< steps between frames (0: 30 per second)
-  std::string graph; ///< connection graph at the end (.dot: Graphviz, else JSON)
+  std::string graph;   ///< connection graph at the end (.dot: Graphviz, else JSON)
   bool quiet = false;
-  bool watch = false;  ///< real time, reload edits
+  bool watch = false;   ///< real time, reload edits
   double watchdog = 5;  ///< --watchdog S (RunOptions::watchdogSeconds)
 };
 
@@ -59,6 +59,7 @@ int testCommand(const TestArgs& a, const std::string& root);
 int benchCommand(const BenchArgs& a, const std::string& root);
 
 /// Parses ["k=v", ...]; false and err on a malformed entry.
-bool parseParams(const std::vector<std::string>& in, std::map<std::string, std::string>& out, std::string& err);
+bool parseParams(const std::vector<std::string>& in, std::map<std::string, std::string>& out,
+                 std::string& err);
 
 }  // namespace rm3d

@@ -4,9 +4,8 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "app/app.h"
 #include "app/run_world.h"
@@ -44,7 +43,8 @@ local side = math.ceil(math.sqrt(args.n))
 for i = 0, args.n - 1 do
   world.spawn(args.type, {at = {(i % side) * 0.35, (i // side) * 0.30, 0.053}, behavior = "behaviors/alternate.lua"})
 end)"},
-    {"docking_1000", "N SuperBots in zero gravity packed 1 cm apart, every dock enabled, latching at run time",
+    {"docking_1000",
+     "N SuperBots in zero gravity packed 1 cm apart, every dock enabled, latching at run time",
      R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,
            joint_iterations = args.joint_iterations, duration = 1e9, gravity = {0, 0, 0}}
 local side = math.ceil(math.sqrt(args.n))
@@ -151,15 +151,17 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       if (!found) {
         std::string names;
         for (const Scene& s : kScenes) names += std::string(names.empty() ? "" : ", ") + s.name;
-        std::fprintf(stderr, "rm3d bench: unknown scene '%s' (expected one of: %s)\n", n.c_str(), names.c_str());
+        std::fprintf(stderr, "rm3d bench: unknown scene '%s' (expected one of: %s)\n", n.c_str(),
+                     names.c_str());
         return 2;
       }
       scenes.push_back(found);
     }
   }
   std::vector<double> dts = a.dt ? std::vector<double>{*a.dt} : std::vector<double>{1.0 / 30.0, 1.0 / 60.0};
-  std::printf("%-16s %7s %8s %9s %7s %8s %8s %8s | %8s %8s %8s %8s %9s | %6s %9s\n", "scene", "modules", "dt", "steps/s", "RTF",
-              "ms beh", "ms phys", "ms other", "hinge mm", "hinge deg", "dock mm", "dock deg", "track deg", "conns", "messages");
+  std::printf("%-16s %7s %8s %9s %7s %8s %8s %8s | %8s %8s %8s %8s %9s | %6s %9s\n", "scene", "modules", "dt",
+              "steps/s", "RTF", "ms beh", "ms phys", "ms other", "hinge mm", "hinge deg", "dock mm",
+              "dock deg", "track deg", "conns", "messages");
   std::printf("%s\n", "  (last two columns: connections at the end, messages sent)");
   nlohmann::json out = {{"threads", a.threads},
                         {"iterations", a.iterations.value_or(10)},
@@ -171,26 +173,28 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
     for (double dt : dts) {
       Result r;
       if (!runScene(*s, dt, a, root, r)) return 2;
-      std::printf("%-16s %7d %8.5f %9.1f %7.2f %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f | %6d %9zu\n", r.name.c_str(),
-                  r.modules, r.dt, r.stepsPerSecond, r.realtime, r.msBehaviours, r.msPhysics, r.msOther, r.quality.hingeGapMm,
-                  r.quality.hingeAngleDeg, r.quality.dockGapMm, r.quality.dockAngleDeg, r.quality.trackingRmsDeg,
-                  r.connections, r.messages);
+      std::printf(
+          "%-16s %7d %8.5f %9.1f %7.2f %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f | %6d %9zu\n",
+          r.name.c_str(), r.modules, r.dt, r.stepsPerSecond, r.realtime, r.msBehaviours, r.msPhysics,
+          r.msOther, r.quality.hingeGapMm, r.quality.hingeAngleDeg, r.quality.dockGapMm,
+          r.quality.dockAngleDeg, r.quality.trackingRmsDeg, r.connections, r.messages);
       std::fflush(stdout);
-      out["scenes"].push_back({{"name", r.name},
-                               {"modules", r.modules},
-                               {"dt", r.dt},
-                               {"steps", r.steps},
-                               {"steps_per_second", r.stepsPerSecond},
-                               {"realtime_factor", r.realtime},
-                               {"ms", {{"behaviours", r.msBehaviours}, {"physics", r.msPhysics}, {"other", r.msOther}}},
-                               {"quality",
-                                {{"hinge_gap_mm", r.quality.hingeGapMm},
-                                 {"hinge_angle_deg", r.quality.hingeAngleDeg},
-                                 {"dock_gap_mm", r.quality.dockGapMm},
-                                 {"dock_angle_deg", r.quality.dockAngleDeg},
-                                 {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
-                               {"connections", r.connections},
-                               {"messages_sent", r.messages}});
+      out["scenes"].push_back(
+          {{"name", r.name},
+           {"modules", r.modules},
+           {"dt", r.dt},
+           {"steps", r.steps},
+           {"steps_per_second", r.stepsPerSecond},
+           {"realtime_factor", r.realtime},
+           {"ms", {{"behaviours", r.msBehaviours}, {"physics", r.msPhysics}, {"other", r.msOther}}},
+           {"quality",
+            {{"hinge_gap_mm", r.quality.hingeGapMm},
+             {"hinge_angle_deg", r.quality.hingeAngleDeg},
+             {"dock_gap_mm", r.quality.dockGapMm},
+             {"dock_angle_deg", r.quality.dockAngleDeg},
+             {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
+           {"connections", r.connections},
+           {"messages_sent", r.messages}});
     }
   if (!a.json.empty()) {
     std::ofstream f(a.json);

@@ -1,14 +1,14 @@
 // `rm3d run`: one world, headless; prints a summary line, writes JSON and pictures.
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <unistd.h>
-#include <thread>
-
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "app/app.h"
 #include "app/run_world.h"
@@ -16,14 +16,15 @@
 #include "app/world_session.h"
 #include "core/error.h"
 #include "render/offscreen_renderer.h"
-#include "script/world_script.h"
 #include "render/world_snapshot.h"
+#include "script/world_script.h"
 
 namespace fs = std::filesystem;
 
 namespace rm3d {
 
-bool parseParams(const std::vector<std::string>& in, std::map<std::string, std::string>& out, std::string& err) {
+bool parseParams(const std::vector<std::string>& in, std::map<std::string, std::string>& out,
+                 std::string& err) {
   for (const std::string& p : in) {
     const size_t eq = p.find('=');
     if (eq == std::string::npos || eq == 0) {
@@ -60,7 +61,8 @@ bool onPath(const char* program) {
 /// --seconds/--steps, world.stop(), or when interrupted.
 int watchLoop(const RunArgs& a, const RunOptions& o) {
   WorldSession session(a.world, o);
-  if (!session.load()) std::fprintf(stderr, "rm3d: %s (fix it and save; watching)\n", session.worldError().c_str());
+  if (!session.load())
+    std::fprintf(stderr, "rm3d: %s (fix it and save; watching)\n", session.worldError().c_str());
   auto start = WallClock::now();
   double simAtStart = 0;
   std::printf("watching %zu files; edit and save to reload (Ctrl-C to stop)\n", session.watchedCount());
@@ -74,7 +76,8 @@ int watchLoop(const RunArgs& a, const RunOptions& o) {
       if (w.stopped()) break;
       w.step();
       // Real time: the simulation never runs ahead of the clock.
-      const double ahead = (w.time() - simAtStart) - std::chrono::duration<double>(WallClock::now() - start).count();
+      const double ahead =
+          (w.time() - simAtStart) - std::chrono::duration<double>(WallClock::now() - start).count();
       if (ahead > 0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
     } else {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -84,15 +87,17 @@ int watchLoop(const RunArgs& a, const RunOptions& o) {
       std::fprintf(stderr, "rm3d: %s (fix it and save; %s)\n", c.worldError.c_str(),
                    session.hasWorld() ? "the previous world keeps running" : "watching");
     if (c.rebuilt) {
-      std::printf("world script changed: rebuilt %s (%zu modules)\n", a.world.c_str(), session.world().modules().size());
+      std::printf("world script changed: rebuilt %s (%zu modules)\n", a.world.c_str(),
+                  session.world().modules().size());
       start = WallClock::now();
       simAtStart = 0;
     }
     for (const SessionChanges::Rejected& r : c.rejected)
       std::printf("reload rejected, old code keeps running: %s\n", r.error.c_str());
     for (const SessionChanges::Reload& r : c.reloaded)
-      std::printf("reloaded %s into %d modules at t=%.2f s (seen within 100 ms of saving; %.1f ms to reload)\n",
-                  r.file.c_str(), r.modules, session.world().time(), r.millis);
+      std::printf(
+          "reloaded %s into %d modules at t=%.2f s (seen within 100 ms of saving; %.1f ms to reload)\n",
+          r.file.c_str(), r.modules, session.world().time(), r.millis);
     if (!c.empty()) std::fflush(stdout);
   }
   const bool ok = session.hasWorld();
@@ -100,10 +105,12 @@ int watchLoop(const RunArgs& a, const RunOptions& o) {
     World& w = session.world();
     if (w.script() && w.scriptError().empty()) {
       std::string err;
-      if (!w.script()->atEnd(w.time(), err)) std::fprintf(stderr, "rm3d: world script error: %s\n", err.c_str());
+      if (!w.script()->atEnd(w.time(), err))
+        std::fprintf(stderr, "rm3d: world script error: %s\n", err.c_str());
     }
-    std::printf("%s: %lld steps, %.2f s simulated, %zu modules, %d faults%s\n", a.world.c_str(), (long long)w.steps(), w.time(),
-                w.modules().size(), w.faultCount(), interruptSignal() ? " (interrupted)" : "");
+    std::printf("%s: %lld steps, %.2f s simulated, %zu modules, %d faults%s\n", a.world.c_str(),
+                (long long)w.steps(), w.time(), w.modules().size(), w.faultCount(),
+                interruptSignal() ? " (interrupted)" : "");
   }
   if (interruptSignal()) return 128 + interruptSignal();
   // The world file as last saved must load (the previous world may have run on meanwhile).
@@ -120,8 +127,10 @@ int runCommand(const RunArgs& a, const std::string& root) {
     std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
     return 2;
   }
-  if (a.seconds && !(*a.seconds > 0 && *a.seconds <= 1e9)) {  // CLI11's PositiveNumber lets nan and 1e300 through
-    std::fprintf(stderr, "rm3d run: --seconds %g: expected simulated seconds, more than 0 and at most 1e9\n", *a.seconds);
+  if (a.seconds &&
+      !(*a.seconds > 0 && *a.seconds <= 1e9)) {  // CLI11's PositiveNumber lets nan and 1e300 through
+    std::fprintf(stderr, "rm3d run: --seconds %g: expected simulated seconds, more than 0 and at most 1e9\n",
+                 *a.seconds);
     return 2;
   }
   if (a.seed) o.seed = *a.seed;
@@ -131,7 +140,9 @@ int runCommand(const RunArgs& a, const std::string& root) {
   o.echoLog = !a.quiet;
   o.watchdogSeconds = a.watchdog;
   if (!a.video.empty() && !onPath("ffmpeg")) {
-    std::fprintf(stderr, "rm3d run: --video needs ffmpeg, which is not installed (apt-get install ffmpeg); --png and --frames work without it\n");
+    std::fprintf(stderr,
+                 "rm3d run: --video needs ffmpeg, which is not installed (apt-get install ffmpeg); --png and "
+                 "--frames work without it\n");
     return 2;
   }
   // Output paths are checked (and their folders made) before a long run, not after it.
@@ -139,16 +150,16 @@ int runCommand(const RunArgs& a, const std::string& root) {
     std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
     return 2;
   }
-  for (const auto& [flag, path] : {std::pair{"--json", a.json}, std::pair{"--png", a.png}, std::pair{"--graph", a.graph},
-                                   std::pair{"--video", a.video}}) {
+  for (const auto& [flag, path] : {std::pair{"--json", a.json}, std::pair{"--png", a.png},
+                                   std::pair{"--graph", a.graph}, std::pair{"--video", a.video}}) {
     if (!path.empty() && !prepareOutputFile(flag, path, err)) {
       std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
       return 2;
     }
   }
   int width = 1280, height = 720;
-  if (!a.size.empty() && (std::sscanf(a.size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||
-                          width > 8192 || height > 8192)) {
+  if (!a.size.empty() && (std::sscanf(a.size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 ||
+                          height < 16 || width > 8192 || height > 8192)) {
     std::fprintf(stderr, "rm3d run: --size %s: expected WIDTHxHEIGHT, e.g. 1280x720\n", a.size.c_str());
     return 2;
   }
@@ -173,13 +184,18 @@ int runCommand(const RunArgs& a, const std::string& root) {
       if (w.steps() % n != 0) return;
       if (!a.video.empty() && !video.isOpen() && videoError.empty()) {
         const double fps = 1.0 / (n * w.settings().dt);
-        if (!video.open(a.video, width, height, fps, videoError)) std::fprintf(stderr, "rm3d run: %s\n", videoError.c_str());
+        if (!video.open(a.video, width, height, fps, videoError))
+          std::fprintf(stderr, "rm3d run: %s\n", videoError.c_str());
       }
       renderer->draw(buildSnapshot(w), worldCamera(w));
       if (video.isOpen() && !video.failed()) {
-        if (video.write(renderer->rgba().data(), renderer->rgba().size())) ++videoFrames;
-        else std::fprintf(stderr, "rm3d run: --video %s: ffmpeg stopped taking frames at t=%.3f s; the run goes on without the video\n",
-                          a.video.c_str(), w.time());
+        if (video.write(renderer->rgba().data(), renderer->rgba().size()))
+          ++videoFrames;
+        else
+          std::fprintf(stderr,
+                       "rm3d run: --video %s: ffmpeg stopped taking frames at t=%.3f s; the run goes on "
+                       "without the video\n",
+                       a.video.c_str(), w.time());
       }
       if (!a.frames.empty()) {
         char name[64];
@@ -196,32 +212,41 @@ int runCommand(const RunArgs& a, const std::string& root) {
   WorldRun r = runWorldFile(a.world, o, a.steps, a.seconds, onStep);
   int code = r.exitCode;
   std::vector<std::string> outputErrors;
-  if (video.isOpen() && !video.close(videoError)) std::fprintf(stderr, "rm3d run: %s\n", videoError.c_str());
-  else if (video.isOpen() || videoFrames > 0) std::printf("wrote %lld frames to %s\n", videoFrames, a.video.c_str());
+  if (video.isOpen() && !video.close(videoError))
+    std::fprintf(stderr, "rm3d run: %s\n", videoError.c_str());
+  else if (video.isOpen() || videoFrames > 0)
+    std::printf("wrote %lld frames to %s\n", videoFrames, a.video.c_str());
   if (!videoError.empty()) outputErrors.push_back(videoError);
   if (!framesError.empty()) outputErrors.push_back("--frames: " + framesError);
   World& w = *r.world;
   if (!r.loadError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.loadError.c_str());
   if (!r.runError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.runError.c_str());
-  if (!w.scriptError().empty()) std::fprintf(stderr, "rm3d: world script error: %s\n", w.scriptError().c_str());
+  if (!w.scriptError().empty())
+    std::fprintf(stderr, "rm3d: world script error: %s\n", w.scriptError().c_str());
   if (!w.divergence().empty()) std::fprintf(stderr, "rm3d: %s\n", w.divergence().c_str());
-  for (const Failure& f : w.failures()) std::fprintf(stderr, "FAILED at t=%.3f: %s\n", f.time, f.message.c_str());
+  for (const Failure& f : w.failures())
+    std::fprintf(stderr, "FAILED at t=%.3f: %s\n", f.time, f.message.c_str());
   // The fault that ended a --strict run (with the log echoed, it was printed when it happened).
   if (w.fatalFault() && !o.echoLog)
     for (const Module& m : w.modules())
-      if (!m.fault.empty()) std::fprintf(stderr, "rm3d: --strict: module %s faulted: %s\n", m.name.c_str(), m.fault.c_str());
+      if (!m.fault.empty())
+        std::fprintf(stderr, "rm3d: --strict: module %s faulted: %s\n", m.name.c_str(), m.fault.c_str());
   for (const std::string& u : r.unrunChecks) std::fprintf(stderr, "rm3d: warning: %s\n", u.c_str());
   if (code == kExitWatchdog)
-    std::fprintf(stderr, "rm3d: the watchdog stopped a call that did not return within %g s (--watchdog); exit code %d\n",
-                 o.watchdogSeconds, int(kExitWatchdog));
+    std::fprintf(
+        stderr,
+        "rm3d: the watchdog stopped a call that did not return within %g s (--watchdog); exit code %d\n",
+        o.watchdogSeconds, int(kExitWatchdog));
   if (r.signal)
-    std::fprintf(stderr, "rm3d: interrupted (%s) at t=%.3f s after %lld steps; summary written as usual\n", signalName(r.signal),
-                 w.time(), (long long)w.steps());
+    std::fprintf(stderr, "rm3d: interrupted (%s) at t=%.3f s after %lld steps; summary written as usual\n",
+                 signalName(r.signal), w.time(), (long long)w.steps());
   if (r.loadError.empty()) {
     const double rtf = r.wallSeconds > 0 ? w.time() / r.wallSeconds : 0;
-    std::printf("%s: %lld steps, %.2f s simulated in %.2f s (%.1fx real time), %zu modules, %d faults, %zu failed expectations\n",
-                a.world.c_str(), (long long)w.steps(), w.time(), r.wallSeconds, rtf, w.modules().size(), w.faultCount(),
-                w.failures().size());
+    std::printf(
+        "%s: %lld steps, %.2f s simulated in %.2f s (%.1fx real time), %zu modules, %d faults, %zu failed "
+        "expectations\n",
+        a.world.c_str(), (long long)w.steps(), w.time(), r.wallSeconds, rtf, w.modules().size(),
+        w.faultCount(), w.failures().size());
   }
   if (!a.graph.empty() && r.loadError.empty()) {
     const bool dot = fs::path(a.graph).extension() == ".dot" || fs::path(a.graph).extension() == ".gv";
@@ -249,7 +274,8 @@ int runCommand(const RunArgs& a, const std::string& root) {
   }
   // The summary last, so it lists every output that failed.
   if (!a.json.empty()) {
-    nlohmann::json j = r.loadError.empty() ? w.summary(r.wallSeconds) : nlohmann::json{{"error", r.loadError}};
+    nlohmann::json j =
+        r.loadError.empty() ? w.summary(r.wallSeconds) : nlohmann::json{{"error", r.loadError}};
     if (!r.runError.empty()) j["error"] = r.runError;
     j["interrupted"] = r.signal != 0;
     if (r.signal) {

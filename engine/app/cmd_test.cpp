@@ -27,7 +27,11 @@ std::string validUtf8(const std::string& s) {
   std::string o;
   for (size_t i = 0; i < s.size();) {
     const unsigned char c = static_cast<unsigned char>(s[i]);
-    const size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 && c >= 0xC2 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E && c <= 0xF4 ? 4 : 0;
+    const size_t n = c < 0x80                        ? 1
+                     : (c >> 5) == 0x6 && c >= 0xC2  ? 2
+                     : (c >> 4) == 0xE               ? 3
+                     : (c >> 3) == 0x1E && c <= 0xF4 ? 4
+                                                     : 0;
     bool ok = n > 0 && i + n <= s.size();
     for (size_t k = 1; ok && k < n; ++k) ok = (static_cast<unsigned char>(s[i + k]) & 0xC0) == 0x80;
     if (ok && n == 3) {
@@ -54,19 +58,31 @@ std::string xmlEscape(const std::string& raw) {
   std::string o;
   for (char c : s) {
     switch (c) {
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '&': o += "&amp;"; break;
-      case '"': o += "&quot;"; break;
+      case '<':
+        o += "&lt;";
+        break;
+      case '>':
+        o += "&gt;";
+        break;
+      case '&':
+        o += "&amp;";
+        break;
+      case '"':
+        o += "&quot;";
+        break;
       default:
-        if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') o += ' ';
-        else o += c;
+        if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t')
+          o += ' ';
+        else
+          o += c;
     }
   }
   return o;
 }
 
-std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
+std::string firstLine(const std::string& s) {
+  return s.substr(0, s.find('\n'));
+}
 
 /// What makes a world fail under `rm3d test` beyond its exit code: checks that never ran, and
 /// faulted modules the world did not declare with world.set{expect_faults=}.
@@ -78,17 +94,20 @@ std::vector<std::string> testProblems(const WorldRun& r) {
   const int faulted = w.faultCount();
   std::vector<std::string> faults;
   for (const Module& m : w.modules())
-    if (!m.fault.empty()) faults.push_back("module " + m.name + " (id " + std::to_string(m.id) + ") faulted: " + firstLine(m.fault));
+    if (!m.fault.empty())
+      faults.push_back("module " + m.name + " (id " + std::to_string(m.id) +
+                       ") faulted: " + firstLine(m.fault));
   if (!expected && faulted > 0) {
-    problems.push_back(std::to_string(faulted) + (faulted == 1 ? " module" : " modules") +
-                       " faulted; a world that faults modules on purpose says so with world.set{expect_faults = true} "
-                       "(or the number of faulted modules)");
+    problems.push_back(
+        std::to_string(faulted) + (faulted == 1 ? " module" : " modules") +
+        " faulted; a world that faults modules on purpose says so with world.set{expect_faults = true} "
+        "(or the number of faulted modules)");
     problems.insert(problems.end(), faults.begin(), faults.end());
   } else if (expected && *expected < 0 && faulted == 0) {
     problems.push_back("world.set{expect_faults = true}, but no module faulted");
   } else if (expected && *expected >= 0 && faulted != *expected) {
-    problems.push_back("world.set{expect_faults = " + std::to_string(*expected) + "}, but " + std::to_string(faulted) +
-                       (faulted == 1 ? " module" : " modules") + " faulted");
+    problems.push_back("world.set{expect_faults = " + std::to_string(*expected) + "}, but " +
+                       std::to_string(faulted) + (faulted == 1 ? " module" : " modules") + " faulted");
     problems.insert(problems.end(), faults.begin(), faults.end());
   }
   return problems;
@@ -110,8 +129,8 @@ bool writeJunit(const std::string& path, const std::vector<Outcome>& outcomes) {
     if (o.passed) {
       f << "/>\n";
     } else {
-      f << "><failure message=\"" << xmlEscape(o.message.substr(0, o.message.find('\n'))) << "\">" << xmlEscape(o.message)
-        << "</failure></testcase>\n";
+      f << "><failure message=\"" << xmlEscape(o.message.substr(0, o.message.find('\n'))) << "\">"
+        << xmlEscape(o.message) << "</failure></testcase>\n";
     }
   }
   f << "</testsuite></testsuites>\n";
@@ -160,25 +179,32 @@ int testCommand(const TestArgs& a, const std::string& root) {
     const World& w = *r.world;
     if (r.signal) {
       signal = r.signal;
-      std::printf("INTERRUPTED %s (%s at %.2f s simulated; no verdict)\n", file.c_str(), signalName(r.signal), w.time());
+      std::printf("INTERRUPTED %s (%s at %.2f s simulated; no verdict)\n", file.c_str(), signalName(r.signal),
+                  w.time());
       break;
     }
     const std::vector<std::string> problems = testProblems(r);
     Outcome out{file, r.exitCode == 0 && problems.empty(), r.wallSeconds, {}};
     auto add = [&out](const std::string& line) { out.message += (out.message.empty() ? "" : "\n") + line; };
-    if (!r.loadError.empty()) out.message = r.loadError;
-    else if (!r.runError.empty()) out.message = r.runError;
-    else if (!w.scriptError().empty()) out.message = "world script error: " + w.scriptError();
-    else if (!w.divergence().empty()) out.message = w.divergence();
+    if (!r.loadError.empty())
+      out.message = r.loadError;
+    else if (!r.runError.empty())
+      out.message = r.runError;
+    else if (!w.scriptError().empty())
+      out.message = "world script error: " + w.scriptError();
+    else if (!w.divergence().empty())
+      out.message = w.divergence();
     for (const Failure& f : w.failures()) add(f.message);
     if (w.fatalFault())
       for (const Module& m : w.modules())
         if (!m.fault.empty()) add("fault in " + m.name + ": " + m.fault);
     for (const std::string& p : problems) add(p);
-    std::printf("%s %s (%.2f s simulated, %.2f s)\n", out.passed ? "PASS" : "FAIL", file.c_str(), w.time(), r.wallSeconds);
+    std::printf("%s %s (%.2f s simulated, %.2f s)\n", out.passed ? "PASS" : "FAIL", file.c_str(), w.time(),
+                r.wallSeconds);
     if (!out.passed) {
       std::string indented = "    " + out.message;
-      for (size_t i = 0; (i = indented.find('\n', i)) != std::string::npos; i += 5) indented.replace(i, 1, "\n    ");
+      for (size_t i = 0; (i = indented.find('\n', i)) != std::string::npos; i += 5)
+        indented.replace(i, 1, "\n    ");
       std::printf("%s\n", indented.c_str());
     }
     std::fflush(stdout);
@@ -191,8 +217,8 @@ int testCommand(const TestArgs& a, const std::string& root) {
     code = 2;
   }
   if (signal) {
-    std::printf("interrupted (%s): %zu of %zu worlds not run after it\n%d passed, %d failed\n", signalName(signal),
-                files.size() - outcomes.size() - 1, files.size(), passed, failed);
+    std::printf("interrupted (%s): %zu of %zu worlds not run after it\n%d passed, %d failed\n",
+                signalName(signal), files.size() - outcomes.size() - 1, files.size(), passed, failed);
     return 128 + signal;
   }
   std::printf("%d passed, %d failed\n", passed, failed);

@@ -5,6 +5,11 @@
 // README pictures).
 #include "app/cmd_view.h"
 
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,11 +21,6 @@
 #include <memory>
 #include <set>
 
-#include <GLFW/glfw3.h>
-#include <imgui.h>
-#include <backends/imgui_impl_glfw.h>
-#include <backends/imgui_impl_opengl3.h>
-
 #include "app/app.h"
 #include "app/run_world.h"
 #include "app/world_session.h"
@@ -28,8 +28,8 @@
 #include "render/picking.h"
 #include "render/scene_renderer.h"
 #include "render/view_math.h"
-#include "world/world.h"
 #include "render/world_snapshot.h"
+#include "world/world.h"
 
 namespace fs = std::filesystem;
 
@@ -84,8 +84,8 @@ struct OrbitCamera {
   Camera camera() const {
     Camera c;
     c.target = target;
-    c.eye = target + distance * Eigen::Vector3f(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
-                                                std::sin(pitch));
+    c.eye = target + distance * Eigen::Vector3f(std::cos(pitch) * std::cos(yaw),
+                                                std::cos(pitch) * std::sin(yaw), std::sin(pitch));
     c.fovyDeg = fovyDeg;
     return c;
   }
@@ -98,7 +98,8 @@ struct OrbitCamera {
     const Camera c = camera();
     const Eigen::Vector3f f = (c.target - c.eye).normalized();
     const Eigen::Vector3f s = f.cross(Eigen::Vector3f::UnitZ()).normalized(), u = s.cross(f);
-    const float perPixel = 2.0f * distance * std::tan(fovyDeg * float(kPi) / 360.0f) / float(std::max(viewHeight, 1));
+    const float perPixel =
+        2.0f * distance * std::tan(fovyDeg * float(kPi) / 360.0f) / float(std::max(viewHeight, 1));
     target += (-dx * s + dy * u) * perPixel;
   }
   void zoom(float steps) { distance = std::clamp(distance * std::pow(0.88f, steps), 0.05f, 80.0f); }
@@ -119,7 +120,8 @@ PixelStats countModulePixels(const World& w, const Snapshot& snap, const Camera&
   for (const Module& m : w.modules()) types.insert(m.type);
   for (const ModuleTypeDef* t : types)
     for (const LinkDef& l : t->links) {
-      Eigen::Vector3f c(std::pow(l.color[0], 1 / 2.2f), std::pow(l.color[1], 1 / 2.2f), std::pow(l.color[2], 1 / 2.2f));
+      Eigen::Vector3f c(std::pow(l.color[0], 1 / 2.2f), std::pow(l.color[1], 1 / 2.2f),
+                        std::pow(l.color[2], 1 / 2.2f));
       // Greys cannot be told from the ground and sky by hue.
       if (c.maxCoeff() - c.minCoeff() < 0.15f * c.maxCoeff()) continue;
       hues.push_back(c / c.maxCoeff());
@@ -146,7 +148,8 @@ PixelStats countModulePixels(const World& w, const Snapshot& snap, const Camera&
 
 class Viewer {
  public:
-  Viewer(const ViewArgs& args, RunOptions options) : m_args(args), m_session(args.world, std::move(options), kWatchInterval) {}
+  Viewer(const ViewArgs& args, RunOptions options)
+      : m_args(args), m_session(args.world, std::move(options), kWatchInterval) {}
 
   /// Loads the world before any window opens, so a bad file is reported like `run` does.
   bool loadInitial(std::string& err) {
@@ -179,7 +182,8 @@ class Viewer {
   /// and shows why until a later save fixes it.
   void applyChanges(const SessionChanges& c, const char* why) {
     if (!c.worldError.empty())
-      std::fprintf(stderr, "rm3d view: %s (fix it and save; the previous world keeps running)\n", c.worldError.c_str());
+      std::fprintf(stderr, "rm3d view: %s (fix it and save; the previous world keeps running)\n",
+                   c.worldError.c_str());
     if (c.rebuilt) {
       const int selectedId = m_selected >= 0 ? m_world->module(m_selected).id : -1;
       const int followId = m_followModule >= 0 ? m_world->module(m_followModule).id : -1;
@@ -332,9 +336,12 @@ class Viewer {
         break;
       case 'f':
       case 'F':
-        if (m_follow) m_follow = false;
-        else if (m_selected >= 0) m_follow = true, m_followModule = m_selected;
-        else m_notice = "select a module (click it) to follow it";
+        if (m_follow)
+          m_follow = false;
+        else if (m_selected >= 0)
+          m_follow = true, m_followModule = m_selected;
+        else
+          m_notice = "select a module (click it) to follow it";
         break;
       case 'q':
       case 'Q':
@@ -391,15 +398,19 @@ class Viewer {
     ImGui::SetNextWindowPos(ImVec2(8, 8));
     ImGui::SetNextWindowBgAlpha(0.6f);
     ImGui::Begin("status", nullptr,
-                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
-                     ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoSavedSettings);
-    const char* state = w.stopped()                              ? "STOPPED"
-                        : m_paused && m_pausedAtEnd && w.finished() ? "PAUSED at the world's duration (Space runs on)"
-                        : m_paused                                  ? "PAUSED"
-                                                                    : "running";
-    ImGui::Text("t = %.2f s   %.2fx real time   %zu modules   %d faults   %s   speed %gx%s", w.time(), m_paused ? 0.0 : rtf,
-                w.modules().size(), w.faultCount(), state, m_speed, m_follow ? "   following" : "");
-    if (!w.failures().empty()) ImGui::TextColored(kErrorColor, "%zu failed expectations", w.failures().size());
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                     ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
+                     ImGuiWindowFlags_NoSavedSettings);
+    const char* state = w.stopped() ? "STOPPED"
+                        : m_paused && m_pausedAtEnd && w.finished()
+                            ? "PAUSED at the world's duration (Space runs on)"
+                        : m_paused ? "PAUSED"
+                                   : "running";
+    ImGui::Text("t = %.2f s   %.2fx real time   %zu modules   %d faults   %s   speed %gx%s", w.time(),
+                m_paused ? 0.0 : rtf, w.modules().size(), w.faultCount(), state, m_speed,
+                m_follow ? "   following" : "");
+    if (!w.failures().empty())
+      ImGui::TextColored(kErrorColor, "%zu failed expectations", w.failures().size());
     ImGui::TextDisabled("Space pause  S step  R reset  +/- speed  F follow  click: inspect  Esc quit");
     if (!m_notice.empty()) ImGui::TextUnformatted(m_notice.c_str());
     ImGui::End();
@@ -442,15 +453,18 @@ class Viewer {
     // A fixed width (long lines wrap) and a height fitted to the content every frame, up to the
     // window's height; more scrolls.
     ImGui::SetNextWindowSize(ImVec2(kInspectorWidth, 0), ImGuiCond_Always);
-    ImGui::SetNextWindowSizeConstraints(ImVec2(kInspectorWidth, 0), ImVec2(kInspectorWidth, float(height) - 16));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(kInspectorWidth, 0),
+                                        ImVec2(kInspectorWidth, float(height) - 16));
     bool open = true;
     // The ### id keeps one window (position) whatever module it shows.
     const std::string title = m.name + "###inspector";
     ImGui::Begin(title.c_str(), &open, ImGuiWindowFlags_NoSavedSettings);
     ImGui::Text("%s   type %s   id %d", m.name.c_str(), m.type->name.c_str(), m.id);
     if (!m.behaviourFile.empty()) {
-      const std::string rel = fs::path(m.behaviourFile).lexically_relative(m_session.options().projectRoot).string();
-      ImGui::TextDisabled("behaviour %s", rel.empty() || rel.starts_with("..") ? m.behaviourFile.c_str() : rel.c_str());
+      const std::string rel =
+          fs::path(m.behaviourFile).lexically_relative(m_session.options().projectRoot).string();
+      ImGui::TextDisabled("behaviour %s",
+                          rel.empty() || rel.starts_with("..") ? m.behaviourFile.c_str() : rel.c_str());
     }
     if (m.fixed) ImGui::TextDisabled("fixed base");
     if (!m.fault.empty()) {
@@ -472,9 +486,12 @@ class Viewer {
         ImGui::Text("%+7.1f deg", deg(w.jointAngle(m_selected, int(j))));
         ImGui::TableNextColumn();
         const JointCommand& c = m.commands[j];
-        if (c.mode == JointMode::Servo) ImGui::Text("servo %+.1f deg", deg(c.value));
-        else if (c.mode == JointMode::Velocity) ImGui::Text("speed %+.1f deg/s", deg(c.value));
-        else ImGui::TextDisabled("off");
+        if (c.mode == JointMode::Servo)
+          ImGui::Text("servo %+.1f deg", deg(c.value));
+        else if (c.mode == JointMode::Velocity)
+          ImGui::Text("speed %+.1f deg/s", deg(c.value));
+        else
+          ImGui::TextDisabled("off");
       }
       ImGui::EndTable();
     }
@@ -535,9 +552,9 @@ class Viewer {
   bool m_paused = false, m_pausedAtEnd = false, m_quit = false;
   int m_stepRequests = 0;
   double m_speed = 1.0;
-  double m_owed = 0;  // simulated seconds the clock is ahead of the world
+  double m_owed = 0;                                   // simulated seconds the clock is ahead of the world
   std::deque<std::pair<double, double>> m_rtfSamples;  // (wall s, sim s) over the last second
-  int m_selected = -1;  // module index
+  int m_selected = -1;                                 // module index
   bool m_follow = false;
   int m_followModule = -1;
   std::string m_notice;
@@ -609,9 +626,11 @@ int Viewer::run(GLFWwindow* window) {
           exitCode = 2;
         } else {
           const PixelStats st = countModulePixels(*m_world, m_snapshot, m_camera, fbWidth, fbHeight, rgba);
-          std::printf("screenshot: %d x %d, %d module pixels, %d of them picked as a module, t = %.2f s, selected: %s\n",
-                      fbWidth, fbHeight, st.modulePixels, st.picked, m_world->time(),
-                      m_selected >= 0 ? m_world->module(m_selected).name.c_str() : "none");
+          std::printf(
+              "screenshot: %d x %d, %d module pixels, %d of them picked as a module, t = %.2f s, selected: "
+              "%s\n",
+              fbWidth, fbHeight, st.modulePixels, st.picked, m_world->time(),
+              m_selected >= 0 ? m_world->module(m_selected).name.c_str() : "none");
         }
       }
       break;
@@ -664,7 +683,8 @@ int viewCommand(const ViewArgs& a, const std::string& root) {
     return 2;
   }
   if (!glfwInit()) {
-    std::fprintf(stderr, "rm3d view: no display available (%s); %s\n", glfwLastError().c_str(), kNoDisplayHint);
+    std::fprintf(stderr, "rm3d view: no display available (%s); %s\n", glfwLastError().c_str(),
+                 kNoDisplayHint);
     return 2;
   }
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
@@ -674,8 +694,8 @@ int viewCommand(const ViewArgs& a, const std::string& root) {
   const std::string title = "RM3D - " + fs::path(a.world).filename().string();
   GLFWwindow* window = glfwCreateWindow(kWindowWidth, kWindowHeight, title.c_str(), nullptr, nullptr);
   if (!window) {
-    std::fprintf(stderr, "rm3d view: cannot open an OpenGL 3.3 core window (%s); %s\n", glfwLastError().c_str(),
-                 kNoDisplayHint);
+    std::fprintf(stderr, "rm3d view: cannot open an OpenGL 3.3 core window (%s); %s\n",
+                 glfwLastError().c_str(), kNoDisplayHint);
     glfwTerminate();
     return 2;
   }

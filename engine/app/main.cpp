@@ -1,6 +1,5 @@
 // rm3d: entry point. Parses the command line (CLI11) and dispatches to the commands.
 #include <CLI/CLI.hpp>
-
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -18,7 +17,8 @@ namespace {
 
 std::string projectRoot(const std::string& given) {
   if (!given.empty()) return std::filesystem::absolute(given).lexically_normal().string();
-  if (const char* env = std::getenv("RM3D_ROOT")) return std::filesystem::absolute(env).lexically_normal().string();
+  if (const char* env = std::getenv("RM3D_ROOT"))
+    return std::filesystem::absolute(env).lexically_normal().string();
   return RM3D_SOURCE_DIR;
 }
 
@@ -39,23 +39,28 @@ CLI::Validator numberCheck(std::string expected, std::function<bool(double)> ok,
       expected, "");
 }
 
-const CLI::Validator kSeconds = numberCheck("a positive number of seconds", [](double v) { return !(v <= 0); });
-const CLI::Validator kWatchdogSeconds =
-    numberCheck("a number of seconds, 0 or more (0: no watchdog)", [](double v) { return v >= 0 && std::isfinite(v); });
+const CLI::Validator kSeconds =
+    numberCheck("a positive number of seconds", [](double v) { return !(v <= 0); });
+const CLI::Validator kWatchdogSeconds = numberCheck("a number of seconds, 0 or more (0: no watchdog)",
+                                                    [](double v) { return v >= 0 && std::isfinite(v); });
 CLI::Validator positiveWhole(const std::string& what) {
-  return numberCheck("a positive whole number of " + what, [](double v) { return v >= 1 && v <= 9e18; }, true);
+  return numberCheck(
+      "a positive whole number of " + what, [](double v) { return v >= 1 && v <= 9e18; }, true);
 }
-const CLI::Validator kThreads = numberCheck("a whole number of threads from 1 to 256", [](double v) { return v >= 1 && v <= 256; }, true);
+const CLI::Validator kThreads = numberCheck(
+    "a whole number of threads from 1 to 256", [](double v) { return v >= 1 && v <= 256; }, true);
 /// A seed: a whole number from 0 to 2^63 - 1, in digits (no sign, no exponent, no wrap-around).
 const CLI::Validator kSeed(
     [](std::string& in) -> std::string {
-      const bool digits = !in.empty() && in.size() <= 19 && in.find_first_not_of("0123456789") == std::string::npos;
+      const bool digits =
+          !in.empty() && in.size() <= 19 && in.find_first_not_of("0123456789") == std::string::npos;
       if (digits && std::strtoull(in.c_str(), nullptr, 10) <= 9223372036854775807ull) return {};
-      return "must be a whole number from 0 to 9223372036854775807, got " + (in.empty() ? std::string("nothing") : in);
+      return "must be a whole number from 0 to 9223372036854775807, got " +
+             (in.empty() ? std::string("nothing") : in);
     },
     "SEED", "");
-const CLI::Validator kChunk =
-    numberCheck("a whole number of modules from 1 to 1000000", [](double v) { return v >= 1 && v <= 1e6; }, true);
+const CLI::Validator kChunk = numberCheck(
+    "a whole number of modules from 1 to 1000000", [](double v) { return v >= 1 && v <= 1e6; }, true);
 
 }  // namespace
 
@@ -63,15 +68,20 @@ int run(int argc, char** argv) {
   CLI::App app{"RM3D: a physics-based simulator for self-reconfigurable modular robots"};
   app.require_subcommand(1);
   std::string root;
-  app.add_option("--root", root, "project root (assets/, lua/, behaviors/); default: the source tree")->check(CLI::ExistingDirectory);
+  app.add_option("--root", root, "project root (assets/, lua/, behaviors/); default: the source tree")
+      ->check(CLI::ExistingDirectory);
 
   rm3d::RunArgs run;
   CLI::App* runCmd = app.add_subcommand("run", "run a world headless");
   runCmd->add_option("world", run.world, "world script (.lua)")->required();
   bool headless = true;
   runCmd->add_flag("--headless", headless, "no window (runs are always headless; `view` opens a window)");
-  auto* secOpt = runCmd->add_option("--seconds", run.seconds, "simulated seconds (default: the world's duration)")->check(kSeconds);
-  runCmd->add_option("--steps", run.steps, "number of steps")->check(positiveWhole("steps"))->excludes(secOpt);
+  auto* secOpt =
+      runCmd->add_option("--seconds", run.seconds, "simulated seconds (default: the world's duration)")
+          ->check(kSeconds);
+  runCmd->add_option("--steps", run.steps, "number of steps")
+      ->check(positiveWhole("steps"))
+      ->excludes(secOpt);
   runCmd->add_option("--seed", run.seed, "world seed (overrides world.set{seed=})")->check(kSeed);
   runCmd->add_option("--param", run.params, "key=value, seen as args.key in the world script")->take_all();
   runCmd->add_option("--json", run.json, "write the run summary as JSON");
@@ -83,49 +93,66 @@ int run(int argc, char** argv) {
   runCmd->add_option("--video", run.video, "write a video (MP4)");
   runCmd->add_option("--size", run.size, "picture size WxH (default 1280x720)");
   runCmd->add_option("--frames", run.frames, "write a PNG every --every steps into this folder");
-  runCmd->add_option("--every", run.every, "steps between frames for --frames and --video (default: 30 frames per second)")
+  runCmd
+      ->add_option("--every", run.every,
+                   "steps between frames for --frames and --video (default: 30 frames per second)")
       ->check(positiveWhole("steps"));
-  runCmd->add_option("--graph", run.graph, "write the connection graph at the end (FILE.dot: Graphviz, else JSON)");
+  runCmd->add_option("--graph", run.graph,
+                     "write the connection graph at the end (FILE.dot: Graphviz, else JSON)");
   runCmd->add_flag("--quiet", run.quiet, "no module log lines");
-  runCmd->add_flag("--watch", run.watch, "run in real time and reload behaviours, lua/ and the world as they are saved");
+  runCmd->add_flag("--watch", run.watch,
+                   "run in real time and reload behaviours, lua/ and the world as they are saved");
   const char* watchdogHelp = "stop a run that hangs this many seconds of wall time (exit code 3)";
   runCmd->add_option("--watchdog", run.watchdog, watchdogHelp)->check(kWatchdogSeconds);
 
   rm3d::TestArgs test;
-  CLI::App* testCmd = app.add_subcommand("test", "run scripted test worlds headless; ends with 'N passed, N failed'");
+  CLI::App* testCmd =
+      app.add_subcommand("test", "run scripted test worlds headless; ends with 'N passed, N failed'");
   testCmd->add_option("paths", test.paths, "world files or folders (default: tests/worlds)");
   testCmd->add_option("--junit", test.junit, "write a JUnit XML report");
   testCmd->add_option("--threads", test.threads, "behaviour worker threads")->check(kThreads);
   testCmd->add_option("--chunk", test.chunk, chunkHelp)->check(kChunk);
-  testCmd->add_flag("--strict", test.strict, "a module fault fails the world at once (even with world.set{expect_faults=})");
+  testCmd->add_flag("--strict", test.strict,
+                    "a module fault fails the world at once (even with world.set{expect_faults=})");
   testCmd->add_option("--watchdog", test.watchdog, watchdogHelp)->check(kWatchdogSeconds);
 
   rm3d::BenchArgs bench;
   CLI::App* benchCmd = app.add_subcommand("bench", "scale benchmarks (snake_1000, superbots_1000)");
   benchCmd->add_option("scenes", bench.scenes, "scene names (default: all)");
   benchCmd->add_option("--dt", bench.dt, "control step, s (default: 1/30 and 1/60)")
-      ->check(numberCheck("a positive number of seconds", [](double v) { return v > 0 && std::isfinite(v); }));
+      ->check(
+          numberCheck("a positive number of seconds", [](double v) { return v > 0 && std::isfinite(v); }));
   benchCmd->add_option("--steps", bench.steps, "measured steps per scene")->check(positiveWhole("steps"));
   benchCmd->add_option("--threads", bench.threads, "behaviour worker threads")->check(kThreads);
-  benchCmd->add_option("--modules", bench.modules, "modules per scene (default 1000)")->check(positiveWhole("modules"));
-  benchCmd->add_option("--iterations", bench.iterations, "solver iterations (default 10, as the reference)")->check(positiveWhole("iterations"));
-  benchCmd->add_option("--substeps", bench.substeps, "physics substeps per step (default 1)")->check(positiveWhole("substeps"));
-  benchCmd->add_option("--joint-iterations", bench.jointIterations, "solver iterations for hinge rows (default: as --iterations)")
-      ->check(numberCheck("a whole number of iterations, 0 or more", [](double v) { return v >= 0 && v <= 1e9; }, true));
-  benchCmd->add_option("--type", bench.type, "module type (default superbot; superbot_box: brackets as boxes)");
+  benchCmd->add_option("--modules", bench.modules, "modules per scene (default 1000)")
+      ->check(positiveWhole("modules"));
+  benchCmd->add_option("--iterations", bench.iterations, "solver iterations (default 10, as the reference)")
+      ->check(positiveWhole("iterations"));
+  benchCmd->add_option("--substeps", bench.substeps, "physics substeps per step (default 1)")
+      ->check(positiveWhole("substeps"));
+  benchCmd
+      ->add_option("--joint-iterations", bench.jointIterations,
+                   "solver iterations for hinge rows (default: as --iterations)")
+      ->check(numberCheck(
+          "a whole number of iterations, 0 or more", [](double v) { return v >= 0 && v <= 1e9; }, true));
+  benchCmd->add_option("--type", bench.type,
+                       "module type (default superbot; superbot_box: brackets as boxes)");
   benchCmd->add_option("--json", bench.json, "write results as JSON");
 
   rm3d::ViewArgs view;
-  CLI::App* viewCmd = app.add_subcommand("view", "interactive window: real-time stepping, inspector, hot reload");
+  CLI::App* viewCmd =
+      app.add_subcommand("view", "interactive window: real-time stepping, inspector, hot reload");
   viewCmd->add_option("world", view.world, "world script (.lua)")->required();
   viewCmd->add_option("--seed", view.seed, "world seed (overrides world.set{seed=})")->check(kSeed);
   viewCmd->add_option("--param", view.params, "key=value, seen as args.key in the world script")->take_all();
   viewCmd->add_option("--threads", view.threads, "behaviour worker threads")->check(kThreads);
   viewCmd->add_option("--chunk", view.chunk, chunkHelp)->check(kChunk);
-  viewCmd->add_flag("--quiet", view.quiet, "no module log lines on the terminal (the inspector still shows them)");
+  viewCmd->add_flag("--quiet", view.quiet,
+                    "no module log lines on the terminal (the inspector still shows them)");
   viewCmd->add_option("--frames", view.frames, "render this many frames, then exit (with --screenshot)")
       ->check(positiveWhole("frames"));
-  viewCmd->add_option("--screenshot", view.screenshot, "save the last frame's window as PNG (needs --frames)");
+  viewCmd->add_option("--screenshot", view.screenshot,
+                      "save the last frame's window as PNG (needs --frames)");
   viewCmd->add_option("--watchdog", view.watchdog, watchdogHelp)->check(kWatchdogSeconds);
   // Hidden: opens the inspector on a module at start (tests, README pictures).
   viewCmd->add_option("--select", view.select, "module id to select at start")->group("");
@@ -133,7 +160,9 @@ int run(int argc, char** argv) {
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];
     if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view") {
-      std::fprintf(stderr, "rm3d: unknown command '%s' (expected run, test, bench or view; see rm3d --help)\n", cmd.c_str());
+      std::fprintf(stderr,
+                   "rm3d: unknown command '%s' (expected run, test, bench or view; see rm3d --help)\n",
+                   cmd.c_str());
       return 2;
     }
   }

@@ -4,8 +4,8 @@
 #include <signal.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -26,7 +26,9 @@ namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
 
-extern "C" void onInterrupt(int sig) { g_signal = sig; }
+extern "C" void onInterrupt(int sig) {
+  g_signal = sig;
+}
 
 }  // namespace
 
@@ -42,16 +44,21 @@ void installInterruptHandlers() {
   }
 }
 
-int interruptSignal() { return int(g_signal); }
+int interruptSignal() {
+  return int(g_signal);
+}
 
-const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal"; }
+const char* signalName(int sig) {
+  return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal";
+}
 
 bool prepareOutputFolder(const char* flag, const std::string& path, std::string& err) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) return true;
   fs::create_directories(path, ec);
   if (ec || !fs::is_directory(path)) {
-    err = std::string(flag) + " " + path + ": cannot create the folder (" + (ec ? ec.message() : "not a folder") + ")";
+    err = std::string(flag) + " " + path + ": cannot create the folder (" +
+          (ec ? ec.message() : "not a folder") + ")";
     return false;
   }
   return true;
@@ -93,15 +100,19 @@ bool sourceCallsExpect(const std::string& file) {
     }
     const size_t comment = line.find("--");
     if (comment != std::string::npos) {
-      if (line.compare(comment, 4, "--[[") == 0 && line.find("]]", comment) == std::string::npos) inBlockComment = true;
+      if (line.compare(comment, 4, "--[[") == 0 && line.find("]]", comment) == std::string::npos)
+        inBlockComment = true;
       line.resize(comment);
     }
     for (size_t at = line.find("expect"); at != std::string::npos; at = line.find("expect", at + 6)) {
-      const auto ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == ':'; };
+      const auto ident = [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == ':';
+      };
       if (at > 0 && ident(line[at - 1])) continue;
       size_t k = at + 6;
       while (k < line.size() && (line[k] == ' ' || line[k] == '\t')) ++k;
-      if (k < line.size() && (line[k] == '(' || line[k] == '"' || line[k] == '\'' || line[k] == '{')) return true;
+      if (k < line.size() && (line[k] == '(' || line[k] == '"' || line[k] == '\'' || line[k] == '{'))
+        return true;
     }
   }
   return false;
@@ -115,7 +126,8 @@ WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::o
   World& w = *r.world;
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) {
-    r.loadError = file + ": cannot read world file (" + (fs::exists(file, ec) ? "not a regular file" : "no such file") + ")";
+    r.loadError = file + ": cannot read world file (" +
+                  (fs::exists(file, ec) ? "not a regular file" : "no such file") + ")";
     r.exitCode = kExitBadInput;
     return r;
   }
@@ -149,13 +161,17 @@ WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::o
     r.unrunChecks = script->hooksNeverRun(w.time());
     if (script->expectCount == 0 && w.scriptError().empty() && sourceCallsExpect(file)) {
       char line[160];
-      std::snprintf(line, sizeof line, ": the world calls expect() but none was evaluated: the run ended at t=%.3f s", w.time());
-      r.unrunChecks.push_back(file + line + " before any check ran (world.on_end(fn) runs whatever the run's length)");
+      std::snprintf(line, sizeof line,
+                    ": the world calls expect() but none was evaluated: the run ended at t=%.3f s", w.time());
+      r.unrunChecks.push_back(file + line +
+                              " before any check ran (world.on_end(fn) runs whatever the run's length)");
     }
   }
   r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!w.scriptError().empty() || !r.runError.empty()) r.exitCode = kExitBadInput;
-  else if (!w.failures().empty() || w.fatalFault()) r.exitCode = kExitFailed;
+  if (!w.scriptError().empty() || !r.runError.empty())
+    r.exitCode = kExitBadInput;
+  else if (!w.failures().empty() || w.fatalFault())
+    r.exitCode = kExitFailed;
   // The watchdog stopped the world script (its error ended the run), or under --strict a module
   // (whose fault ended it): a hung run, exit 3 (the message names file:line and "watchdog").
   const int scriptStops = script && script->stoppedByWatchdog() ? 1 : 0;

@@ -27,8 +27,8 @@ struct WorldRun {
   std::string loadError;  ///< bad input found while loading (exit 2)
   std::string runError;   ///< an unexpected error while stepping (exit 2); the summary is still written
   double wallSeconds = 0;
-  int exitCode = 0;       ///< see ExitCode
-  int signal = 0;         ///< SIGINT or SIGTERM when that ended the run early, else 0
+  int exitCode = 0;  ///< see ExitCode
+  int signal = 0;    ///< SIGINT or SIGTERM when that ended the run early, else 0
   /// Checks that never ran: world.at/every hooks the run ended before, or a world whose source
   /// calls expect() with none evaluated. Warnings under `rm3d run`, failures under `rm3d test`.
   std::vector<std::string> unrunChecks;

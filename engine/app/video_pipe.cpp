@@ -33,10 +33,11 @@ bool VideoPipe::open(const std::string& path, int width, int height, double fps,
   char size[32], rate[32];
   std::snprintf(size, sizeof size, "%dx%d", width, height);
   std::snprintf(rate, sizeof rate, "%.3f", fps);
-  std::vector<std::string> args = {"ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgba", "-s", size, "-r", rate,
-          "-i", "-", "-pix_fmt", "yuv420p", "-vcodec", "libx264", "-crf", "23",
-          // "file:": a name starting with '-' or holding "proto:" is still just a file name.
-          "file:" + path};
+  std::vector<std::string> args = {
+      "ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgba", "-s", size, "-r", rate,
+      "-i", "-", "-pix_fmt", "yuv420p", "-vcodec", "libx264", "-crf", "23",
+      // "file:": a name starting with '-' or holding "proto:" is still just a file name.
+      "file:" + path};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -115,10 +116,14 @@ bool VideoPipe::close(std::string& err) {
   } while (got < 0 && errno == EINTR);
   m_pid = -1;
   std::string why;
-  if (got < 0) why = std::string("lost track of ffmpeg (") + std::strerror(errno) + ")";
-  else if (WIFSIGNALED(status)) why = "ffmpeg was killed by signal " + std::to_string(WTERMSIG(status));
-  else if (WEXITSTATUS(status) != 0) why = "ffmpeg exited with status " + std::to_string(WEXITSTATUS(status));
-  if (!m_writeError.empty()) why = (why.empty() ? std::string() : why + "; ") + "writing frames to it failed (" + m_writeError + ")";
+  if (got < 0)
+    why = std::string("lost track of ffmpeg (") + std::strerror(errno) + ")";
+  else if (WIFSIGNALED(status))
+    why = "ffmpeg was killed by signal " + std::to_string(WTERMSIG(status));
+  else if (WEXITSTATUS(status) != 0)
+    why = "ffmpeg exited with status " + std::to_string(WEXITSTATUS(status));
+  if (!m_writeError.empty())
+    why = (why.empty() ? std::string() : why + "; ") + "writing frames to it failed (" + m_writeError + ")";
   if (why.empty()) return true;
   err = "--video " + m_path + ": " + why;
   const std::string last = lastErrorLine();

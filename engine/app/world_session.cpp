@@ -18,7 +18,8 @@ WorldSession::WorldSession(std::string worldFile, RunOptions options, std::chron
 std::unique_ptr<World> WorldSession::build(std::string& err) const {
   std::error_code ec;
   if (!fs::is_regular_file(m_worldFile, ec)) {
-    err = m_worldFile + ": cannot read world file (" + (fs::exists(m_worldFile, ec) ? "not a regular file" : "no such file") + ")";
+    err = m_worldFile + ": cannot read world file (" +
+          (fs::exists(m_worldFile, ec) ? "not a regular file" : "no such file") + ")";
     return nullptr;
   }
   auto w = std::make_unique<World>(m_options);
@@ -31,7 +32,9 @@ std::unique_ptr<World> WorldSession::build(std::string& err) const {
   return w;
 }
 
-bool WorldSession::load() { return rebuild().worldError.empty(); }
+bool WorldSession::load() {
+  return rebuild().worldError.empty();
+}
 
 SessionChanges WorldSession::rebuild() {
   SessionChanges out;
@@ -68,7 +71,8 @@ SessionChanges WorldSession::poll() {
   m_lastPoll = now;
   SessionChanges out;
   for (const std::string& file : m_watcher.changed()) {
-    if (!m_world || !m_worldError.empty() || file == m_worldPath || file == m_world->worldFile()) return rebuild();
+    if (!m_world || !m_worldError.empty() || file == m_worldPath || file == m_world->worldFile())
+      return rebuild();
     const auto t0 = Clock::now();
     std::vector<std::string> errors;
     const int n = m_world->reloadFile(file, errors);

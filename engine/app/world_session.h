@@ -20,17 +20,17 @@ namespace rm3d {
 struct SessionChanges {
   struct Reload {
     std::string file;
-    int modules = 0;        ///< modules that took the new code
-    double millis = 0;      ///< time the reload took
+    int modules = 0;    ///< modules that took the new code
+    double millis = 0;  ///< time the reload took
   };
   struct Rejected {
     std::string file;
-    std::string error;      ///< file:line: what is wrong; the old code keeps running
+    std::string error;  ///< file:line: what is wrong; the old code keeps running
   };
   std::vector<Reload> reloaded;
   std::vector<Rejected> rejected;
-  bool rebuilt = false;     ///< a new world replaced the previous one
-  std::string worldError;   ///< the world file was rejected (file:line); the previous world, if any, runs on
+  bool rebuilt = false;    ///< a new world replaced the previous one
+  std::string worldError;  ///< the world file was rejected (file:line); the previous world, if any, runs on
 
   bool empty() const { return reloaded.empty() && rejected.empty() && !rebuilt && worldError.empty(); }
 };

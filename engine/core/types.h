@@ -30,7 +30,9 @@ inline Quat quatFromRpy(double roll, double pitch, double yaw) {
 }
 
 /// Angle between two unit vectors, radians, robust near 0 and pi.
-inline double angleBetween(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
+inline double angleBetween(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegPerRad = 180.0 / kPi;

@@ -38,9 +38,11 @@ void Docking::connect(const DockingScene& s, int a, int da, int b, int db, int o
                      genderName(defB.gender) + " dock");
   const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
   if (orientation < 0 || orientation >= sym)
-    throw InputError("orientation must be 0.." + std::to_string(sym - 1) + ", got " + std::to_string(orientation));
+    throw InputError("orientation must be 0.." + std::to_string(sym - 1) + ", got " +
+                     std::to_string(orientation));
   const std::vector<int> comp = componentOf(s.modules, b);
-  const DockError e = dockError(dockPose(s.physics, s.modules[size_t(a)], da), dockPose(s.physics, s.modules[size_t(b)], db));
+  const DockError e =
+      dockError(dockPose(s.physics, s.modules[size_t(a)], da), dockPose(s.physics, s.modules[size_t(b)], db));
   const bool facing = e.gap <= 0.001 && e.angle <= 1.0 / kDegPerRad;
   if (std::find(comp.begin(), comp.end(), a) != comp.end() && !facing) {
     // Closing a loop: both docks are placed already; they must face each other.
@@ -70,13 +72,15 @@ void Docking::lock(const DockingScene& s, int a, int da, int b, int db, int orie
     if (!loop) {
       const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
       if (!holdsFixed(compB)) {
-        const Pose delta = matingFrame(dockPose(s.physics, s.modules[size_t(a)], da), orientation, sym) * dockPose(s.physics, s.modules[size_t(b)], db).inverse();
+        const Pose delta = matingFrame(dockPose(s.physics, s.modules[size_t(a)], da), orientation, sym) *
+                           dockPose(s.physics, s.modules[size_t(b)], db).inverse();
         std::vector<int> parts;
         for (int m : compB)
           for (int p : s.modules[size_t(m)].parts) parts.push_back(p);
         s.physics.transformParts(parts, delta);
       } else if (!holdsFixed(compA)) {
-        const Pose delta = matingFrame(dockPose(s.physics, s.modules[size_t(b)], db), orientation, sym) * dockPose(s.physics, s.modules[size_t(a)], da).inverse();
+        const Pose delta = matingFrame(dockPose(s.physics, s.modules[size_t(b)], db), orientation, sym) *
+                           dockPose(s.physics, s.modules[size_t(a)], da).inverse();
         std::vector<int> parts;
         for (int m : compA)
           for (int p : s.modules[size_t(m)].parts) parts.push_back(p);
@@ -86,7 +90,8 @@ void Docking::lock(const DockingScene& s, int a, int da, int b, int db, int orie
   }
   s.physics.lockParts(ma.parts[size_t(defA.link)], mb.parts[size_t(defB.link)]);
   ++m_topology;
-  for (auto [st, peer, peerDock] : {std::tuple{&ma.docks[size_t(da)], b, db}, std::tuple{&mb.docks[size_t(db)], a, da}}) {
+  for (auto [st, peer, peerDock] :
+       {std::tuple{&ma.docks[size_t(da)], b, db}, std::tuple{&mb.docks[size_t(db)], a, da}}) {
     st->engaged = true;
     st->peerModule = peer;
     st->peerDock = peerDock;
@@ -107,7 +112,7 @@ void Docking::release(const DockingScene& s, size_t index, const char* kind, dou
   Module& ma = s.modules[size_t(c.moduleA)];
   Module& mb = s.modules[size_t(c.moduleB)];
   s.physics.unlockParts(ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)],
-                         mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)]);
+                        mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)]);
   ++m_topology;
   const bool broken = std::string_view(kind) == "broken";
   ma.docks[size_t(c.dockA)].brokeFromModule = broken ? c.moduleB : -1;
@@ -151,7 +156,8 @@ int Docking::bestOrientation(const DockingScene& s, int a, int da, int b, int db
   const DockDef& defA = s.modules[size_t(a)].type->docks[size_t(da)];
   const DockDef& defB = s.modules[size_t(b)].type->docks[size_t(db)];
   const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
-  const Pose pa = dockPose(s.physics, s.modules[size_t(a)], da), pb = dockPose(s.physics, s.modules[size_t(b)], db);
+  const Pose pa = dockPose(s.physics, s.modules[size_t(a)], da),
+             pb = dockPose(s.physics, s.modules[size_t(b)], db);
   int best = 0;
   double bestAngle = 1e9;
   for (int k = 0; k < sym; ++k) {
@@ -186,10 +192,12 @@ void Docking::dock(const DockingScene& s) {
     for (size_t b = a + 1; b < m_dockBoxes.size() && m_dockBoxes[b].lo.x() <= m_dockBoxes[a].hi.x(); ++b) {
       DockBox& ba = m_dockBoxes[a];
       DockBox& bb = m_dockBoxes[b];
-      if (ba.lo.y() <= bb.hi.y() && bb.lo.y() <= ba.hi.y() && ba.lo.z() <= bb.hi.z() && bb.lo.z() <= ba.hi.z())
+      if (ba.lo.y() <= bb.hi.y() && bb.lo.y() <= ba.hi.y() && ba.lo.z() <= bb.hi.z() &&
+          bb.lo.z() <= ba.hi.z())
         ba.near = bb.near = true;
     }
-  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(), [](const DockBox& a, const DockBox& b) { return a.module < b.module; });
+  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(),
+            [](const DockBox& a, const DockBox& b) { return a.module < b.module; });
   // Fine pass: the free docks of modules near another, hashed into cells.
   m_freeDocks.clear();
   for (const DockBox& box : m_dockBoxes) {
@@ -211,7 +219,8 @@ void Docking::dock(const DockingScene& s) {
       }
       const Pose pose = m_linkPoses[size_t(def.link)] * def.frame;
       if (st.brokeFromModule >= 0 &&
-          (pose.pos - dockPose(s.physics, s.modules[size_t(st.brokeFromModule)], st.brokeFromDock).pos).norm() > def.captureRadius)
+          (pose.pos - dockPose(s.physics, s.modules[size_t(st.brokeFromModule)], st.brokeFromDock).pos)
+                  .norm() > def.captureRadius)
         st.brokeFromModule = st.brokeFromDock = -1;
       m_freeDocks.push_back({i, int(d), pose});
     }
@@ -221,7 +230,8 @@ void Docking::dock(const DockingScene& s) {
   // block of cells on the point's side of its own cell (8 look-ups, not 27).
   const double cell = 2.0 * m_captureCell;
   auto cellOf = [cell](const Vec3& p) {
-    return Eigen::Vector3i(int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell)), int(std::floor(p.z() / cell)));
+    return Eigen::Vector3i(int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell)),
+                           int(std::floor(p.z() / cell)));
   };
   auto key = [](const Eigen::Vector3i& c) {
     return (uint64_t(uint32_t(c.x())) * 73856093ull) ^ (uint64_t(uint32_t(c.y())) * 19349663ull) ^
@@ -273,7 +283,8 @@ void Docking::dock(const DockingScene& s) {
             const double latchAngle = std::min(da.latchAngle, db.latchAngle);
             if (gap <= std::min(da.latchDistance, db.latchDistance) && facing <= latchAngle) {
               const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
-              const Pose want = matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym);
+              const Pose want =
+                  matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym);
               if (angleBetween(want.rot * Vec3::UnitZ(), fb.pose.rot * Vec3::UnitZ()) <= latchAngle) {
                 m_latches.push_back(fa.module < fb.module ? Latch{fa.module, fa.dock, fb.module, fb.dock}
                                                           : Latch{fb.module, fb.dock, fa.module, fa.dock});
@@ -294,8 +305,11 @@ void Docking::dock(const DockingScene& s) {
             // twist them about the normal into the nearest of their mating orientations.
             const double arm = pull * std::min(da.size, db.size);
             const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
-            const Vec3 wantUp = matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym).rot * Vec3::UnitZ();
-            const Vec3 turn = na.cross(-nb) * arm + (fb.pose.rot * Vec3::UnitZ()).cross(wantUp).dot(nb) * nb * arm;
+            const Vec3 wantUp =
+                matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym).rot *
+                Vec3::UnitZ();
+            const Vec3 turn =
+                na.cross(-nb) * arm + (fb.pose.rot * Vec3::UnitZ()).cross(wantUp).dot(nb) * nb * arm;
             s.physics.addTorque(pa, -turn);
             s.physics.addTorque(pb, turn);
           }
@@ -309,8 +323,11 @@ void Docking::dock(const DockingScene& s) {
     // An earlier latch this step may have moved one side: check the faces again.
     const DockDef& da = ma.type->docks[size_t(l.da)];
     const DockDef& db = mb.type->docks[size_t(l.db)];
-    const DockError e = dockError(dockPose(s.physics, s.modules[size_t(l.a)], l.da), dockPose(s.physics, s.modules[size_t(l.b)], l.db));
-    if (e.gap > std::min(da.latchDistance, db.latchDistance) || e.angle > std::min(da.latchAngle, db.latchAngle)) continue;
+    const DockError e = dockError(dockPose(s.physics, s.modules[size_t(l.a)], l.da),
+                                  dockPose(s.physics, s.modules[size_t(l.b)], l.db));
+    if (e.gap > std::min(da.latchDistance, db.latchDistance) ||
+        e.angle > std::min(da.latchAngle, db.latchAngle))
+      continue;
     lock(s, l.a, l.da, l.b, l.db, bestOrientation(s, l.a, l.da, l.b, l.db), true);
   }
 }

@@ -12,9 +12,9 @@
 namespace rm3d {
 
 struct Message {
-  int dock = -1;     ///< sending dock in an outbox; receiving dock once routed
-  double time = 0;   ///< sim time it was sent
-  int64_t due = 0;   ///< step at whose start it becomes readable
+  int dock = -1;    ///< sending dock in an outbox; receiving dock once routed
+  double time = 0;  ///< sim time it was sent
+  int64_t due = 0;  ///< step at whose start it becomes readable
   Value data;
   size_t bytes = 0;  ///< valueSize(data), counted against the receiver's mailbox limit
 };
@@ -26,8 +26,8 @@ struct Mailbox {
   std::vector<Message> pending;  ///< routed to this module, in flight, in routing order
   std::deque<Message> inbox;     ///< readable now, oldest first
   size_t sent = 0, received = 0, dropped = 0;
-  size_t bytes = 0;           ///< unread bytes (pending + inbox)
-  bool overflowed = false;    ///< a message was dropped for lack of room (reported once)
+  size_t bytes = 0;         ///< unread bytes (pending + inbox)
+  bool overflowed = false;  ///< a message was dropped for lack of room (reported once)
 
   enum class Accept { Ok, Dropped, FirstDrop };
   /// Routes a message towards this module, unless its unread messages would exceed `limit`
@@ -76,8 +76,9 @@ struct Mailbox {
     const size_t before = pending.size();
     for (const Message& m : pending)
       if (m.dock == dock) bytes -= std::min(bytes, m.bytes);
-    pending.erase(std::remove_if(pending.begin(), pending.end(), [dock](const Message& m) { return m.dock == dock; }),
-                  pending.end());
+    pending.erase(
+        std::remove_if(pending.begin(), pending.end(), [dock](const Message& m) { return m.dock == dock; }),
+        pending.end());
     dropped += before - pending.size();
     return before - pending.size();
   }

@@ -6,7 +6,8 @@
 
 namespace rm3d {
 
-void Router::route(std::vector<Mailbox>& boxes, std::vector<Module>& modules, int64_t step, size_t mailboxLimit) {
+void Router::route(std::vector<Mailbox>& boxes, std::vector<Module>& modules, int64_t step,
+                   size_t mailboxLimit) {
   for (size_t i = 0; i < boxes.size(); ++i) {
     Mailbox& box = boxes[i];
     if (box.outbox.empty()) continue;
@@ -34,8 +35,9 @@ void Router::route(std::vector<Mailbox>& boxes, std::vector<Module>& modules, in
       msg.dock = d.peerDock;
       msg.due = step + 1 + m_channel.delay;
       if (boxes[size_t(d.peerModule)].accept(std::move(msg), mailboxLimit) == Mailbox::Accept::FirstDrop)
-        modules[size_t(d.peerModule)].log.push_back("messages dropped: over " + std::to_string(mailboxLimit >> 20) +
-                                                      " MiB of unread messages (read them with module.receive)");
+        modules[size_t(d.peerModule)].log.push_back(
+            "messages dropped: over " + std::to_string(mailboxLimit >> 20) +
+            " MiB of unread messages (read them with module.receive)");
     }
     box.outbox.resize(kept);
   }

@@ -15,10 +15,10 @@ namespace rm3d {
 
 /// world.channel{...}: how messages travel over a connection (seeded, deterministic).
 struct ChannelDef {
-  double loss = 0;           ///< probability that a message is lost
-  int delay = 0;             ///< extra steps in flight (a message sent at t is read at t+1+delay)
-  int rate = 0;              ///< messages per step per dock (0: unlimited); the rest wait their turn
-  size_t maxBytes = 65536;   ///< payload size limit
+  double loss = 0;          ///< probability that a message is lost
+  int delay = 0;            ///< extra steps in flight (a message sent at t is read at t+1+delay)
+  int rate = 0;             ///< messages per step per dock (0: unlimited); the rest wait their turn
+  size_t maxBytes = 65536;  ///< payload size limit
 };
 
 /// Messages counted over a run: sent, delivered (read), lost in flight.

@@ -13,19 +13,28 @@ size_t valueSize(const Value& v) {
 
 nlohmann::json valueToJson(const Value& v) {
   switch (v.type) {
-    case Value::Type::Nil: return nullptr;
-    case Value::Type::Boolean: return v.boolean;
-    case Value::Type::Integer: return v.integer;
-    case Value::Type::Number: return v.number;
-    case Value::Type::String: return v.string;
+    case Value::Type::Nil:
+      return nullptr;
+    case Value::Type::Boolean:
+      return v.boolean;
+    case Value::Type::Integer:
+      return v.integer;
+    case Value::Type::Number:
+      return v.number;
+    case Value::Type::String:
+      return v.string;
     case Value::Type::Table: {
       bool isArray = true;
       for (size_t i = 0; i < v.table.size(); ++i)
-        if (v.table[i].first.type != Value::Type::Integer || v.table[i].first.integer != int64_t(i + 1)) isArray = false;
+        if (v.table[i].first.type != Value::Type::Integer || v.table[i].first.integer != int64_t(i + 1))
+          isArray = false;
       nlohmann::json j = isArray && !v.table.empty() ? nlohmann::json::array() : nlohmann::json::object();
       for (const auto& [k, val] : v.table) {
-        if (isArray) j.push_back(valueToJson(val));
-        else j[k.type == Value::Type::String ? k.string : nlohmann::json(valueToJson(k)).dump()] = valueToJson(val);
+        if (isArray)
+          j.push_back(valueToJson(val));
+        else
+          j[k.type == Value::Type::String ? k.string : nlohmann::json(valueToJson(k)).dump()] =
+              valueToJson(val);
       }
       return j;
     }

@@ -40,9 +40,9 @@ struct DockState {
 struct SensorReading {
   enum class Kind : uint8_t { Nil, Number, Vector, Quaternion, Boolean, Dock } kind = Kind::Nil;
   double v[4] = {0, 0, 0, 0};
-  bool flag = false;                     ///< Boolean; Dock: enabled
-  bool engaged = false;                  ///< Dock
-  double proximity = -1;                 ///< Dock: distance to the nearest free partner, < 0: none
+  bool flag = false;      ///< Boolean; Dock: enabled
+  bool engaged = false;   ///< Dock
+  double proximity = -1;  ///< Dock: distance to the nearest free partner, < 0: none
 };
 
 struct Module {
@@ -73,7 +73,7 @@ struct Module {
   int64_t accelSteps = 0;                      ///< steps tracked since
   std::vector<char> stalled;                   ///< per joint: an injected stall
   std::vector<double> stallAngle;
-  std::vector<std::string> log;  ///< lines written this step, flushed in id order
+  std::vector<std::string> log;            ///< lines written this step, flushed in id order
   std::deque<std::string> recentLog;       ///< with keepHistory: the last 20 lines ("t: text")
   std::deque<std::string> recentMessages;  ///< with keepHistory: the last 20 messages read
 };

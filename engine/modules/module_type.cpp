@@ -12,10 +12,18 @@ int findByName(const std::vector<T>& v, const std::string& n) {
 }
 }  // namespace
 
-int ModuleTypeDef::findLink(const std::string& n) const { return findByName(links, n); }
-int ModuleTypeDef::findJoint(const std::string& n) const { return findByName(joints, n); }
-int ModuleTypeDef::findDock(const std::string& n) const { return findByName(docks, n); }
-int ModuleTypeDef::findSensor(const std::string& n) const { return findByName(sensors, n); }
+int ModuleTypeDef::findLink(const std::string& n) const {
+  return findByName(links, n);
+}
+int ModuleTypeDef::findJoint(const std::string& n) const {
+  return findByName(joints, n);
+}
+int ModuleTypeDef::findDock(const std::string& n) const {
+  return findByName(docks, n);
+}
+int ModuleTypeDef::findSensor(const std::string& n) const {
+  return findByName(sensors, n);
+}
 
 double ModuleTypeDef::mass() const {
   double m = 0;
@@ -25,9 +33,12 @@ double ModuleTypeDef::mass() const {
 
 const char* genderName(Gender g) {
   switch (g) {
-    case Gender::Male: return "male";
-    case Gender::Female: return "female";
-    default: return "none";
+    case Gender::Male:
+      return "male";
+    case Gender::Female:
+      return "female";
+    default:
+      return "none";
   }
 }
 

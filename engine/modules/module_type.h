@@ -23,8 +23,8 @@ struct JointDef {
   std::string name;
   int parent = -1, child = -1;  ///< link indices; angle = rotation of child about axis
   Vec3 pivot = Vec3::Zero();
-  Vec3 axis = Vec3::UnitZ();    ///< unit
-  bool limited = true;          ///< false: continuous
+  Vec3 axis = Vec3::UnitZ();  ///< unit
+  bool limited = true;        ///< false: continuous
   double lower = -kPi / 2, upper = kPi / 2;
   double maxTorque = 1.0, maxSpeed = 1.0;
   double servoGain = 20.0;
@@ -35,23 +35,23 @@ enum class Gender { None, Male, Female };
 struct DockDef {
   std::string name;
   int link = -1;
-  Vec3 pos = Vec3::Zero();     ///< face centre
-  Vec3 normal = Vec3::UnitX(); ///< outward, unit
-  Vec3 up = Vec3::UnitZ();     ///< reference direction in the face, unit, normal to `normal`
+  Vec3 pos = Vec3::Zero();      ///< face centre
+  Vec3 normal = Vec3::UnitX();  ///< outward, unit
+  Vec3 up = Vec3::UnitZ();      ///< reference direction in the face, unit, normal to `normal`
   Gender gender = Gender::None;
-  double size = 0.034;         ///< face side, m
-  int symmetry = 4;            ///< ways the face can mate about its normal (4: square)
+  double size = 0.034;  ///< face side, m
+  int symmetry = 4;     ///< ways the face can mate about its normal (4: square)
   // Run-time docking: a free, enabled dock attracts a compatible one within `captureRadius`
   // whose face looks back within `captureAngle`, and latches when the faces are within
   // `latchDistance` and `latchAngle` (normals and one of the `symmetry` orientations).
-  double captureRadius = 0.03;     ///< m
-  double captureAngle = 0.5236;    ///< rad (30 deg)
-  double latchDistance = 0.004;    ///< m
-  double latchAngle = 0.0873;      ///< rad (5 deg)
-  double pull = 2.0;               ///< N, the magnet's pull inside the capture radius
-  double strength = 100.0;         ///< N: a connection breaks above this transmitted force
-  double strengthTorque = 10.0;    ///< N m: ... or above this transmitted torque
-  Pose frame;                      ///< derived: the dock frame in its link (docking/dock_frame.h)
+  double captureRadius = 0.03;   ///< m
+  double captureAngle = 0.5236;  ///< rad (30 deg)
+  double latchDistance = 0.004;  ///< m
+  double latchAngle = 0.0873;    ///< rad (5 deg)
+  double pull = 2.0;             ///< N, the magnet's pull inside the capture radius
+  double strength = 100.0;       ///< N: a connection breaks above this transmitted force
+  double strengthTorque = 10.0;  ///< N m: ... or above this transmitted torque
+  Pose frame;                    ///< derived: the dock frame in its link (docking/dock_frame.h)
 };
 
 enum class SensorKind { Accelerometer, Gyro, Orientation, Position, Range, Contact };
@@ -59,10 +59,10 @@ enum class SensorKind { Accelerometer, Gyro, Orientation, Position, Range, Conta
 /// A sensor the type carries (joint:<name> and dock:<name> exist for every joint and dock).
 struct SensorDef {
   SensorKind kind = SensorKind::Accelerometer;
-  std::string name;  ///< what behaviours read: "accelerometer", "range:front", "contact:chassis"
-  int link = 0;      ///< the link it sits on (its frame is the sensor frame)
-  Vec3 pos = Vec3::Zero();     ///< range: ray origin in the link frame
-  Vec3 dir = Vec3::UnitX();    ///< range: ray direction (unit)
+  std::string name;          ///< what behaviours read: "accelerometer", "range:front", "contact:chassis"
+  int link = 0;              ///< the link it sits on (its frame is the sensor frame)
+  Vec3 pos = Vec3::Zero();   ///< range: ray origin in the link frame
+  Vec3 dir = Vec3::UnitX();  ///< range: ray direction (unit)
   double minRange = 0.02, maxRange = 2.0;  ///< range, m
 };
 
@@ -74,7 +74,7 @@ struct ModuleTypeDef {
   std::vector<JointDef> joints;
   std::vector<DockDef> docks;
   std::vector<SensorDef> sensors;
-  double dockReach = 0;  ///< derived: farthest a dock's capture zone gets from the root origin
+  double dockReach = 0;           ///< derived: farthest a dock's capture zone gets from the root origin
   bool hasAccelerometer = false;  ///< derived
   bool hasContact = false;        ///< derived
 

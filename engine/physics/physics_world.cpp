@@ -3,8 +3,9 @@
 // with itself.
 #include "physics/physics_world.h"
 
-#include <btBulletDynamicsCommon.h>
 #include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
+#include <btBulletDynamicsCommon.h>
+
 #include <Eigen/Eigenvalues>
 
 #if defined(__SSE__)
@@ -19,11 +20,16 @@ namespace rm3d {
 
 namespace {
 
-btVector3 toBt(const Vec3& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
-Vec3 fromBt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+btVector3 toBt(const Vec3& v) {
+  return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
+}
+Vec3 fromBt(const btVector3& v) {
+  return Vec3(v.x(), v.y(), v.z());
+}
 btTransform toBt(const Pose& p) {
   const Quat& q = p.rot;
-  return btTransform(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())), toBt(p.pos));
+  return btTransform(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
+                     toBt(p.pos));
 }
 Pose fromBt(const btTransform& t) {
   const btQuaternion q = t.getRotation();
@@ -55,8 +61,12 @@ btCollisionShape* makeShape(const ShapeDef& s) {
 class FlushDenormals {
  public:
 #if defined(__SSE__)
-  FlushDenormals() : m_saved(_mm_getcsr()) { _mm_setcsr(m_saved | 0x8040u); }
-  ~FlushDenormals() { _mm_setcsr(m_saved); }
+  FlushDenormals() : m_saved(_mm_getcsr()) {
+    _mm_setcsr(m_saved | 0x8040u);
+  }
+  ~FlushDenormals() {
+    _mm_setcsr(m_saved);
+  }
 
  private:
   unsigned m_saved;
@@ -96,7 +106,7 @@ struct PhysicsWorld::Impl {
     Vec3 axisA = Vec3::UnitZ();  // in part A frame
     MotorMode mode = MotorMode::Off;
     double value = 0;
-    double angle = 0;   // unwrapped
+    double angle = 0;  // unwrapped
     double rawLast = 0;
     std::unique_ptr<btJointFeedback> feedback;  // reactions, when load tracking is on
   };
@@ -109,7 +119,8 @@ struct PhysicsWorld::Impl {
   struct OwnerFilter : btOverlapFilterCallback {
     const std::vector<Body>* bodies = nullptr;
     bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
-      if (!(a->m_collisionFilterGroup & b->m_collisionFilterMask) || !(b->m_collisionFilterGroup & a->m_collisionFilterMask))
+      if (!(a->m_collisionFilterGroup & b->m_collisionFilterMask) ||
+          !(b->m_collisionFilterGroup & a->m_collisionFilterMask))
         return false;
       const int ia = static_cast<btCollisionObject*>(a->m_clientObject)->getUserIndex();
       const int ib = static_cast<btCollisionObject*>(b->m_clientObject)->getUserIndex();
@@ -120,7 +131,10 @@ struct PhysicsWorld::Impl {
       auto j = ob.begin();
       while (i != oa.end() && j != ob.end()) {
         if (*i == *j) return false;
-        if (*i < *j) ++i; else ++j;
+        if (*i < *j)
+          ++i;
+        else
+          ++j;
       }
       return true;
     }
@@ -214,14 +228,16 @@ struct PhysicsWorld::Impl {
         const Part& p = parts[ids[i]];
         const Eigen::Matrix3d r = world_[i].rot.toRotationMatrix();
         const Vec3 d = world_[i] * p.com - com;
-        inertia += r * p.inertia * r.transpose() + p.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+        inertia += r * p.inertia * r.transpose() +
+                   p.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
       }
       // Keep the world-aligned frame when it is already principal (common for single links),
       // so a one-shape body needs no compound.
       Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
-      const Eigen::Matrix3d local = ids.size() == 1 ? (world_[0].rot.toRotationMatrix().transpose() * inertia *
-                                                       world_[0].rot.toRotationMatrix())
-                                                    : inertia;
+      const Eigen::Matrix3d local =
+          ids.size() == 1
+              ? (world_[0].rot.toRotationMatrix().transpose() * inertia * world_[0].rot.toRotationMatrix())
+              : inertia;
       const double off = std::abs(local(0, 1)) + std::abs(local(0, 2)) + std::abs(local(1, 2));
       if (off <= 1e-9 * local.trace()) {
         rot = ids.size() == 1 ? world_[0].rot.toRotationMatrix() : Eigen::Matrix3d::Identity();
@@ -264,7 +280,8 @@ struct PhysicsWorld::Impl {
     b.owners.erase(std::unique(b.owners.begin(), b.owners.end()), b.owners.end());
 
     const double m = isStatic ? 0.0 : mass;
-    btRigidBody::btRigidBodyConstructionInfo ci(btScalar(m), nullptr, shape, isStatic ? btVector3(0, 0, 0) : toBt(principal));
+    btRigidBody::btRigidBodyConstructionInfo ci(btScalar(m), nullptr, shape,
+                                                isStatic ? btVector3(0, 0, 0) : toBt(principal));
     ci.m_startWorldTransform = toBt(frame);
     ci.m_friction = btScalar(parts[ids[0]].friction);
     ci.m_restitution = btScalar(parts[ids[0]].restitution);
@@ -338,7 +355,8 @@ struct PhysicsWorld::Impl {
 
   int partOfChild(int body, int child) const {
     const Body& b = bodies[size_t(body)];
-    if (b.childPart.size() == 1 || child < 0 || child >= int(b.childPart.size())) return b.childPart.empty() ? -1 : b.childPart[0];
+    if (b.childPart.size() == 1 || child < 0 || child >= int(b.childPart.size()))
+      return b.childPart.empty() ? -1 : b.childPart[0];
     return b.childPart[size_t(child)];
   }
 
@@ -359,7 +377,8 @@ struct PhysicsWorld::Impl {
       const int b0 = man->getBody0()->getUserIndex(), b1 = man->getBody1()->getUserIndex();
       for (int k = 0; k < man->getNumContacts(); ++k) {
         const btManifoldPoint& pt = man->getContactPoint(k);
-        const btVector3 j = pt.m_normalWorldOnB * pt.m_appliedImpulse + pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
+        const btVector3 j = pt.m_normalWorldOnB * pt.m_appliedImpulse +
+                            pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
                             pt.m_lateralFrictionDir2 * pt.m_appliedImpulseLateral2;
         const Vec3 f = fromBt(j);  // impulse on body 0; the opposite on body 1
         if (b0 >= 0) add(partOfChild(b0, pt.m_index0), f, fromBt(pt.getPositionWorldOnA()));
@@ -413,7 +432,8 @@ struct PhysicsWorld::Impl {
         break;
       }
       case MotorMode::Velocity:
-        h.c->enableAngularMotor(true, btScalar(-std::clamp(h.value, -h.d.maxSpeed, h.d.maxSpeed)), btScalar(impulse));
+        h.c->enableAngularMotor(true, btScalar(-std::clamp(h.value, -h.d.maxSpeed, h.d.maxSpeed)),
+                                btScalar(impulse));
         break;
     }
   }
@@ -422,9 +442,15 @@ struct PhysicsWorld::Impl {
 PhysicsWorld::PhysicsWorld(const PhysicsSettings& settings) : m(std::make_unique<Impl>(settings)) {}
 PhysicsWorld::~PhysicsWorld() = default;
 
-const PhysicsSettings& PhysicsWorld::settings() const { return m->settings; }
-int PhysicsWorld::partCount() const { return int(m->parts.size()); }
-int PhysicsWorld::bodyCount() const { return m->liveBodies; }
+const PhysicsSettings& PhysicsWorld::settings() const {
+  return m->settings;
+}
+int PhysicsWorld::partCount() const {
+  return int(m->parts.size());
+}
+int PhysicsWorld::bodyCount() const {
+  return m->liveBodies;
+}
 
 void PhysicsWorld::configure(const PhysicsSettings& s) {
   m->settings = s;
@@ -461,13 +487,17 @@ int PhysicsWorld::addPart(const PartDesc& desc) {
   double fixedMass = 0, freeVolume = 0;
   for (const ShapeDef& s : desc.shapes) {
     props.push_back(shapeMassProps(s));
-    if (s.mass >= 0) fixedMass += s.mass; else freeVolume += props.back().volume;
+    if (s.mass >= 0)
+      fixedMass += s.mass;
+    else
+      freeVolume += props.back().volume;
   }
   std::vector<double> masses;
   double total = 0;
   for (size_t i = 0; i < desc.shapes.size(); ++i) {
-    double mi = desc.shapes[i].mass >= 0 ? desc.shapes[i].mass
-                                         : (freeVolume > 0 ? (desc.mass - fixedMass) * props[i].volume / freeVolume : 0);
+    double mi = desc.shapes[i].mass >= 0
+                    ? desc.shapes[i].mass
+                    : (freeVolume > 0 ? (desc.mass - fixedMass) * props[i].volume / freeVolume : 0);
     masses.push_back(std::max(mi, 0.0));
     total += masses.back();
   }
@@ -540,7 +570,8 @@ void PhysicsWorld::lockParts(int a, int b) {
     const Pose bp = m->bodyPose(body);
     const Eigen::Matrix3d r = bp.rot.toRotationMatrix();
     const Vec3 inv = fromBt(rb->getInvInertiaDiagLocal());
-    const Vec3 diag(inv.x() > 0 ? 1 / inv.x() : 0, inv.y() > 0 ? 1 / inv.y() : 0, inv.z() > 0 ? 1 / inv.z() : 0);
+    const Vec3 diag(inv.x() > 0 ? 1 / inv.x() : 0, inv.y() > 0 ? 1 / inv.y() : 0,
+                    inv.z() > 0 ? 1 / inv.z() : 0);
     ang += r * diag.asDiagonal() * r.transpose() * w + (c - com).cross(bm * v);
   }
   const std::vector<int> touched = m->hingesOf(ids);
@@ -638,7 +669,8 @@ Wrench PhysicsWorld::internalLoad(const std::vector<int>& parts, const Vec3& poi
     const btRigidBody* rb = m->bodies[size_t(b)].rb;
     const Vec3 c = m->partComWorld(p);
     const Vec3 a = (m->partComVelocity(p) - m->partVelBefore[size_t(p)]) / h;
-    const Vec3 omegaBefore = size_t(b) < m->bodyOmegaBefore.size() ? m->bodyOmegaBefore[size_t(b)] : Vec3::Zero();
+    const Vec3 omegaBefore =
+        size_t(b) < m->bodyOmegaBefore.size() ? m->bodyOmegaBefore[size_t(b)] : Vec3::Zero();
     const Vec3 alpha = (fromBt(rb->getAngularVelocity()) - omegaBefore) / h;
     const Eigen::Matrix3d r = m->partPose(p).rot.toRotationMatrix();
     const Eigen::Matrix3d iw = r * part.inertia * r.transpose();
@@ -678,7 +710,9 @@ double PhysicsWorld::rayCast(const Vec3& from, const Vec3& dir, double length, i
   return cb.hasHit() ? double(cb.m_closestHitFraction) * length : -1.0;
 }
 
-void PhysicsWorld::setContactTracking(bool on) { m->contactTracking = on; }
+void PhysicsWorld::setContactTracking(bool on) {
+  m->contactTracking = on;
+}
 
 bool PhysicsWorld::partTouching(int part) const {
   return size_t(part) < m->partTouching.size() && m->partTouching[size_t(part)];
@@ -757,7 +791,9 @@ void PhysicsWorld::step(double dt, int substeps) {
   }
 }
 
-Pose PhysicsWorld::partPose(int part) const { return m->partPose(part); }
+Pose PhysicsWorld::partPose(int part) const {
+  return m->partPose(part);
+}
 
 Vec3 PhysicsWorld::partLinearVelocity(int part) const {
   const btRigidBody* rb = m->bodies[m->parts[part].body].rb;
@@ -769,15 +805,20 @@ Vec3 PhysicsWorld::partAngularVelocity(int part) const {
   return fromBt(m->bodies[m->parts[part].body].rb->getAngularVelocity());
 }
 
-bool PhysicsWorld::sameBody(int a, int b) const { return m->parts[a].body == m->parts[b].body; }
+bool PhysicsWorld::sameBody(int a, int b) const {
+  return m->parts[a].body == m->parts[b].body;
+}
 
-double PhysicsWorld::hingeAngle(int hinge) const { return m->hinges[hinge].angle; }
+double PhysicsWorld::hingeAngle(int hinge) const {
+  return m->hinges[hinge].angle;
+}
 
 double PhysicsWorld::hingeVelocity(int hinge) const {
   const Impl::Hinge& h = m->hinges[hinge];
   const int ba = m->parts[h.d.partA].body, bb = m->parts[h.d.partB].body;
   const Vec3 axis = m->partPose(h.d.partA).rot * h.axisA;
-  return (fromBt(m->bodies[bb].rb->getAngularVelocity()) - fromBt(m->bodies[ba].rb->getAngularVelocity())).dot(axis);
+  return (fromBt(m->bodies[bb].rb->getAngularVelocity()) - fromBt(m->bodies[ba].rb->getAngularVelocity()))
+      .dot(axis);
 }
 
 HingeQuality PhysicsWorld::hingeQuality() const {
@@ -792,11 +833,15 @@ HingeQuality PhysicsWorld::hingeQuality() const {
   return q;
 }
 
-BodyDivergence PhysicsWorld::divergenceScan(double maxSpeed, double maxAngularSpeed, double maxDistance) const {
+BodyDivergence PhysicsWorld::divergenceScan(double maxSpeed, double maxAngularSpeed,
+                                            double maxDistance) const {
   BodyDivergence out;
   const btAlignedObjectArray<btRigidBody*>& rbs = m->world.getNonStaticRigidBodies();
-  const double v2max = maxSpeed * maxSpeed, w2max = maxAngularSpeed * maxAngularSpeed, d2max = maxDistance * maxDistance;
-  auto sq = [](const btVector3& a) { return double(a.x()) * a.x() + double(a.y()) * a.y() + double(a.z()) * a.z(); };
+  const double v2max = maxSpeed * maxSpeed, w2max = maxAngularSpeed * maxAngularSpeed,
+               d2max = maxDistance * maxDistance;
+  auto sq = [](const btVector3& a) {
+    return double(a.x()) * a.x() + double(a.y()) * a.y() + double(a.z()) * a.z();
+  };
   auto sum = [](const btVector3& a) { return double(a.x()) + double(a.y()) + double(a.z()); };
   for (int i = 0, n = rbs.size(); i < n; ++i) {
     const btRigidBody* rb = rbs[i];
@@ -811,15 +856,24 @@ BodyDivergence PhysicsWorld::divergenceScan(double maxSpeed, double maxAngularSp
     const double all = sum(p) + sum(r[0]) + sum(r[1]) + sum(r[2]) + sum(v) + sum(w);
     const double d2 = sq(p), v2 = sq(v), w2 = sq(w);
     if (std::isfinite(all) && d2 <= d2max && v2 <= v2max && w2 <= w2max) continue;
-    auto finite = [](const btVector3& a) { return std::isfinite(a.x()) && std::isfinite(a.y()) && std::isfinite(a.z()); };
+    auto finite = [](const btVector3& a) {
+      return std::isfinite(a.x()) && std::isfinite(a.y()) && std::isfinite(a.z());
+    };
     using K = BodyDivergence::Kind;
-    if (!finite(p)) out.kind = K::Position;
-    else if (!finite(r[0]) || !finite(r[1]) || !finite(r[2])) out.kind = K::Orientation;
-    else if (!finite(v) || !finite(w)) out.kind = K::Velocity;
-    else if (!(v2 <= v2max)) out.kind = K::Speed, out.value = std::sqrt(v2);
-    else if (!(w2 <= w2max)) out.kind = K::AngularSpeed, out.value = std::sqrt(w2);
-    else if (!(d2 <= d2max)) out.kind = K::Bounds, out.value = std::sqrt(d2);
-    else continue;  // a finite sum that overflowed (double-precision Bullet): nothing wrong
+    if (!finite(p))
+      out.kind = K::Position;
+    else if (!finite(r[0]) || !finite(r[1]) || !finite(r[2]))
+      out.kind = K::Orientation;
+    else if (!finite(v) || !finite(w))
+      out.kind = K::Velocity;
+    else if (!(v2 <= v2max))
+      out.kind = K::Speed, out.value = std::sqrt(v2);
+    else if (!(w2 <= w2max))
+      out.kind = K::AngularSpeed, out.value = std::sqrt(w2);
+    else if (!(d2 <= d2max))
+      out.kind = K::Bounds, out.value = std::sqrt(d2);
+    else
+      continue;  // a finite sum that overflowed (double-precision Bullet): nothing wrong
     const int b = rb->getUserIndex();
     if (b >= 0 && !m->bodies[size_t(b)].parts.empty()) {
       out.part = m->bodies[size_t(b)].parts.front();

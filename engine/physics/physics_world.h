@@ -38,9 +38,9 @@ struct HingeDesc {
   Pose frameA, frameB;         ///< joint frame in each part frame; z is the axis
   bool limited = true;
   double lower = -kPi / 2, upper = kPi / 2;
-  double maxTorque = 1.0;  ///< N m
-  double maxSpeed = 1.0;   ///< rad/s
-  double servoGain = 20.0; ///< 1/s: servo speed command per radian of error
+  double maxTorque = 1.0;   ///< N m
+  double maxSpeed = 1.0;    ///< rad/s
+  double servoGain = 20.0;  ///< 1/s: servo speed command per radian of error
 };
 
 enum class MotorMode { Off, Servo, Velocity };
@@ -54,9 +54,9 @@ struct Wrench {
 /// The first dynamic body found in a state no physics can recover from (divergenceScan).
 struct BodyDivergence {
   enum class Kind { None, Position, Orientation, Velocity, Speed, AngularSpeed, Bounds } kind = Kind::None;
-  int part = -1;         ///< the body's first part (a module link or an obstacle)
-  int partsInBody = 0;   ///< more than 1: docked links merged into one body
-  double value = 0;      ///< Speed: m/s; AngularSpeed: rad/s; Bounds: metres from the origin
+  int part = -1;        ///< the body's first part (a module link or an obstacle)
+  int partsInBody = 0;  ///< more than 1: docked links merged into one body
+  double value = 0;     ///< Speed: m/s; AngularSpeed: rad/s; Bounds: metres from the origin
 };
 
 struct HingeQuality {

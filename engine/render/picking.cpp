@@ -28,8 +28,8 @@ float slab(const Eigen::AlignedBox3f& box, const Eigen::Vector3f& o, const Eigen
 }
 
 /// Distance t >= 0 where o + t d crosses triangle abc (either side), or +inf.
-float triangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c, const Eigen::Vector3f& o,
-               const Eigen::Vector3f& d) {
+float triangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
+               const Eigen::Vector3f& o, const Eigen::Vector3f& d) {
   const Eigen::Vector3f e1 = b - a, e2 = c - a, p = d.cross(e2);
   const float det = e1.dot(p);
   if (std::abs(det) < 1e-20f) return std::numeric_limits<float>::infinity();

@@ -11,8 +11,8 @@
 namespace rm3d {
 
 struct PickHit {
-  int item = -1;         ///< index into Snapshot::items, -1: nothing (sky or ground)
-  float distance = 0;    ///< along the ray, metres
+  int item = -1;       ///< index into Snapshot::items, -1: nothing (sky or ground)
+  float distance = 0;  ///< along the ray, metres
 };
 
 /// Prepared once per snapshot (mesh bounds, inverse item transforms), then asked for many rays.

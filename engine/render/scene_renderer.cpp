@@ -274,8 +274,10 @@ struct SceneRenderer::Impl {
     const GLenum attachments[2] = {GL_COLOR_ATTACHMENT0, GL_DEPTH_ATTACHMENT};
     for (int i = 0; i < 2; ++i) {
       gl.BindRenderbuffer(GL_RENDERBUFFER, rbos[i]);
-      if (samples > 0) gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples, formats[i], width, height);
-      else gl.RenderbufferStorage(GL_RENDERBUFFER, formats[i], width, height);
+      if (samples > 0)
+        gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples, formats[i], width, height);
+      else
+        gl.RenderbufferStorage(GL_RENDERBUFFER, formats[i], width, height);
       gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, attachments[i], GL_RENDERBUFFER, rbos[i]);
     }
     if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
@@ -319,11 +321,11 @@ bool SceneRenderer::init(GlGetProc getProc, std::string& err) {
   if (m_impl->loaded) m_impl = std::make_unique<Impl>();  // re-init: the old objects go with their context
   Impl& r = *m_impl;
   Gl& gl = r.gl;
-#define RM3D_GL_LOAD(name)                                                 \
-  gl.name = reinterpret_cast<decltype(gl.name)>(getProc("gl" #name));      \
-  if (!gl.name) {                                                          \
-    err = "OpenGL function gl" #name " is missing";                        \
-    return false;                                                          \
+#define RM3D_GL_LOAD(name)                                            \
+  gl.name = reinterpret_cast<decltype(gl.name)>(getProc("gl" #name)); \
+  if (!gl.name) {                                                     \
+    err = "OpenGL function gl" #name " is missing";                   \
+    return false;                                                     \
   }
   RM3D_GL_FUNCS(RM3D_GL_LOAD)
 #undef RM3D_GL_LOAD
@@ -537,7 +539,8 @@ void SceneRenderer::readPixels(int width, int height, std::vector<uint8_t>& rgba
   r.gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
   // GL rows run bottom-up; PNG and callers want top row first.
   const size_t row = size_t(width) * 4;
-  for (int y = 0; y < height; ++y) std::memcpy(rgba.data() + y * row, rows.data() + (height - 1 - y) * row, row);
+  for (int y = 0; y < height; ++y)
+    std::memcpy(rgba.data() + y * row, rows.data() + (height - 1 - y) * row, row);
 }
 
 void SceneRenderer::Impl::drawText(const std::vector<std::string>& lines, int width, int height) {
@@ -574,7 +577,8 @@ void SceneRenderer::Impl::drawText(const std::vector<std::string>& lines, int wi
   gl.Enable(GL_DEPTH_TEST);
 }
 
-bool writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba, std::string& err) {
+bool writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba,
+              std::string& err) {
   if (width <= 0 || height <= 0 || rgba.size() < size_t(width) * size_t(height) * 4) {
     err = "cannot write '" + path + "': no picture";
     return false;

@@ -44,6 +44,7 @@ class SceneRenderer {
 };
 
 /// Writes width x height RGBA pixels (top row first) as a PNG; on failure err names the file.
-bool writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba, std::string& err);
+bool writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba,
+              std::string& err);
 
 }  // namespace rm3d

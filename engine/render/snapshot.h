@@ -2,12 +2,11 @@
 // the renderer never sees the World itself. Frames: z up, metres.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 namespace rm3d {
 
@@ -19,9 +18,9 @@ struct RenderMesh {
 
 /// One drawn instance of a mesh.
 struct RenderItem {
-  int mesh = 0;                                          ///< index into Snapshot::meshes
+  int mesh = 0;                                             ///< index into Snapshot::meshes
   Eigen::Matrix4f transform = Eigen::Matrix4f::Identity();  ///< mesh frame -> world (may scale)
-  std::array<float, 4> color{0.8f, 0.8f, 0.8f, 1.0f};    ///< linear RGBA
+  std::array<float, 4> color{0.8f, 0.8f, 0.8f, 1.0f};       ///< linear RGBA
   int tag = -1;  ///< what it belongs to (a module index for module links and docks, else -1)
 };
 
@@ -42,8 +41,8 @@ struct Snapshot {
   std::vector<RenderMesh> meshes;
   std::vector<RenderItem> items;
   std::vector<RenderLine> lines;
-  bool ground = true;                 ///< draw the plane z = 0 with a 0.1 m / 1 m grid
-  std::vector<std::string> overlay;   ///< text lines drawn top-left (sim time, modules, ...)
+  bool ground = true;                ///< draw the plane z = 0 with a 0.1 m / 1 m grid
+  std::vector<std::string> overlay;  ///< text lines drawn top-left (sim time, modules, ...)
 };
 
 }  // namespace rm3d

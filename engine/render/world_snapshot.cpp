@@ -12,11 +12,14 @@ namespace rm3d {
 
 namespace {
 
-Eigen::Vector3f f3(const Vec3& v) { return v.cast<float>(); }
+Eigen::Vector3f f3(const Vec3& v) {
+  return v.cast<float>();
+}
 
 RenderMesh boxMesh() {
   RenderMesh m;
-  for (int i = 0; i < 8; ++i) m.vertices.emplace_back(i & 1 ? 0.5f : -0.5f, i & 2 ? 0.5f : -0.5f, i & 4 ? 0.5f : -0.5f);
+  for (int i = 0; i < 8; ++i)
+    m.vertices.emplace_back(i & 1 ? 0.5f : -0.5f, i & 2 ? 0.5f : -0.5f, i & 4 ? 0.5f : -0.5f);
   const uint32_t idx[] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
                           2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
   m.indices.assign(std::begin(idx), std::end(idx));
@@ -47,7 +50,8 @@ RenderMesh sphereMesh(int rings = 12, int segments = 24) {
     const double th = kPi * r / rings;
     for (int s = 0; s < segments; ++s) {
       const double ph = 2 * kPi * s / segments;
-      m.vertices.emplace_back(float(std::sin(th) * std::cos(ph)), float(std::sin(th) * std::sin(ph)), float(std::cos(th)));
+      m.vertices.emplace_back(float(std::sin(th) * std::cos(ph)), float(std::sin(th) * std::sin(ph)),
+                              float(std::cos(th)));
     }
   }
   for (int r = 0; r < rings; ++r)
@@ -137,7 +141,7 @@ Snapshot buildSnapshot(const World& w) {
       face.pos += face.rot * Vec3(-0.0005, 0, 0);
       item.transform = toMatrix(face, Eigen::Vector3f(0.002f, float(dock.size), float(dock.size)));
       item.tag = int(i);
-      item.color = !st.enabled ? std::array<float, 4>{0.9f, 0.15f, 0.1f, 1}
+      item.color = !st.enabled  ? std::array<float, 4>{0.9f, 0.15f, 0.1f, 1}
                    : st.engaged ? std::array<float, 4>{0.2f, 0.8f, 0.3f, 1}
                                 : std::array<float, 4>{0.55f, 0.55f, 0.6f, 1};
       snap.items.push_back(item);
@@ -150,11 +154,13 @@ Snapshot buildSnapshot(const World& w) {
       if (sd.kind != SensorKind::Range) continue;
       const Pose lp = w.linkPose(int(i), sd.link);
       const Vec3 dir = lp.rot * sd.dir, from = lp * sd.pos;
-      const double hit = w.physicsConst().rayCast(from + dir * sd.minRange, dir, sd.maxRange - sd.minRange, int(i));
+      const double hit =
+          w.physicsConst().rayCast(from + dir * sd.minRange, dir, sd.maxRange - sd.minRange, int(i));
       RenderLine line;
       line.a = f3(from);
       line.b = f3(from + dir * (hit >= 0 ? hit + sd.minRange : sd.maxRange));
-      line.color = hit >= 0 ? std::array<float, 4>{0.95f, 0.2f, 0.15f, 1} : std::array<float, 4>{0.95f, 0.85f, 0.1f, 1};
+      line.color = hit >= 0 ? std::array<float, 4>{0.95f, 0.2f, 0.15f, 1}
+                            : std::array<float, 4>{0.95f, 0.85f, 0.1f, 1};
       snap.lines.push_back(line);
     }
   }
@@ -163,13 +169,14 @@ Snapshot buildSnapshot(const World& w) {
     Eigen::Vector3f scale;
     item.mesh = table.meshFor(o.shape, scale);
     item.transform = toMatrix(w.obstaclePose(o.part) * o.shape.pose, scale);
-    item.color = o.mass > 0 ? std::array<float, 4>{0.35f, 0.55f, 0.85f, 1} : std::array<float, 4>{0.6f, 0.6f, 0.62f, 1};
+    item.color = o.mass > 0 ? std::array<float, 4>{0.35f, 0.55f, 0.85f, 1}
+                            : std::array<float, 4>{0.6f, 0.6f, 0.62f, 1};
     snap.items.push_back(item);
   }
   snap.ground = w.hasGround();
   char line[160];
-  std::snprintf(line, sizeof line, "t = %.2f s   step %lld   %zu modules   %d faults", w.time(), (long long)w.steps(),
-                w.modules().size(), w.faultCount());
+  std::snprintf(line, sizeof line, "t = %.2f s   step %lld   %zu modules   %d faults", w.time(),
+                (long long)w.steps(), w.modules().size(), w.faultCount());
   snap.overlay.push_back(line);
   return snap;
 }

@@ -1,11 +1,10 @@
 // Behaviour VM set-up and the protected calls into its callbacks.
 #include "script/behaviour.h"
 
-#include <lua.hpp>
-
 #include <cctype>
 #include <cstring>
 #include <filesystem>
+#include <lua.hpp>
 
 #include "script/behaviour_bindings.h"
 #include "script/watchdog.h"
@@ -100,8 +99,10 @@ int refreshCallbackRefs(lua_State* L) {
     luaL_unref(L, LUA_REGISTRYINDEX, *s.ref);
     *s.ref = LUA_NOREF;
     lua_pushstring(L, s.name);
-    if (lua_rawget(L, g) == LUA_TFUNCTION) *s.ref = luaL_ref(L, LUA_REGISTRYINDEX);
-    else lua_pop(L, 1);
+    if (lua_rawget(L, g) == LUA_TFUNCTION)
+      *s.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    else
+      lua_pop(L, 1);
   }
   return 0;
 }
@@ -170,7 +171,8 @@ std::string Behaviour::locateDeclaration(const std::string& path, const std::str
         const size_t comment = l.find("--");
         if (comment != std::string::npos) l.resize(comment);  // a name in a comment is not the declaration
         const size_t k = l.find(key);
-        if (k != std::string::npos && (k == 0 || (!std::isalnum(static_cast<unsigned char>(l[k - 1])) && l[k - 1] != '_'))) {
+        if (k != std::string::npos &&
+            (k == 0 || (!std::isalnum(static_cast<unsigned char>(l[k - 1])) && l[k - 1] != '_'))) {
           const size_t eq = l.find_first_not_of(" \t\"]", k + key.size());
           if (eq != std::string::npos && l[eq] == '=') {
             line = std::to_string(n);

@@ -17,7 +17,7 @@ namespace rm3d {
 struct BehaviourContext {
   ModuleHandle module;
   int stepRef = -2, initRef = -2, onDockRef = -2, onReloadRef = -2;  // LUA_NOREF
-  int dockTableRef = -2;  ///< name -> Dock userdata
+  int dockTableRef = -2;                                             ///< name -> Dock userdata
   /// Metatables of Joint and Dock, compared by address in each method call (cheaper than
   /// luaL_checkudata's registry look-up by name).
   const void* jointMeta = nullptr;

@@ -2,9 +2,9 @@
 // enable/disable, send, peer.
 #include <lua.hpp>
 
-#include "script/lua_value.h"
 #include "script/behaviour.h"
 #include "script/behaviour_bindings.h"
+#include "script/lua_value.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -17,9 +17,13 @@ struct DockUd {
   int index;
 };
 
-int checkDock(lua_State* L) { return checkIndexUserdata(L, behaviourContext(L).dockMeta, kDockMeta); }
+int checkDock(lua_State* L) {
+  return checkIndexUserdata(L, behaviourContext(L).dockMeta, kDockMeta);
+}
 
-const DockState& dockState(lua_State* L, int d) { return behaviourContext(L).module.self().docks[size_t(d)]; }
+const DockState& dockState(lua_State* L, int d) {
+  return behaviourContext(L).module.self().docks[size_t(d)];
+}
 
 /// Queues dock:enable()/disable(): dock states are frozen while behaviours run (other modules
 /// read them in parallel); the world applies the request after the phase, in module order.
@@ -89,8 +93,10 @@ int dockSend(lua_State* L) {
     msg.dock = d;
     msg.time = c.module.world().time();
     ok = readLuaValue(L, 2, msg.data, c.module.world().channel().maxBytes, err);
-    if (ok) c.module.mailbox().outbox.push_back(std::move(msg));
-    else lua_pushfstring(L, "dock:send: %s", err.c_str());
+    if (ok)
+      c.module.mailbox().outbox.push_back(std::move(msg));
+    else
+      lua_pushfstring(L, "dock:send: %s", err.c_str());
   }
   if (!ok) {
     luaL_where(L, 1);
@@ -124,9 +130,10 @@ int dockToString(lua_State* L) {
 }  // namespace
 
 void openDockType(lua_State* L) {
-  static const luaL_Reg methods[] = {{"enabled", dockEnabled}, {"engaged", dockEngaged}, {"gender", dockGender},
-                                     {"enable", dockEnable},   {"disable", dockDisable}, {"send", dockSend},
-                                     {"name", dockName},       {"peer", dockPeer},       {nullptr, nullptr}};
+  static const luaL_Reg methods[] = {
+      {"enabled", dockEnabled}, {"engaged", dockEngaged}, {"gender", dockGender},
+      {"enable", dockEnable},   {"disable", dockDisable}, {"send", dockSend},
+      {"name", dockName},       {"peer", dockPeer},       {nullptr, nullptr}};
   luaL_newmetatable(L, kDockMeta);
   behaviourContext(L).dockMeta = lua_topointer(L, -1);
   luaL_newlib(L, methods);

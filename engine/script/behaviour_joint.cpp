@@ -1,8 +1,7 @@
 // Behaviour side: the Joint type (module.joint(name) -> userdata {index}): angle, velocity,
 // set_target, set_velocity, free, target, name, limits.
-#include <lua.hpp>
-
 #include <cmath>
+#include <lua.hpp>
 
 #include "script/behaviour.h"
 #include "script/behaviour_bindings.h"
@@ -18,7 +17,9 @@ struct JointUd {
   int index;
 };
 
-int checkJoint(lua_State* L) { return checkIndexUserdata(L, behaviourContext(L).jointMeta, kJointMeta); }
+int checkJoint(lua_State* L) {
+  return checkIndexUserdata(L, behaviourContext(L).jointMeta, kJointMeta);
+}
 
 /// joint:angle() -> radians (child relative to parent, about the axis)
 int jointAngle(lua_State* L) {
@@ -67,7 +68,10 @@ int jointTarget(lua_State* L) {
   const int j = checkJoint(L);
   const BehaviourContext& c = behaviourContext(L);
   const JointCommand& cmd = c.module.self().commands[size_t(j)];
-  if (cmd.mode == JointMode::Servo) lua_pushnumber(L, cmd.value); else lua_pushnil(L);
+  if (cmd.mode == JointMode::Servo)
+    lua_pushnumber(L, cmd.value);
+  else
+    lua_pushnil(L);
   return 1;
 }
 
@@ -99,10 +103,14 @@ int jointToString(lua_State* L) {
 }  // namespace
 
 void openJointType(lua_State* L) {
-  static const luaL_Reg methods[] = {{"angle", jointAngle},       {"velocity", jointVelocity},
-                                     {"set_target", jointSetTarget}, {"set_velocity", jointSetVelocity},
-                                     {"free", jointFree},         {"target", jointTarget},
-                                     {"name", jointName},         {"limits", jointLimits},
+  static const luaL_Reg methods[] = {{"angle", jointAngle},
+                                     {"velocity", jointVelocity},
+                                     {"set_target", jointSetTarget},
+                                     {"set_velocity", jointSetVelocity},
+                                     {"free", jointFree},
+                                     {"target", jointTarget},
+                                     {"name", jointName},
+                                     {"limits", jointLimits},
                                      {nullptr, nullptr}};
   luaL_newmetatable(L, kJointMeta);
   behaviourContext(L).jointMeta = lua_topointer(L, -1);

@@ -1,18 +1,16 @@
 // Behaviour side: the `module` table (identity, joints, docks, messages, percepts) of a
 // behaviour VM, the helpers the behaviour bindings share, and openModuleApi, which sets up a
 // behaviour VM's globals (`module`, `sim` and `log` from behaviour_sim.cpp, `params`, `state`).
-#include <lua.hpp>
-
 #include <cmath>
 #include <cstdio>
-
+#include <lua.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "script/lua_value.h"
 #include "script/behaviour.h"
 #include "script/behaviour_bindings.h"
 #include "script/lua_options.h"
+#include "script/lua_value.h"
 #include "script/sensor_reading.h"
 #include "world/world.h"
 
@@ -20,7 +18,9 @@ namespace rm3d {
 
 namespace {
 
-Module& self(lua_State* L) { return behaviourContext(L).module.self(); }
+Module& self(lua_State* L) {
+  return behaviourContext(L).module.self();
+}
 
 /// Looks `name` up in the cache table stored as upvalue 1; errors listing the valid names.
 int lookupNamed(lua_State* L, const char* what) {
@@ -28,7 +28,8 @@ int lookupNamed(lua_State* L, const char* what) {
   lua_pushvalue(L, 1);
   if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL) return 1;
   luaL_where(L, 1);
-  lua_pushfstring(L, "module.%s: no %s named '%s' on a %s (it has:", what, what, name, self(L).type->name.c_str());
+  lua_pushfstring(L, "module.%s: no %s named '%s' on a %s (it has:", what, what, name,
+                  self(L).type->name.c_str());
   luaL_Buffer b;
   luaL_buffinit(L, &b);
   int n = 0;
@@ -47,9 +48,13 @@ int lookupNamed(lua_State* L, const char* what) {
 }
 
 /// module.joint(name) -> Joint
-int moduleJoint(lua_State* L) { return lookupNamed(L, "joint"); }
+int moduleJoint(lua_State* L) {
+  return lookupNamed(L, "joint");
+}
 /// module.dock(name) -> Dock
-int moduleDock(lua_State* L) { return lookupNamed(L, "dock"); }
+int moduleDock(lua_State* L) {
+  return lookupNamed(L, "dock");
+}
 
 /// module.joints() -> array of joint names
 int moduleJoints(lua_State* L) {
@@ -99,7 +104,8 @@ int moduleReceive(lua_State* L) {
     Module& me = self(L);
     char head[64];
     std::snprintf(head, sizeof head, "%.2f %s: ", msg.time, me.type->docks[size_t(msg.dock)].name.c_str());
-    me.recentMessages.push_back(head + valueToJson(msg.data).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    me.recentMessages.push_back(
+        head + valueToJson(msg.data).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     if (me.recentMessages.size() > 20) me.recentMessages.pop_front();
   }
   lua_createtable(L, 0, 3);
@@ -127,7 +133,8 @@ int moduleSensor(lua_State* L) {
   lua_pushvalue(L, 1);
   if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNUMBER) {
     const BehaviourContext& c = behaviourContext(L);
-    lua_pushfstring(L, "module.sensor: no sensor named '%s' on a %s", lua_tostring(L, 1), self(L).type->name.c_str());
+    lua_pushfstring(L, "module.sensor: no sensor named '%s' on a %s", lua_tostring(L, 1),
+                    self(L).type->name.c_str());
     luaL_where(L, 1);
     lua_insert(L, -2);
     lua_pushfstring(L, " (it has: %s)", c.module.world().sensorNames(c.module.index()).c_str());
@@ -154,11 +161,15 @@ int moduleHasSensor(lua_State* L) {
   return 2;
 }
 
-void setFunctions(lua_State* L, const luaL_Reg* fns) { luaL_setfuncs(L, fns, 0); }
+void setFunctions(lua_State* L, const luaL_Reg* fns) {
+  luaL_setfuncs(L, fns, 0);
+}
 
 }  // namespace
 
-BehaviourContext& behaviourContext(lua_State* L) { return *static_cast<BehaviourContext*>(LuaVm::from(L)->user()); }
+BehaviourContext& behaviourContext(lua_State* L) {
+  return *static_cast<BehaviourContext*>(LuaVm::from(L)->user());
+}
 
 int checkIndexUserdata(lua_State* L, const void* meta, const char* typeName) {
   void* p = lua_touserdata(L, 1);

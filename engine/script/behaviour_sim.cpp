@@ -1,8 +1,7 @@
 // Behaviour side: the `sim` table (clock, the module's seeded random stream), `log`/`print`,
 // and math.random/math.randomseed on the module's stream, in a behaviour VM.
-#include <lua.hpp>
-
 #include <cstdint>
+#include <lua.hpp>
 
 #include "script/behaviour.h"
 #include "script/behaviour_bindings.h"
@@ -12,7 +11,9 @@ namespace rm3d {
 
 namespace {
 
-Module& self(lua_State* L) { return behaviourContext(L).module.self(); }
+Module& self(lua_State* L) {
+  return behaviourContext(L).module.self();
+}
 
 /// sim.time() -> seconds since the start
 int simTime(lua_State* L) {
@@ -82,8 +83,8 @@ int logLine(lua_State* L) {
 }  // namespace
 
 void openSimApi(lua_State* L) {
-  static const luaL_Reg simFns[] = {{"time", simTime},         {"dt", simDt}, {"random", simRandom},
-                                    {"gaussian", simGaussian}, {nullptr, nullptr}};
+  static const luaL_Reg simFns[] = {
+      {"time", simTime}, {"dt", simDt}, {"random", simRandom}, {"gaussian", simGaussian}, {nullptr, nullptr}};
   luaL_newlib(L, simFns);
   lua_setglobal(L, "sim");
 

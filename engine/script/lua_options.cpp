@@ -1,11 +1,10 @@
 // Option-table helpers shared by the world and module-handle bindings.
 #include "script/lua_options.h"
 
-#include <lua.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <lua.hpp>
 
 namespace rm3d {
 
@@ -52,8 +51,10 @@ double optNumberField(lua_State* L, int idx, const char* fn, const char* key, do
   if (t != LUA_TNIL) {
     int isnum = 0;
     v = lua_tonumberx(L, -1, &isnum);
-    if (!isnum) luaL_error(L, "%s: option '%s' must be a finite number, got %s", fn, key, luaL_typename(L, -1));
-    if (!std::isfinite(v)) luaL_error(L, "%s: option '%s' must be a finite number, got %s", fn, key, numText(v).s);
+    if (!isnum)
+      luaL_error(L, "%s: option '%s' must be a finite number, got %s", fn, key, luaL_typename(L, -1));
+    if (!std::isfinite(v))
+      luaL_error(L, "%s: option '%s' must be a finite number, got %s", fn, key, numText(v).s);
   }
   lua_pop(L, 1);
   return v;
@@ -75,7 +76,8 @@ const char* optStringField(lua_State* L, int idx, const char* fn, const char* ke
   const int t = lua_getfield(L, idx, key);
   const char* s = nullptr;
   if (t != LUA_TNIL) {
-    if (t != LUA_TSTRING) luaL_error(L, "%s: option '%s' must be a string, got %s", fn, key, luaL_typename(L, -1));
+    if (t != LUA_TSTRING)
+      luaL_error(L, "%s: option '%s' must be a string, got %s", fn, key, luaL_typename(L, -1));
     s = lua_tostring(L, -1);
   }
   lua_pop(L, 1);  // the string stays alive as a value in the table
@@ -103,7 +105,8 @@ void readNumbers(lua_State* L, const char* fn, const char* key, double* out, int
     out[i] = lua_tonumberx(L, -1, &isnum);
     if (!isnum) luaL_error(L, "%s: option '%s' must be a table of %d numbers", fn, key, n);
     if (!std::isfinite(out[i]))
-      luaL_error(L, "%s: option '%s' must be a table of %d finite numbers, got %s at [%d]", fn, key, n, numText(out[i]).s, i + 1);
+      luaL_error(L, "%s: option '%s' must be a table of %d finite numbers, got %s at [%d]", fn, key, n,
+                 numText(out[i]).s, i + 1);
     lua_pop(L, 1);
   }
 }

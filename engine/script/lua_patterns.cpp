@@ -6,11 +6,10 @@
 // call's budget is spent (or the watchdog fires) it raises like the count hook does.
 //
 // Lua errors longjmp, so this file is written in C style: no objects with destructors.
-#include <lua.hpp>
-
 #include <cctype>
 #include <cstddef>
 #include <cstring>
+#include <lua.hpp>
 
 #include "script/lua_vm.h"
 
@@ -26,7 +25,9 @@ constexpr char kEsc = '%';
 constexpr const char* kSpecials = "^$*+?.([%-";
 constexpr int64_t kChargeEvery = 4096;  // steps between charges to the budget
 
-inline int uchar(char c) { return static_cast<unsigned char>(c); }
+inline int uchar(char c) {
+  return static_cast<unsigned char>(c);
+}
 
 struct MatchState {
   const char* srcInit;
@@ -81,24 +82,46 @@ const char* classEnd(MatchState* ms, const char* p) {
         if (*(p++) == kEsc && p < ms->pEnd) p++;  // skip escapes (e.g. '%]')
       } while (*p != ']');
       return p + 1;
-    default: return p;
+    default:
+      return p;
   }
 }
 
 int matchClass(int c, int cl) {
   int res;
   switch (std::tolower(cl)) {
-    case 'a': res = std::isalpha(c); break;
-    case 'c': res = std::iscntrl(c); break;
-    case 'd': res = std::isdigit(c); break;
-    case 'g': res = std::isgraph(c); break;
-    case 'l': res = std::islower(c); break;
-    case 'p': res = std::ispunct(c); break;
-    case 's': res = std::isspace(c); break;
-    case 'u': res = std::isupper(c); break;
-    case 'w': res = std::isalnum(c); break;
-    case 'x': res = std::isxdigit(c); break;
-    default: return cl == c;
+    case 'a':
+      res = std::isalpha(c);
+      break;
+    case 'c':
+      res = std::iscntrl(c);
+      break;
+    case 'd':
+      res = std::isdigit(c);
+      break;
+    case 'g':
+      res = std::isgraph(c);
+      break;
+    case 'l':
+      res = std::islower(c);
+      break;
+    case 'p':
+      res = std::ispunct(c);
+      break;
+    case 's':
+      res = std::isspace(c);
+      break;
+    case 'u':
+      res = std::isupper(c);
+      break;
+    case 'w':
+      res = std::isalnum(c);
+      break;
+    case 'x':
+      res = std::isxdigit(c);
+      break;
+    default:
+      return cl == c;
   }
   if (std::isupper(cl)) res = !res;
   return res;
@@ -129,10 +152,14 @@ int singleMatch(MatchState* ms, const char* s, const char* p, const char* ep) {
   if (s >= ms->srcEnd) return 0;
   const int c = uchar(*s);
   switch (*p) {
-    case '.': return 1;
-    case kEsc: return matchClass(c, uchar(*(p + 1)));
-    case '[': return matchBracketClass(c, p, ep - 1);
-    default: return uchar(*p) == c;
+    case '.':
+      return 1;
+    case kEsc:
+      return matchClass(c, uchar(*(p + 1)));
+    case '[':
+      return matchBracketClass(c, p, ep - 1);
+    default:
+      return uchar(*p) == c;
   }
 }
 
@@ -173,8 +200,10 @@ const char* minExpand(MatchState* ms, const char* s, const char* p, const char* 
   for (;;) {
     const char* res = match(ms, s, ep + 1);
     if (res != nullptr) return res;
-    if (singleMatch(ms, s, p, ep)) s++;  // try with one more repetition
-    else return nullptr;
+    if (singleMatch(ms, s, p, ep))
+      s++;  // try with one more repetition
+    else
+      return nullptr;
   }
 }
 
@@ -212,10 +241,14 @@ init:  // using goto to optimize tail recursion
   if (p != ms->pEnd) {
     switch (*p) {
       case '(':
-        if (*(p + 1) == ')') s = startCapture(ms, s, p + 2, kCapPosition);
-        else s = startCapture(ms, s, p + 1, kCapUnfinished);
+        if (*(p + 1) == ')')
+          s = startCapture(ms, s, p + 2, kCapPosition);
+        else
+          s = startCapture(ms, s, p + 1, kCapUnfinished);
         break;
-      case ')': s = endCapture(ms, s, p + 1); break;
+      case ')':
+        s = endCapture(ms, s, p + 1);
+        break;
       case '$':
         if (p + 1 != ms->pEnd) goto dflt;  // not the last char: an ordinary '$'
         s = (s == ms->srcEnd) ? s : nullptr;
@@ -235,26 +268,36 @@ init:  // using goto to optimize tail recursion
             const char* ep = classEnd(ms, p);
             const char previous = (s == ms->srcInit) ? '\0' : *(s - 1);
             const char current = (s < ms->srcEnd) ? *s : '\0';
-            if (!matchBracketClass(uchar(previous), p, ep - 1) && matchBracketClass(uchar(current), p, ep - 1)) {
+            if (!matchBracketClass(uchar(previous), p, ep - 1) &&
+                matchBracketClass(uchar(current), p, ep - 1)) {
               p = ep;
               goto init;
             }
             s = nullptr;
             break;
           }
-          case '0': case '1': case '2': case '3': case '4':
-          case '5': case '6': case '7': case '8': case '9':
+          case '0':
+          case '1':
+          case '2':
+          case '3':
+          case '4':
+          case '5':
+          case '6':
+          case '7':
+          case '8':
+          case '9':
             s = matchCapture(ms, s, uchar(*(p + 1)));
             if (s != nullptr) {
               p += 2;
               goto init;
             }
             break;
-          default: goto dflt;
+          default:
+            goto dflt;
         }
         break;
       default:
-      dflt: {
+      dflt : {
         const char* ep = classEnd(ms, p);  // points to the optional suffix
         if (!singleMatch(ms, s, p, ep)) {
           if (*ep == '*' || *ep == '?' || *ep == '-') {  // accept empty?
@@ -274,9 +317,15 @@ init:  // using goto to optimize tail recursion
               }
               break;
             }
-            case '+': s = maxExpand(ms, s + 1, p, ep); break;  // 1 or more repetitions
-            case '*': s = maxExpand(ms, s, p, ep); break;      // 0 or more
-            case '-': s = minExpand(ms, s, p, ep); break;      // 0 or more, shortest
+            case '+':
+              s = maxExpand(ms, s + 1, p, ep);
+              break;  // 1 or more repetitions
+            case '*':
+              s = maxExpand(ms, s, p, ep);
+              break;  // 0 or more
+            case '-':
+              s = minExpand(ms, s, p, ep);
+              break;  // 0 or more, shortest
             default:
               s++;
               p = ep;
@@ -301,8 +350,10 @@ ptrdiff_t getOneCapture(MatchState* ms, int i, const char* s, const char* e, con
   }
   const ptrdiff_t capl = ms->capture[i].len;
   *cap = ms->capture[i].init;
-  if (capl == kCapUnfinished) luaL_error(ms->L, "unfinished capture in pattern (a '(' without ')')");
-  else if (capl == kCapPosition) lua_pushinteger(ms->L, (ms->capture[i].init - ms->srcInit) + 1);
+  if (capl == kCapUnfinished)
+    luaL_error(ms->L, "unfinished capture in pattern (a '(' without ')')");
+  else if (capl == kCapPosition)
+    lua_pushinteger(ms->L, (ms->capture[i].init - ms->srcInit) + 1);
   return capl;
 }
 
@@ -400,8 +451,12 @@ int strFindAux(lua_State* L, bool find) {
   return 1;
 }
 
-int strFind(lua_State* L) { return strFindAux(L, true); }
-int strMatch(lua_State* L) { return strFindAux(L, false); }
+int strFind(lua_State* L) {
+  return strFindAux(L, true);
+}
+int strMatch(lua_State* L) {
+  return strFindAux(L, false);
+}
 
 struct GMatchState {
   const char* src;
@@ -455,8 +510,10 @@ void addS(MatchState* ms, luaL_Buffer* b, const char* s, const char* e) {
     } else if (std::isdigit(uchar(*p))) {
       const char* cap;
       const ptrdiff_t resl = getOneCapture(ms, *p - '1', s, e, &cap);
-      if (resl == kCapPosition) luaL_addvalue(b);  // the position is on the stack
-      else luaL_addlstring(b, cap, size_t(resl));
+      if (resl == kCapPosition)
+        luaL_addvalue(b);  // the position is on the stack
+      else
+        luaL_addlstring(b, cap, size_t(resl));
     } else {
       luaL_error(L, "invalid use of '%c' in replacement string", kEsc);
     }
@@ -542,7 +599,8 @@ int strGsub(lua_State* L) {
 }  // namespace
 
 void openBoundedPatterns(lua_State* L) {
-  static const luaL_Reg fns[] = {{"find", strFind}, {"match", strMatch}, {"gmatch", gmatch}, {"gsub", strGsub}, {nullptr, nullptr}};
+  static const luaL_Reg fns[] = {
+      {"find", strFind}, {"match", strMatch}, {"gmatch", gmatch}, {"gsub", strGsub}, {nullptr, nullptr}};
   lua_getglobal(L, "string");  // also the string metatable's __index
   luaL_setfuncs(L, fns, 0);
   lua_pop(L, 1);

@@ -1,10 +1,9 @@
 // Deep copy of plain Lua values, with cycle, type and size checks.
 #include "script/lua_value.h"
 
+#include <algorithm>
 #include <lua.hpp>
 #include <nlohmann/json.hpp>
-
-#include <algorithm>
 
 namespace rm3d {
 
@@ -15,7 +14,10 @@ bool keyLess(const LuaValue& a, const LuaValue& b) {
   if (rank(a) != rank(b)) return rank(a) < rank(b);
   if (a.type == LuaValue::Type::String) return a.string < b.string;
   auto num = [](const LuaValue& v) {
-    return v.type == LuaValue::Type::Integer ? double(v.integer) : v.type == LuaValue::Type::Number ? v.number : v.boolean ? 1.0 : 0.0;
+    return v.type == LuaValue::Type::Integer  ? double(v.integer)
+           : v.type == LuaValue::Type::Number ? v.number
+           : v.boolean                        ? 1.0
+                                              : 0.0;
   };
   return num(a) < num(b);
 }
@@ -31,7 +33,9 @@ struct Reader {
     idx = lua_absindex(L, idx);
     size += 16;
     switch (lua_type(L, idx)) {
-      case LUA_TNIL: out.type = LuaValue::Type::Nil; break;
+      case LUA_TNIL:
+        out.type = LuaValue::Type::Nil;
+        break;
       case LUA_TBOOLEAN:
         out.type = LuaValue::Type::Boolean;
         out.boolean = lua_toboolean(L, idx);
@@ -93,11 +97,13 @@ struct Reader {
           }
         }
         seen.pop_back();
-        std::sort(out.table.begin(), out.table.end(), [](const auto& a, const auto& b) { return keyLess(a.first, b.first); });
+        std::sort(out.table.begin(), out.table.end(),
+                  [](const auto& a, const auto& b) { return keyLess(a.first, b.first); });
         break;
       }
       default:
-        err = std::string("a ") + lua_typename(L, lua_type(L, idx)) + where + " cannot be copied (only nil, booleans, numbers, strings and tables)";
+        err = std::string("a ") + lua_typename(L, lua_type(L, idx)) + where +
+              " cannot be copied (only nil, booleans, numbers, strings and tables)";
         return false;
     }
     if (limit && size > limit) {
@@ -118,11 +124,21 @@ bool readLuaValue(lua_State* L, int idx, LuaValue& out, size_t limit, std::strin
 
 void pushLuaValue(lua_State* L, const LuaValue& v) {
   switch (v.type) {
-    case LuaValue::Type::Nil: lua_pushnil(L); break;
-    case LuaValue::Type::Boolean: lua_pushboolean(L, v.boolean); break;
-    case LuaValue::Type::Integer: lua_pushinteger(L, v.integer); break;
-    case LuaValue::Type::Number: lua_pushnumber(L, v.number); break;
-    case LuaValue::Type::String: lua_pushlstring(L, v.string.data(), v.string.size()); break;
+    case LuaValue::Type::Nil:
+      lua_pushnil(L);
+      break;
+    case LuaValue::Type::Boolean:
+      lua_pushboolean(L, v.boolean);
+      break;
+    case LuaValue::Type::Integer:
+      lua_pushinteger(L, v.integer);
+      break;
+    case LuaValue::Type::Number:
+      lua_pushnumber(L, v.number);
+      break;
+    case LuaValue::Type::String:
+      lua_pushlstring(L, v.string.data(), v.string.size());
+      break;
     case LuaValue::Type::Table:
       luaL_checkstack(L, 3, "copying a table");
       lua_createtable(L, 0, int(v.table.size()));

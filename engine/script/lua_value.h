@@ -4,7 +4,6 @@
 
 #include <string>
 
-
 #include "messaging/value.h"
 
 struct lua_State;
@@ -19,6 +18,8 @@ bool readLuaValue(lua_State* L, int idx, LuaValue& out, size_t limit, std::strin
 /// Pushes a fresh copy. Needs stack space only; may raise a memory error.
 void pushLuaValue(lua_State* L, const LuaValue& v);
 /// Approximate size in bytes (what the limit counts).
-inline size_t luaValueSize(const LuaValue& v) { return valueSize(v); }
+inline size_t luaValueSize(const LuaValue& v) {
+  return valueSize(v);
+}
 
 }  // namespace rm3d

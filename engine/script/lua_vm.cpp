@@ -3,8 +3,6 @@
 // call with traceback.
 #include "script/lua_vm.h"
 
-#include <lua.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -13,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <lua.hpp>
 #include <sstream>
 
 #include "script/watchdog.h"
@@ -45,7 +44,9 @@ int safeSetmetatable(lua_State* L) {
   if (lua_type(L, 2) == LUA_TTABLE) {
     lua_pushliteral(L, "__gc");
     if (lua_rawget(L, 2) != LUA_TNIL)
-      return luaL_error(L, "setmetatable: a metatable with __gc is not allowed in scripts (finalizers run outside the instruction budget)");
+      return luaL_error(L,
+                        "setmetatable: a metatable with __gc is not allowed in scripts (finalizers run "
+                        "outside the instruction budget)");
     lua_pop(L, 1);
   }
   lua_pushvalue(L, lua_upvalueindex(1));
@@ -65,7 +66,9 @@ int guardedHandler(lua_State* L) {
   return 1;
 }
 
-int xpcallContinue(lua_State* L, int, lua_KContext) { return lua_gettop(L); }
+int xpcallContinue(lua_State* L, int, lua_KContext) {
+  return lua_gettop(L);
+}
 
 int safeXpcall(lua_State* L) {
   luaL_checktype(L, 2, LUA_TFUNCTION);
@@ -91,7 +94,9 @@ int safeRep(lua_State* L) {
     if (limit) {
       const double room = limit > vm->memoryUsed() ? double(limit - vm->memoryUsed()) : 0.0;
       if (total > room)
-        return luaL_error(L, "out of memory: string.rep would make a string of %I bytes, more than the memory cap (%d MiB) leaves room for",
+        return luaL_error(L,
+                          "out of memory: string.rep would make a string of %I bytes, more than the memory "
+                          "cap (%d MiB) leaves room for",
                           lua_Integer(total), int((limit + (1 << 19)) >> 20));
     }
     LuaVm::charge(L, int64_t(total / 64));
@@ -157,7 +162,6 @@ void makeValidUtf8(std::string& s) {
   if (changed) s = std::move(out);
 }
 
-
 void* LuaVm::alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
   auto* vm = static_cast<LuaVm*>(ud);
   if (ptr == nullptr) osize = 0;  // osize encodes the object type when allocating
@@ -204,15 +208,18 @@ std::string LuaVm::abortMessage() const {
       break;
     }
     case Abort::Memory:
-      std::snprintf(buf, sizeof buf, "out of memory: the %s's memory cap is %d MiB", m_owner.c_str(), int((m_limit + (1 << 19)) >> 20));
+      std::snprintf(buf, sizeof buf, "out of memory: the %s's memory cap is %d MiB", m_owner.c_str(),
+                    int((m_limit + (1 << 19)) >> 20));
       break;
     default:
       if (m_abortWhat)
         std::snprintf(buf, sizeof buf,
-                      "instruction budget exceeded in %s (over %lld instructions' worth in one call; a pattern that backtracks too much?)",
+                      "instruction budget exceeded in %s (over %lld instructions' worth in one call; a "
+                      "pattern that backtracks too much?)",
                       m_abortWhat, static_cast<long long>(m_budget));
       else
-        std::snprintf(buf, sizeof buf, "instruction budget exceeded (over %lld instructions in one call; an endless loop?)",
+        std::snprintf(buf, sizeof buf,
+                      "instruction budget exceeded (over %lld instructions in one call; an endless loop?)",
                       static_cast<long long>(m_budget));
   }
   return buf;
@@ -269,7 +276,8 @@ void LuaVm::charge(lua_State* L, int64_t n, const char* what) {
     if (vm->m_budget > 0 && vm->m_count > vm->m_budget) {
       vm->m_abort = Abort::Budget;
       vm->m_abortWhat = what;
-    } else if (vm->m_interruptStamp.load(std::memory_order_relaxed) == vm->m_stamp.load(std::memory_order_relaxed)) {
+    } else if (vm->m_interruptStamp.load(std::memory_order_relaxed) ==
+               vm->m_stamp.load(std::memory_order_relaxed)) {
       vm->m_abort = Abort::Watchdog;
       vm->noteWatchdogStop();
     }
@@ -311,14 +319,16 @@ void LuaVm::setWatchdog(Watchdog* w) {
   if (m_watchdog) m_watchdog->add(this);
 }
 
-LuaVm* LuaVm::from(lua_State* L) { return *static_cast<LuaVm**>(lua_getextraspace(L)); }
+LuaVm* LuaVm::from(lua_State* L) {
+  return *static_cast<LuaVm**>(lua_getextraspace(L));
+}
 
 namespace {
 
 int openSandboxProtected(lua_State* L) {
-  static const luaL_Reg libs[] = {{LUA_GNAME, luaopen_base},          {LUA_TABLIBNAME, luaopen_table},
-                                  {LUA_STRLIBNAME, luaopen_string},   {LUA_MATHLIBNAME, luaopen_math},
-                                  {LUA_UTF8LIBNAME, luaopen_utf8},    {LUA_COLIBNAME, luaopen_coroutine}};
+  static const luaL_Reg libs[] = {{LUA_GNAME, luaopen_base},        {LUA_TABLIBNAME, luaopen_table},
+                                  {LUA_STRLIBNAME, luaopen_string}, {LUA_MATHLIBNAME, luaopen_math},
+                                  {LUA_UTF8LIBNAME, luaopen_utf8},  {LUA_COLIBNAME, luaopen_coroutine}};
   for (const luaL_Reg& lib : libs) {
     luaL_requiref(L, lib.name, lib.func, 1);
     lua_pop(L, 1);
@@ -331,7 +341,8 @@ int openSandboxProtected(lua_State* L) {
   // `load` stays, text chunks only.
   if (luaL_dostring(L,
                     "local load = load\n"
-                    "_G.load = function(chunk, name, mode, env) return load(chunk, name, 't', env) end") != LUA_OK)
+                    "_G.load = function(chunk, name, mode, env) return load(chunk, name, 't', env) end") !=
+      LUA_OK)
     return lua_error(L);
   lua_getglobal(L, "setmetatable");
   lua_pushcclosure(L, safeSetmetatable, 1);
@@ -379,7 +390,8 @@ bool LuaVm::loadFile(const std::string& path, std::string& err) {
   if (luaL_loadbufferx(m_L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK) {
     err = lua_type(m_L, -1) == LUA_TSTRING ? lua_tostring(m_L, -1) : "cannot load " + chunk.substr(1);
     // Syntax errors name file:line already; a refused binary chunk does not.
-    if (err.rfind(chunk.substr(1), 0) != 0) err = chunk.substr(1) + ": " + err + " (expected a Lua text file)";
+    if (err.rfind(chunk.substr(1), 0) != 0)
+      err = chunk.substr(1) + ": " + err + " (expected a Lua text file)";
     makeValidUtf8(err);
     lua_pop(m_L, 1);
     return false;
@@ -444,7 +456,8 @@ bool LuaVm::call(int nargs, int nresults, std::string& err, const char* what) {
   lua_remove(m_L, base);
   if (status != LUA_OK) {
     if (status == LUA_ERRMEM)
-      err = "out of memory: the " + m_owner + "'s memory cap is " + std::to_string((m_limit + (1 << 19)) >> 20) +
+      err = "out of memory: the " + m_owner + "'s memory cap is " +
+            std::to_string((m_limit + (1 << 19)) >> 20) +
             " MiB (an allocation failed outright, so there is no traceback)";
     else if (lua_type(m_L, -1) == LUA_TSTRING)
       err = lua_tostring(m_L, -1);
@@ -485,7 +498,9 @@ int LuaVm::require(lua_State* L) {
   if (lua_rawget(L, loaded) != LUA_TNIL) return 1;
   lua_pop(L, 1);
   if (!validModuleName(name))
-    return luaL_error(L, "require: bad module name '%s' (expected names of letters, digits and '_' joined by dots, like 'gaits' or 'lib.noise')",
+    return luaL_error(L,
+                      "require: bad module name '%s' (expected names of letters, digits and '_' joined by "
+                      "dots, like 'gaits' or 'lib.noise')",
                       name);
   bool found = false;
   {
@@ -512,13 +527,17 @@ int LuaVm::require(lua_State* L) {
       const std::string shown = vm->displayName(path.string());
       std::string text;
       if (!inside) {
-        problem = "require: '" + shown + "' leads outside the folders scripts may load from (lua/, behaviors/, the script's folder)";
+        problem = "require: '" + shown +
+                  "' leads outside the folders scripts may load from (lua/, behaviors/, the script's folder)";
       } else if (!readTextFile(path.string(), text)) {
         problem = "require: cannot read '" + shown + "'";
       } else {
         const std::string chunk = "@" + shown;
-        if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") == LUA_OK) found = true;
-        else problem = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "require: cannot load '" + shown + "'";
+        if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") == LUA_OK)
+          found = true;
+        else
+          problem =
+              lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "require: cannot load '" + shown + "'";
         if (!found) lua_pop(L, 1);
       }
       tried.clear();
@@ -527,8 +546,11 @@ int LuaVm::require(lua_State* L) {
     }
     if (!found) {
       luaL_where(L, 1);
-      if (!problem.empty()) lua_pushlstring(L, problem.data(), problem.size());
-      else lua_pushfstring(L, "module '%s' not found:%s", name, tried.empty() ? " (no folders to search)" : tried.c_str());
+      if (!problem.empty())
+        lua_pushlstring(L, problem.data(), problem.size());
+      else
+        lua_pushfstring(L, "module '%s' not found:%s", name,
+                        tried.empty() ? " (no folders to search)" : tried.c_str());
       lua_concat(L, 2);
     }
   }

@@ -122,8 +122,8 @@ class LuaVm {
   int m_depth = 0;      ///< nesting of call() on this VM
   Abort m_abort = Abort::None;
   const char* m_abortWhat = nullptr;  ///< C work that spent the budget (charge's `what`)
-  bool m_memArmed = false;  ///< over the soft cap since it was last below
-  int m_watchdogStops = 0;  ///< calls ended by the watchdog (m_abort was Watchdog)
+  bool m_memArmed = false;            ///< over the soft cap since it was last below
+  int m_watchdogStops = 0;            ///< calls ended by the watchdog (m_abort was Watchdog)
   void* m_user = nullptr;
   Watchdog* m_watchdog = nullptr;
   LuaVm* m_outer = nullptr;  ///< the VM whose call this thread was in when ours began
@@ -137,7 +137,6 @@ class LuaVm {
   std::string m_owner = "module";
   std::string m_name;
 };
-
 
 /// Replaces bytes that are not valid UTF-8 with '?' (fault texts end up in JSON and logs).
 void makeValidUtf8(std::string& s);

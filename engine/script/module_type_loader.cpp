@@ -288,7 +288,8 @@ class TypeReader {
   double toPositive(const LuaValue& v, const std::string& where) const {
     const double x = toNumber(v, where);
     if (x <= 0) fail(where, "must be greater than 0 (got " + formatNumber(x) + ")");
-    if (x > kMaxMagnitude) fail(where, "must be at most " + formatNumber(kMaxMagnitude) + " (got " + formatNumber(x) + ")");
+    if (x > kMaxMagnitude)
+      fail(where, "must be at most " + formatNumber(kMaxMagnitude) + " (got " + formatNumber(x) + ")");
     return x;
   }
 
@@ -383,7 +384,8 @@ class TypeReader {
     const auto shapes = toList(require(v, where, "shapes"), ws);
     if (shapes.empty()) fail(ws, "a link needs at least one shape");
     if (shapes.size() > kMaxShapesPerLink)
-      fail(ws, "a link has at most " + std::to_string(kMaxShapesPerLink) + " shapes (got " + std::to_string(shapes.size()) + ")");
+      fail(ws, "a link has at most " + std::to_string(kMaxShapesPerLink) + " shapes (got " +
+                   std::to_string(shapes.size()) + ")");
     double fixedMass = 0;
     for (size_t i = 0; i < shapes.size(); ++i) {
       link.shapes.push_back(readShape(*shapes[i], indexPath(ws, i + 1)));
@@ -423,8 +425,9 @@ class TypeReader {
       s.size = toVec3(*box, w);
       for (int i = 0; i < 3; ++i)
         if (!(s.size[i] > 0 && s.size[i] <= kMaxMagnitude))
-          fail(indexPath(w, i + 1), "box sides must be greater than 0 and at most " + formatNumber(kMaxMagnitude) +
-                                        " (got " + formatNumber(s.size[i]) + ")");
+          fail(indexPath(w, i + 1), "box sides must be greater than 0 and at most " +
+                                        formatNumber(kMaxMagnitude) + " (got " + formatNumber(s.size[i]) +
+                                        ")");
     } else if (sphere) {
       s.kind = ShapeKind::Sphere;
       s.radius = toPositive(*sphere, childPath(where, "sphere"));
@@ -547,9 +550,12 @@ class TypeReader {
     checkRecord(v, where, {"type", "name", "link", "at", "dir", "min", "max"});
     SensorDef sd;
     const std::string kind = toString(require(v, where, "type"), childPath(where, "type"));
-    static const std::pair<const char*, SensorKind> kinds[] = {
-        {"accelerometer", SensorKind::Accelerometer}, {"gyro", SensorKind::Gyro}, {"orientation", SensorKind::Orientation},
-        {"position", SensorKind::Position},           {"range", SensorKind::Range}, {"contact", SensorKind::Contact}};
+    static const std::pair<const char*, SensorKind> kinds[] = {{"accelerometer", SensorKind::Accelerometer},
+                                                               {"gyro", SensorKind::Gyro},
+                                                               {"orientation", SensorKind::Orientation},
+                                                               {"position", SensorKind::Position},
+                                                               {"range", SensorKind::Range},
+                                                               {"contact", SensorKind::Contact}};
     bool known = false;
     for (const auto& [n, k] : kinds)
       if (kind == n) {
@@ -558,7 +564,8 @@ class TypeReader {
       }
     if (!known)
       fail(childPath(where, "type"),
-           "unknown sensor type '" + kind + "' (expected one of: accelerometer, gyro, orientation, position, range, contact)");
+           "unknown sensor type '" + kind +
+               "' (expected one of: accelerometer, gyro, orientation, position, range, contact)");
     sd.link = def.rootLink;
     if (const LuaValue* l = find(v, "link")) sd.link = linkIndex(def, *l, childPath(where, "link"));
     if (sd.kind == SensorKind::Range) {
@@ -583,8 +590,9 @@ class TypeReader {
   }
 
   DockDef readDock(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
-    checkRecord(v, where, {"name", "link", "at", "normal", "up", "gender", "size", "symmetry", "capture_radius",
-                           "capture_angle", "latch_distance", "latch_angle", "pull", "strength", "strength_torque"});
+    checkRecord(v, where,
+                {"name", "link", "at", "normal", "up", "gender", "size", "symmetry", "capture_radius",
+                 "capture_angle", "latch_distance", "latch_angle", "pull", "strength", "strength_torque"});
     DockDef d;
     d.name = toName(require(v, where, "name"), childPath(where, "name"));
     d.link = linkIndex(def, require(v, where, "link"), childPath(where, "link"));
@@ -624,13 +632,16 @@ class TypeReader {
       double* value;
       bool positive;
     };
-    for (const Field& f : {Field{"capture_radius", &d.captureRadius, true}, Field{"capture_angle", &d.captureAngle, true},
-                           Field{"latch_distance", &d.latchDistance, true}, Field{"latch_angle", &d.latchAngle, true},
-                           Field{"pull", &d.pull, false}, Field{"strength", &d.strength, true},
-                           Field{"strength_torque", &d.strengthTorque, true}})
+    for (const Field& f :
+         {Field{"capture_radius", &d.captureRadius, true}, Field{"capture_angle", &d.captureAngle, true},
+          Field{"latch_distance", &d.latchDistance, true}, Field{"latch_angle", &d.latchAngle, true},
+          Field{"pull", &d.pull, false}, Field{"strength", &d.strength, true},
+          Field{"strength_torque", &d.strengthTorque, true}})
       if (const LuaValue* x = find(v, f.key))
-        *f.value = f.positive ? toPositive(*x, childPath(where, f.key)) : toNonNegative(*x, childPath(where, f.key));
-    if (d.latchDistance > d.captureRadius) fail(childPath(where, "latch_distance"), "must not exceed capture_radius");
+        *f.value =
+            f.positive ? toPositive(*x, childPath(where, f.key)) : toNonNegative(*x, childPath(where, f.key));
+    if (d.latchDistance > d.captureRadius)
+      fail(childPath(where, "latch_distance"), "must not exceed capture_radius");
     return d;
   }
 
@@ -648,9 +659,10 @@ class TypeReader {
       const JointDef& j = def.joints[k];
       const size_t a = find(size_t(j.parent)), b = find(size_t(j.child));
       if (a == b)
-        fail(indexPath("joints", k + 1), "joint '" + j.name + "' joins links '" + def.links[size_t(j.parent)].name +
-                                             "' and '" + def.links[size_t(j.child)].name +
-                                             "', which other joints already join (joints must form a tree from the root link)");
+        fail(indexPath("joints", k + 1),
+             "joint '" + j.name + "' joins links '" + def.links[size_t(j.parent)].name + "' and '" +
+                 def.links[size_t(j.child)].name +
+                 "', which other joints already join (joints must form a tree from the root link)");
       group[a] = b;
     }
     std::vector<bool> reached(def.links.size(), false);

@@ -15,7 +15,8 @@ namespace fs = std::filesystem;
 namespace rm3d {
 
 LuaScriptHost::LuaScriptHost(World& world) : m_world(world) {
-  if (world.options().watchdogSeconds > 0) m_watchdog = std::make_unique<Watchdog>(world.options().watchdogSeconds);
+  if (world.options().watchdogSeconds > 0)
+    m_watchdog = std::make_unique<Watchdog>(world.options().watchdogSeconds);
 }
 
 LuaScriptHost::~LuaScriptHost() = default;
@@ -24,8 +25,8 @@ ModuleTypeDef LuaScriptHost::loadModuleType(const std::string& path) {
   return rm3d::loadModuleType(path, m_world.options().projectRoot);
 }
 
-std::unique_ptr<ModuleProgram> LuaScriptHost::loadBehaviour(const ModuleHandle& module, const std::string& path,
-                                                            std::string& err) {
+std::unique_ptr<ModuleProgram> LuaScriptHost::loadBehaviour(const ModuleHandle& module,
+                                                            const std::string& path, std::string& err) {
   auto b = std::make_unique<Behaviour>(m_world.options(), module, m_watchdog.get());
   b->load(path, err);
   return b;
@@ -56,6 +57,8 @@ void World::loadString(const std::string& source, const std::string& chunkName) 
   s.runString(source, chunkName);
 }
 
-WorldScript* World::script() const { return static_cast<WorldScript*>(m_program.get()); }
+WorldScript* World::script() const {
+  return static_cast<WorldScript*>(m_program.get());
+}
 
 }  // namespace rm3d

@@ -11,11 +11,21 @@ namespace rm3d {
 
 void pushSensorReading(lua_State* L, const SensorReading& r) {
   switch (r.kind) {
-    case SensorReading::Kind::Nil: lua_pushnil(L); break;
-    case SensorReading::Kind::Number: lua_pushnumber(L, r.v[0]); break;
-    case SensorReading::Kind::Boolean: lua_pushboolean(L, r.flag); break;
-    case SensorReading::Kind::Vector: pushVec3(L, Vec3(r.v[0], r.v[1], r.v[2])); break;
-    case SensorReading::Kind::Quaternion: pushQuat(L, Quat(r.v[0], r.v[1], r.v[2], r.v[3])); break;
+    case SensorReading::Kind::Nil:
+      lua_pushnil(L);
+      break;
+    case SensorReading::Kind::Number:
+      lua_pushnumber(L, r.v[0]);
+      break;
+    case SensorReading::Kind::Boolean:
+      lua_pushboolean(L, r.flag);
+      break;
+    case SensorReading::Kind::Vector:
+      pushVec3(L, Vec3(r.v[0], r.v[1], r.v[2]));
+      break;
+    case SensorReading::Kind::Quaternion:
+      pushQuat(L, Quat(r.v[0], r.v[1], r.v[2], r.v[3]));
+      break;
     case SensorReading::Kind::Dock:
       lua_createtable(L, 0, 3);
       lua_pushboolean(L, r.flag);

@@ -11,7 +11,9 @@
 
 namespace rm3d {
 
-Watchdog::Watchdog(double seconds) : m_seconds(seconds) { m_thread = std::thread([this] { run(); }); }
+Watchdog::Watchdog(double seconds) : m_seconds(seconds) {
+  m_thread = std::thread([this] { run(); });
+}
 
 Watchdog::~Watchdog() {
   {
@@ -29,8 +31,9 @@ void Watchdog::add(LuaVm* vm) {
 
 void Watchdog::remove(LuaVm* vm) {
   std::lock_guard<std::mutex> lock(m_mutex);
-  m_entries.erase(std::remove_if(m_entries.begin(), m_entries.end(), [vm](const Entry& e) { return e.vm == vm; }),
-                  m_entries.end());
+  m_entries.erase(
+      std::remove_if(m_entries.begin(), m_entries.end(), [vm](const Entry& e) { return e.vm == vm; }),
+      m_entries.end());
 }
 
 void Watchdog::run() {
@@ -63,8 +66,8 @@ void Watchdog::run() {
         std::fprintf(stderr,
                      "rm3d: watchdog: %s of %s did not return within %g s and did not stop when interrupted "
                      "%g s later (stuck outside Lua code); exiting with code %d\n",
-                     what ? what : "a call", e.vm->name().empty() ? "a Lua VM" : e.vm->name().c_str(), m_seconds, grace,
-                     kWatchdogExitCode);
+                     what ? what : "a call", e.vm->name().empty() ? "a Lua VM" : e.vm->name().c_str(),
+                     m_seconds, grace, kWatchdogExitCode);
         std::fflush(stderr);
         std::_Exit(kWatchdogExitCode);
       }

@@ -1,17 +1,16 @@
 // World side: the world script's `world` table, `expect`, `args` and `log`/`print`. Calls into
 // World may throw InputError; callWorld converts it into a Lua error with the caller's file:line.
-#include <lua.hpp>
-
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <lua.hpp>
 #include <optional>
 #include <string>
 
 #include "core/error.h"
 #include "docking/dock_frame.h"
-#include "script/lua_value.h"
 #include "script/lua_options.h"
+#include "script/lua_value.h"
 #include "script/world_bindings.h"
 #include "script/world_script.h"
 #include "world/world.h"
@@ -20,8 +19,12 @@ namespace rm3d {
 
 namespace {
 
-WorldScript& script(lua_State* L) { return *static_cast<WorldScript*>(LuaVm::from(L)->user()); }
-World& world(lua_State* L) { return script(L).world(); }
+WorldScript& script(lua_State* L) {
+  return *static_cast<WorldScript*>(LuaVm::from(L)->user());
+}
+World& world(lua_State* L) {
+  return script(L).world();
+}
 
 /// Bounds on settings: below or above these a run cannot make progress or cannot mean anything.
 constexpr double kMinDt = 1e-6;      ///< s; also the shortest world.every period
@@ -34,15 +37,16 @@ constexpr double kMaxBounds = 1e7;   ///< m; single-precision positions out ther
 int worldSet(lua_State* L) {
   const char* fn = "world.set";
   checkOptionKeys(L, 1, fn,
-                  {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations", "erp", "max_speed",
-                   "max_angular_speed", "bounds", "expect_faults"});
+                  {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations",
+                   "erp", "max_speed", "max_angular_speed", "bounds", "expect_faults"});
   WorldSettings s = world(L).settings();
   const double dt = optNumberField(L, 1, fn, "dt", s.dt);
   if (!(dt >= kMinDt && dt <= kMaxDt))
-    return luaL_error(L, "%s: dt must be between %s and %s seconds, got %s", fn, numText(kMinDt).s, numText(kMaxDt).s,
-                      numText(dt).s);
+    return luaL_error(L, "%s: dt must be between %s and %s seconds, got %s", fn, numText(kMinDt).s,
+                      numText(kMaxDt).s, numText(dt).s);
   const long long substeps = optIntegerField(L, 1, fn, "substeps", s.substeps);
-  if (substeps < 1 || substeps > 1000) return luaL_error(L, "%s: substeps must be 1..1000, got %I", fn, (lua_Integer)substeps);
+  if (substeps < 1 || substeps > 1000)
+    return luaL_error(L, "%s: substeps must be 1..1000, got %I", fn, (lua_Integer)substeps);
   const long long iters = optIntegerField(L, 1, fn, "solver_iterations", s.solverIterations);
   if (iters < 1 || iters > 10000)
     return luaL_error(L, "%s: solver_iterations must be 1..10000, got %I", fn, (lua_Integer)iters);
@@ -52,25 +56,30 @@ int worldSet(lua_State* L) {
   const double erp = optNumberField(L, 1, fn, "erp", s.erp);
   if (erp <= 0 || erp > 1) return luaL_error(L, "%s: erp must be in (0, 1], got %s", fn, numText(erp).s);
   const double duration = optNumberField(L, 1, fn, "duration", s.duration);
-  if (duration < 0) return luaL_error(L, "%s: duration must be 0 or more seconds, got %s", fn, numText(duration).s);
+  if (duration < 0)
+    return luaL_error(L, "%s: duration must be 0 or more seconds, got %s", fn, numText(duration).s);
   const long long seed = optIntegerField(L, 1, fn, "seed", (long long)s.seed);
-  if (seed < 0) return luaL_error(L, "%s: seed must be a whole number 0 or more, got %I", fn, (lua_Integer)seed);
+  if (seed < 0)
+    return luaL_error(L, "%s: seed must be a whole number 0 or more, got %I", fn, (lua_Integer)seed);
   if (uint64_t(seed) != s.seed && !world(L).modules().empty())
     return luaL_error(L, "%s: set the seed before the first world.spawn", fn);
   const Vec3 gravity = optVec3Field(L, 1, fn, "gravity", s.gravity);
   if (!(gravity.norm() <= kMaxGravity))
     return luaL_error(L, "%s: gravity must be at most %s m/s^2 in magnitude (1000 g), got {%s, %s, %s}", fn,
-                      numText(kMaxGravity).s, numText(gravity.x()).s, numText(gravity.y()).s, numText(gravity.z()).s);
+                      numText(kMaxGravity).s, numText(gravity.x()).s, numText(gravity.y()).s,
+                      numText(gravity.z()).s);
   DivergenceLimits lim = s.limits;
   lim.maxSpeed = optNumberField(L, 1, fn, "max_speed", lim.maxSpeed);
-  if (lim.maxSpeed <= 0) return luaL_error(L, "%s: max_speed must be positive (m/s), got %s", fn, numText(lim.maxSpeed).s);
+  if (lim.maxSpeed <= 0)
+    return luaL_error(L, "%s: max_speed must be positive (m/s), got %s", fn, numText(lim.maxSpeed).s);
   lim.maxAngularSpeed = optNumberField(L, 1, fn, "max_angular_speed", lim.maxAngularSpeed);
   if (lim.maxAngularSpeed <= 0)
-    return luaL_error(L, "%s: max_angular_speed must be positive (rad/s), got %s", fn, numText(lim.maxAngularSpeed).s);
+    return luaL_error(L, "%s: max_angular_speed must be positive (rad/s), got %s", fn,
+                      numText(lim.maxAngularSpeed).s);
   lim.bounds = optNumberField(L, 1, fn, "bounds", lim.bounds);
   if (lim.bounds <= 0 || lim.bounds > kMaxBounds)
-    return luaL_error(L, "%s: bounds must be in (0, %s] metres from the origin, got %s", fn, numText(kMaxBounds).s,
-                      numText(lim.bounds).s);
+    return luaL_error(L, "%s: bounds must be in (0, %s] metres from the origin, got %s", fn,
+                      numText(kMaxBounds).s, numText(lim.bounds).s);
   s.dt = dt;
   s.substeps = int(substeps);
   s.solverIterations = int(iters);
@@ -88,8 +97,9 @@ int worldSet(lua_State* L) {
     int isInt = 0;
     const lua_Integer n = ef == LUA_TNUMBER ? lua_tointegerx(L, -1, &isInt) : -1;
     if (!isInt || n < 0 || n > (1 << 30))
-      return luaL_error(L, "%s: expect_faults must be true, false or a whole number of faulted modules (0 or more), got %s", fn,
-                        luaL_tolstring(L, -1, nullptr));
+      return luaL_error(
+          L, "%s: expect_faults must be true, false or a whole number of faulted modules (0 or more), got %s",
+          fn, luaL_tolstring(L, -1, nullptr));
     script(L).expectFaults = int(n);
   }
   lua_pop(L, 1);
@@ -101,8 +111,10 @@ int worldSet(lua_State* L) {
 void checkInBounds(lua_State* L, const char* fn, const Vec3& at) {
   const double bounds = world(L).settings().limits.bounds;
   if (!(at.norm() <= bounds))
-    luaL_error(L, "%s: 'at' must lie within the world bounds (%s m from the origin; world.set{bounds=}), got {%s, %s, %s}", fn,
-               numText(bounds).s, numText(at.x()).s, numText(at.y()).s, numText(at.z()).s);
+    luaL_error(L,
+               "%s: 'at' must lie within the world bounds (%s m from the origin; world.set{bounds=}), got "
+               "{%s, %s, %s}",
+               fn, numText(bounds).s, numText(at.x()).s, numText(at.y()).s, numText(at.z()).s);
 }
 
 /// world.ground{friction=, restitution=}: the infinite plane z = 0
@@ -120,18 +132,22 @@ int worldGround(lua_State* L) {
 }
 
 int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
-  checkOptionKeys(L, 1, fn, {"size", "radius", "length", "file", "scale", "at", "rot", "quat", "mass", "friction", "velocity"});
+  checkOptionKeys(
+      L, 1, fn,
+      {"size", "radius", "length", "file", "scale", "at", "rot", "quat", "mass", "friction", "velocity"});
   const Vec3 velocity = optVec3Field(L, 1, fn, "velocity", Vec3::Zero());
   const Pose pose = optPoseFields(L, 1, fn);
   checkInBounds(L, fn, pose.pos);
   const double mass = optNumberField(L, 1, fn, "mass", 0.0);
   const double friction = optNumberField(L, 1, fn, "friction", 0.8);
-  if (mass < 0) return luaL_error(L, "%s: mass must not be negative (0 is static), got %s", fn, numText(mass).s);
-  if (friction < 0) return luaL_error(L, "%s: friction must not be negative, got %s", fn, numText(friction).s);
+  if (mass < 0)
+    return luaL_error(L, "%s: mass must not be negative (0 is static), got %s", fn, numText(mass).s);
+  if (friction < 0)
+    return luaL_error(L, "%s: friction must not be negative, got %s", fn, numText(friction).s);
   const double maxSpeed = world(L).settings().limits.maxSpeed;
   if (!(velocity.norm() <= maxSpeed))
-    return luaL_error(L, "%s: velocity must be at most max_speed (%s m/s; world.set{max_speed=}), got %s m/s", fn,
-                      numText(maxSpeed).s, numText(velocity.norm()).s);
+    return luaL_error(L, "%s: velocity must be at most max_speed (%s m/s; world.set{max_speed=}), got %s m/s",
+                      fn, numText(maxSpeed).s, numText(velocity.norm()).s);
   const Vec3 size = optVec3Field(L, 1, fn, "size", Vec3(0.1, 0.1, 0.1));
   const double radius = optNumberField(L, 1, fn, "radius", 0.05);
   const double length = optNumberField(L, 1, fn, "length", 0.1);
@@ -141,12 +157,13 @@ int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
   auto bad = [&](double v) { return !(v > 0 && v <= bounds); };
   const char* range = "%s: %s must be positive and at most the world bounds (%s m), got %s";
   if (bad(size.minCoeff()) || bad(size.maxCoeff()))
-    return luaL_error(L, "%s: size must be positive and at most the world bounds (%s m), got {%s, %s, %s}", fn,
-                      numText(bounds).s, numText(size.x()).s, numText(size.y()).s, numText(size.z()).s);
+    return luaL_error(L, "%s: size must be positive and at most the world bounds (%s m), got {%s, %s, %s}",
+                      fn, numText(bounds).s, numText(size.x()).s, numText(size.y()).s, numText(size.z()).s);
   if (bad(radius)) return luaL_error(L, range, fn, "radius", numText(bounds).s, numText(radius).s);
   if (bad(length)) return luaL_error(L, range, fn, "length", numText(bounds).s, numText(length).s);
   if (bad(scale)) return luaL_error(L, range, fn, "scale", numText(bounds).s, numText(scale).s);
-  if (kind == ShapeKind::Hull && !file) return luaL_error(L, "%s: option 'file' (a mesh file) is required", fn);
+  if (kind == ShapeKind::Hull && !file)
+    return luaL_error(L, "%s: option 'file' (a mesh file) is required", fn);
   return callWorld(L, fn, [&] {
     ShapeDef s;
     s.kind = kind;
@@ -162,13 +179,21 @@ int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
 }
 
 /// world.box{size={x,y,z}, at=, rot=, mass=, friction=, velocity=} -> Body (mass 0: static)
-int worldBox(lua_State* L) { return addObstacle(L, "world.box", ShapeKind::Box); }
+int worldBox(lua_State* L) {
+  return addObstacle(L, "world.box", ShapeKind::Box);
+}
 /// world.sphere{radius=, at=, mass=, friction=} -> Body
-int worldSphere(lua_State* L) { return addObstacle(L, "world.sphere", ShapeKind::Sphere); }
+int worldSphere(lua_State* L) {
+  return addObstacle(L, "world.sphere", ShapeKind::Sphere);
+}
 /// world.cylinder{radius=, length=, at=, rot=, mass=, friction=} -> Body (axis along local z)
-int worldCylinder(lua_State* L) { return addObstacle(L, "world.cylinder", ShapeKind::Cylinder); }
+int worldCylinder(lua_State* L) {
+  return addObstacle(L, "world.cylinder", ShapeKind::Cylinder);
+}
 /// world.mesh{file=, scale=, at=, rot=, mass=, friction=} -> Body (convex hull of the mesh)
-int worldMesh(lua_State* L) { return addObstacle(L, "world.mesh", ShapeKind::Hull); }
+int worldMesh(lua_State* L) {
+  return addObstacle(L, "world.mesh", ShapeKind::Hull);
+}
 
 /// world.spawn(type, {at=, rot=, name=, behavior=, params=, fixed=}) -> Module; type is a name
 /// in assets/modules or a path to a module-type file; fixed = true holds the root link in place
@@ -187,7 +212,8 @@ int worldSpawn(lua_State* L) {
   const char* behaviour = optStringField(L, 2, fn, "behavior");
   if (!behaviour) behaviour = optStringField(L, 2, fn, "behaviour");
   const int paramsType = lua_getfield(L, 2, "params");
-  if (paramsType != LUA_TNIL && paramsType != LUA_TTABLE) return luaL_error(L, "%s: option 'params' must be a table", fn);
+  if (paramsType != LUA_TNIL && paramsType != LUA_TTABLE)
+    return luaL_error(L, "%s: option 'params' must be a table", fn);
   return callWorld(L, fn, [&] {
     World::SpawnDef def;
     def.type = type;
@@ -196,9 +222,11 @@ int worldSpawn(lua_State* L) {
     if (name) def.name = name;
     if (behaviour) def.behaviour = behaviour;
     std::string err;
-    if (paramsType == LUA_TTABLE && !readLuaValue(L, -1, def.params, kParamsLimit, err)) throw InputError("params: " + err);
+    if (paramsType == LUA_TTABLE && !readLuaValue(L, -1, def.params, kParamsLimit, err))
+      throw InputError("params: " + err);
     for (const Module& m : world(L).modules())
-      if (!def.name.empty() && m.name == def.name) throw InputError("a module named '" + def.name + "' exists already");
+      if (!def.name.empty() && m.name == def.name)
+        throw InputError("a module named '" + def.name + "' exists already");
     pushModule(L, world(L).spawn(def));
     return 1;
   });
@@ -397,8 +425,8 @@ int worldAt(lua_State* L) {
 int worldEvery(lua_State* L) {
   const double p = luaL_checknumber(L, 1);
   if (!(p >= kMinDt && std::isfinite(p)))
-    return luaL_error(L, "world.every: period must be a finite number of seconds >= %s, got %s", numText(kMinDt).s,
-                      numText(p).s);
+    return luaL_error(L, "world.every: period must be a finite number of seconds >= %s, got %s",
+                      numText(kMinDt).s, numText(p).s);
   const int ref = storeFunction(L, 2);
   script(L).timed.push_back({p, p, ref, where(L), p, 0});
   return 0;
@@ -436,8 +464,10 @@ int expectFn(lua_State* L) {
   const bool ok = lua_toboolean(L, 1);
   if (!ok) {
     luaL_where(L, 1);
-    if (lua_isnoneornil(L, 2)) lua_pushliteral(L, "expectation failed");
-    else luaL_tolstring(L, 2, nullptr);
+    if (lua_isnoneornil(L, 2))
+      lua_pushliteral(L, "expectation failed");
+    else
+      luaL_tolstring(L, 2, nullptr);
     lua_concat(L, 2);
     world(L).addFailure(lua_tostring(L, -1));
     lua_pop(L, 1);
@@ -457,7 +487,8 @@ int worldLog(lua_State* L) {
     if (i < n) luaL_addchar(&b, '\t');
   }
   luaL_pushresult(&b);
-  if (world(L).options().echoLog) std::fprintf(stderr, "[%8.3f world] %s\n", world(L).time(), lua_tostring(L, -1));
+  if (world(L).options().echoLog)
+    std::fprintf(stderr, "[%8.3f world] %s\n", world(L).time(), lua_tostring(L, -1));
   return 0;
 }
 
@@ -471,9 +502,12 @@ void pushArgs(lua_State* L, const std::map<std::string, std::string>& params) {
       lua_pushinteger(L, i);
     } else {
       const double d = std::strtod(v.c_str(), &end);
-      if (!v.empty() && *end == '\0') lua_pushnumber(L, d);
-      else if (v == "true" || v == "false") lua_pushboolean(L, v == "true");
-      else lua_pushstring(L, v.c_str());
+      if (!v.empty() && *end == '\0')
+        lua_pushnumber(L, d);
+      else if (v == "true" || v == "false")
+        lua_pushboolean(L, v == "true");
+      else
+        lua_pushstring(L, v.c_str());
     }
     lua_setfield(L, -2, k.c_str());
   }
@@ -481,18 +515,36 @@ void pushArgs(lua_State* L, const std::map<std::string, std::string>& params) {
 
 }  // namespace
 
-World& scriptWorld(lua_State* L) { return script(L).world(); }
+World& scriptWorld(lua_State* L) {
+  return script(L).world();
+}
 
 void openWorldApi(lua_State* L, WorldScript& s) {
   openModuleHandle(L);
   openBodyHandle(L);
-  static const luaL_Reg fns[] = {{"set", worldSet},         {"ground", worldGround},   {"box", worldBox},
-                                 {"sphere", worldSphere},   {"cylinder", worldCylinder}, {"mesh", worldMesh},
-                                 {"spawn", worldSpawn},     {"connect", worldConnect}, {"modules", worldModules},
-                                 {"module", worldModule},   {"components", worldComponents}, {"camera", worldCamera},
-                                 {"channel", worldChannel}, {"graph", worldGraph}, {"events", worldEvents}, {"messages", worldMessages},
-                                 {"on_step", worldOnStep},  {"on_end", worldOnEnd},  {"at", worldAt},           {"every", worldEvery},
-                                 {"stop", worldStop},       {"time", worldTime},       {"dt", worldDt},
+  static const luaL_Reg fns[] = {{"set", worldSet},
+                                 {"ground", worldGround},
+                                 {"box", worldBox},
+                                 {"sphere", worldSphere},
+                                 {"cylinder", worldCylinder},
+                                 {"mesh", worldMesh},
+                                 {"spawn", worldSpawn},
+                                 {"connect", worldConnect},
+                                 {"modules", worldModules},
+                                 {"module", worldModule},
+                                 {"components", worldComponents},
+                                 {"camera", worldCamera},
+                                 {"channel", worldChannel},
+                                 {"graph", worldGraph},
+                                 {"events", worldEvents},
+                                 {"messages", worldMessages},
+                                 {"on_step", worldOnStep},
+                                 {"on_end", worldOnEnd},
+                                 {"at", worldAt},
+                                 {"every", worldEvery},
+                                 {"stop", worldStop},
+                                 {"time", worldTime},
+                                 {"dt", worldDt},
                                  {nullptr, nullptr}};
   luaL_newlib(L, fns);
   lua_setglobal(L, "world");

@@ -6,7 +6,6 @@
 #pragma once
 
 #include <exception>
-
 #include <lua.hpp>
 
 namespace rm3d {

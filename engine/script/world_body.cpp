@@ -14,9 +14,13 @@ namespace {
 
 constexpr const char* kBodyMeta = "rm3d.Body";
 
-World& world(lua_State* L) { return scriptWorld(L); }
+World& world(lua_State* L) {
+  return scriptWorld(L);
+}
 
-int checkBody(lua_State* L) { return *static_cast<int*>(luaL_checkudata(L, 1, kBodyMeta)); }
+int checkBody(lua_State* L) {
+  return *static_cast<int*>(luaL_checkudata(L, 1, kBodyMeta));
+}
 
 /// b:position() -> {x,y,z}
 int bodyPosition(lua_State* L) {
@@ -39,8 +43,10 @@ int bodyVelocity(lua_State* L) {
 }  // namespace
 
 void openBodyHandle(lua_State* L) {
-  static const luaL_Reg bodyMethods[] = {
-      {"position", bodyPosition}, {"orientation", bodyOrientation}, {"velocity", bodyVelocity}, {nullptr, nullptr}};
+  static const luaL_Reg bodyMethods[] = {{"position", bodyPosition},
+                                         {"orientation", bodyOrientation},
+                                         {"velocity", bodyVelocity},
+                                         {nullptr, nullptr}};
   luaL_newmetatable(L, kBodyMeta);
   luaL_newlib(L, bodyMethods);
   lua_setfield(L, -2, "__index");
@@ -54,7 +60,9 @@ void pushBody(lua_State* L, int part) {
 
 void loadHullShape(World& w, const char* file, double scale, ShapeDef& out) {
   const std::string path = w.resolvePath(file);
-  if (path.empty()) throw InputError(std::string("mesh file '") + file + "' not found (looked in the world's folder and the project root)");
+  if (path.empty())
+    throw InputError(std::string("mesh file '") + file +
+                     "' not found (looked in the world's folder and the project root)");
   MeshData mesh;
   std::string err;
   if (!loadMesh(path, scale, mesh, err)) throw InputError(err);

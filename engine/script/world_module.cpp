@@ -1,12 +1,11 @@
 // World side: the Module handle (rm3d.Module) the world script gets from world.spawn,
 // world.module(s) and world.components: pose, joints, docks, sensors, pushes, fault injection.
-#include "script/world_bindings.h"
-
 #include <cmath>
 #include <cstring>
 
 #include "script/lua_options.h"
 #include "script/sensor_reading.h"
+#include "script/world_bindings.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -15,7 +14,9 @@ namespace {
 
 constexpr const char* kModuleMeta = "rm3d.Module";
 
-World& world(lua_State* L) { return scriptWorld(L); }
+World& world(lua_State* L) {
+  return scriptWorld(L);
+}
 
 int checkJointName(lua_State* L, int arg, int module) {
   const char* name = luaL_checkstring(L, arg);
@@ -143,7 +144,8 @@ int moduleSetDock(lua_State* L) {
   const int d = checkDockName(L, 2, m);
   luaL_checktype(L, 3, LUA_TBOOLEAN);
   const Module& mod = world(L).module(m);
-  if (!mod.fault.empty()) return luaL_error(L, "set_dock: %s is faulted; its docks cannot change", mod.name.c_str());
+  if (!mod.fault.empty())
+    return luaL_error(L, "set_dock: %s is faulted; its docks cannot change", mod.name.c_str());
   world(L).mutableModule(m).docks[size_t(d)].enabled = lua_toboolean(L, 3);
   return 0;
 }
@@ -168,8 +170,8 @@ int modulePush(lua_State* L) {
   }
   const double f = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (!(f <= kMaxPush))
-    return luaL_error(L, "m:push: the force must be at most %s N in magnitude, got {%s, %s, %s} (%s N)", numText(kMaxPush).s,
-                      numText(v[0]).s, numText(v[1]).s, numText(v[2]).s, numText(f).s);
+    return luaL_error(L, "m:push: the force must be at most %s N in magnitude, got {%s, %s, %s} (%s N)",
+                      numText(kMaxPush).s, numText(v[0]).s, numText(v[1]).s, numText(v[2]).s, numText(f).s);
   const Module& mod = world(L).module(m);
   const int part = mod.parts[size_t(mod.type->rootLink)];
   world(L).physics().addForce(part, Vec3(v[0], v[1], v[2]), world(L).physics().partPose(part).pos);
@@ -180,8 +182,8 @@ int checkSensorName(lua_State* L, int arg, int module) {
   const char* name = luaL_checkstring(L, arg);
   const int code = world(L).sensorCode(module, name);
   if (code >= 0) return code;
-  lua_pushfstring(L, "no sensor named '%s' on a %s (it has: %s)", name, world(L).module(module).type->name.c_str(),
-                  world(L).sensorNames(module).c_str());
+  lua_pushfstring(L, "no sensor named '%s' on a %s (it has: %s)", name,
+                  world(L).module(module).type->name.c_str(), world(L).sensorNames(module).c_str());
   luaL_where(L, 1);
   lua_insert(L, -2);
   lua_concat(L, 2);
@@ -230,8 +232,10 @@ int moduleInjectFault(lua_State* L) {
 /// m:error() -> nil, or the module's fault text
 int moduleError(lua_State* L) {
   const Module& mod = world(L).module(checkModule(L, 1));
-  if (mod.fault.empty()) lua_pushnil(L);
-  else lua_pushstring(L, mod.fault.c_str());
+  if (mod.fault.empty())
+    lua_pushnil(L);
+  else
+    lua_pushstring(L, mod.fault.c_str());
   return 1;
 }
 
@@ -239,9 +243,12 @@ int moduleIndex(lua_State* L) {
   const int m = checkModule(L, 1);
   const char* key = luaL_checkstring(L, 2);
   const Module& mod = world(L).module(m);
-  if (std::strcmp(key, "id") == 0) lua_pushinteger(L, mod.id);
-  else if (std::strcmp(key, "name") == 0) lua_pushstring(L, mod.name.c_str());
-  else if (std::strcmp(key, "type") == 0) lua_pushstring(L, mod.type->name.c_str());
+  if (std::strcmp(key, "id") == 0)
+    lua_pushinteger(L, mod.id);
+  else if (std::strcmp(key, "name") == 0)
+    lua_pushstring(L, mod.name.c_str());
+  else if (std::strcmp(key, "type") == 0)
+    lua_pushstring(L, mod.type->name.c_str());
   else {
     lua_getmetatable(L, 1);
     lua_getfield(L, -1, "methods");
@@ -264,13 +271,23 @@ int moduleEq(lua_State* L) {
 }  // namespace
 
 void openModuleHandle(lua_State* L) {
-  static const luaL_Reg moduleMethods[] = {
-      {"position", modulePosition},         {"orientation", moduleOrientation},   {"velocity", moduleVelocity},
-      {"link_position", moduleLinkPosition}, {"joint_angle", moduleJointAngle},    {"joint_angles", moduleJointAngles},
-      {"dock_state", moduleDockState},       {"dock_position", moduleDockPosition}, {"dock_normal", moduleDockNormal},
-      {"error", moduleError},                {"dock_load", moduleDockLoad},         {"set_dock", moduleSetDock},
-      {"push", modulePush},                  {"dock_gender", moduleDockGender},     {"sensor", moduleSensorRead},
-      {"inject_fault", moduleInjectFault},   {nullptr, nullptr}};
+  static const luaL_Reg moduleMethods[] = {{"position", modulePosition},
+                                           {"orientation", moduleOrientation},
+                                           {"velocity", moduleVelocity},
+                                           {"link_position", moduleLinkPosition},
+                                           {"joint_angle", moduleJointAngle},
+                                           {"joint_angles", moduleJointAngles},
+                                           {"dock_state", moduleDockState},
+                                           {"dock_position", moduleDockPosition},
+                                           {"dock_normal", moduleDockNormal},
+                                           {"error", moduleError},
+                                           {"dock_load", moduleDockLoad},
+                                           {"set_dock", moduleSetDock},
+                                           {"push", modulePush},
+                                           {"dock_gender", moduleDockGender},
+                                           {"sensor", moduleSensorRead},
+                                           {"inject_fault", moduleInjectFault},
+                                           {nullptr, nullptr}};
   luaL_newmetatable(L, kModuleMeta);
   luaL_newlib(L, moduleMethods);
   lua_setfield(L, -2, "methods");
@@ -288,7 +305,9 @@ void pushModule(lua_State* L, int index) {
   luaL_setmetatable(L, kModuleMeta);
 }
 
-int checkModule(lua_State* L, int arg) { return *static_cast<int*>(luaL_checkudata(L, arg, kModuleMeta)); }
+int checkModule(lua_State* L, int arg) {
+  return *static_cast<int*>(luaL_checkudata(L, arg, kModuleMeta));
+}
 
 int checkDockName(lua_State* L, int arg, int module) {
   const char* name = luaL_checkstring(L, arg);
@@ -297,7 +316,8 @@ int checkDockName(lua_State* L, int arg, int module) {
   if (d >= 0) return d;
   luaL_where(L, 1);
   lua_pushfstring(L, "no dock named '%s' on a %s (it has:", name, t.name.c_str());
-  for (size_t i = 0; i < t.docks.size(); ++i) lua_pushfstring(L, "%s%s", i ? ", " : " ", t.docks[i].name.c_str());
+  for (size_t i = 0; i < t.docks.size(); ++i)
+    lua_pushfstring(L, "%s%s", i ? ", " : " ", t.docks[i].name.c_str());
   lua_pushliteral(L, ")");
   lua_concat(L, int(t.docks.size()) + 3);
   return lua_error(L);

@@ -1,11 +1,10 @@
 // Running world scripts and their hooks.
 #include "script/world_script.h"
 
-#include <lua.hpp>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <lua.hpp>
 
 #include "core/error.h"
 #include "script/script_host.h"
@@ -109,7 +108,8 @@ std::vector<std::string> WorldScript::hooksNeverRun(double endTime) const {
     }
     if (times.size() > 4) text += ", and " + std::to_string(times.size() - 4) + " more";
     char tail[160];
-    std::snprintf(tail, sizeof tail, ") never ran: the run ended at t=%.3f s (world.on_end(fn) runs whatever the run's length)",
+    std::snprintf(tail, sizeof tail,
+                  ") never ran: the run ended at t=%.3f s (world.on_end(fn) runs whatever the run's length)",
                   endTime);
     out.push_back(text + tail);
   }

@@ -12,10 +12,14 @@ namespace {
 
 const char* shapeName(ShapeKind k) {
   switch (k) {
-    case ShapeKind::Box: return "box";
-    case ShapeKind::Sphere: return "sphere";
-    case ShapeKind::Cylinder: return "cylinder";
-    case ShapeKind::Hull: return "mesh";
+    case ShapeKind::Box:
+      return "box";
+    case ShapeKind::Sphere:
+      return "sphere";
+    case ShapeKind::Cylinder:
+      return "cylinder";
+    case ShapeKind::Hull:
+      return "mesh";
   }
   return "body";
 }
@@ -68,14 +72,16 @@ bool checkDivergence(const World& w, std::string& message) {
                     lim.maxAngularSpeed);
       break;
     default:
-      std::snprintf(what, sizeof what, "left the world bounds: %.6g m from the origin, beyond bounds %g m", d.value,
-                    lim.bounds);
+      std::snprintf(what, sizeof what, "left the world bounds: %.6g m from the origin, beyond bounds %g m",
+                    d.value, lim.bounds);
       break;
   }
   char when[96];
-  std::snprintf(when, sizeof when, "physics diverged at t=%.4g s (step %lld): ", w.time(), (long long)w.steps());
-  message = std::string(when) + whereIs(w, d.part, d.partsInBody) + ": " + what +
-            " (smaller dt or more substeps, smaller forces, or world.set{max_speed=, max_angular_speed=, bounds=})";
+  std::snprintf(when, sizeof when, "physics diverged at t=%.4g s (step %lld): ", w.time(),
+                (long long)w.steps());
+  message =
+      std::string(when) + whereIs(w, d.part, d.partsInBody) + ": " + what +
+      " (smaller dt or more substeps, smaller forces, or world.set{max_speed=, max_angular_speed=, bounds=})";
   return true;
 }
 

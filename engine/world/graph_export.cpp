@@ -1,8 +1,7 @@
 // The connection graph as JSON (run --graph, world.graph()) and Graphviz DOT.
 #include <cstdio>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "world/world.h"
 
@@ -12,11 +11,13 @@ std::string World::graphJson() const {
   nlohmann::json j;
   j["time"] = time();
   j["modules"] = nlohmann::json::array();
-  for (const Module& m : modules()) j["modules"].push_back({{"id", m.id}, {"name", m.name}, {"type", m.type->name}});
+  for (const Module& m : modules())
+    j["modules"].push_back({{"id", m.id}, {"name", m.name}, {"type", m.type->name}});
   j["connections"] = nlohmann::json::array();
   for (const Connection& c : connections())
-    j["connections"].push_back({modules()[size_t(c.moduleA)].id, modules()[size_t(c.moduleA)].type->docks[size_t(c.dockA)].name,
-                                modules()[size_t(c.moduleB)].id, modules()[size_t(c.moduleB)].type->docks[size_t(c.dockB)].name});
+    j["connections"].push_back(
+        {modules()[size_t(c.moduleA)].id, modules()[size_t(c.moduleA)].type->docks[size_t(c.dockA)].name,
+         modules()[size_t(c.moduleB)].id, modules()[size_t(c.moduleB)].type->docks[size_t(c.dockB)].name});
   j["components"] = nlohmann::json::array();
   for (const auto& comp : components()) {
     nlohmann::json ids = nlohmann::json::array();
@@ -30,7 +31,8 @@ std::string World::graphDot() const {
   std::string out = "graph rm3d {\n  node [shape=box];\n";
   char line[256];
   for (const Module& m : modules()) {
-    std::snprintf(line, sizeof line, "  m%d [label=\"%s\\n%s\"];\n", m.id, m.name.c_str(), m.type->name.c_str());
+    std::snprintf(line, sizeof line, "  m%d [label=\"%s\\n%s\"];\n", m.id, m.name.c_str(),
+                  m.type->name.c_str());
     out += line;
   }
   for (const Connection& c : connections()) {

@@ -43,9 +43,13 @@ void World::stallJoint(int m, int joint) {
   mod.stallAngle[size_t(joint)] = jointAngle(m, joint);
 }
 
-void World::blockDock(int m, int dock) { m_modules[size_t(m)].docks[size_t(dock)].latchable = false; }
+void World::blockDock(int m, int dock) {
+  m_modules[size_t(m)].docks[size_t(dock)].latchable = false;
+}
 
-void World::killSensor(int m, int code) { m_modules[size_t(m)].deadSensors[size_t(code)] = 1; }
+void World::killSensor(int m, int code) {
+  m_modules[size_t(m)].deadSensors[size_t(code)] = 1;
+}
 
 void World::updateAccelerometers() {
   // After each physics step: acceleration of the accelerometers in use (read at least once), for
@@ -72,10 +76,13 @@ void World::buildProximity() const {
   for (size_t i = 0; i < m_modules.size(); ++i) {
     const Module& m = m_modules[i];
     for (size_t d = 0; d < m.docks.size(); ++d)
-      if (m.docks[d].enabled && !m.docks[d].engaged) m_proximityDocks.push_back({int(i), int(d), dockPose(int(i), int(d))});
+      if (m.docks[d].enabled && !m.docks[d].engaged)
+        m_proximityDocks.push_back({int(i), int(d), dockPose(int(i), int(d))});
   }
   std::sort(m_proximityDocks.begin(), m_proximityDocks.end(), [](const FreeDock& a, const FreeDock& b) {
-    return a.pose.pos.x() < b.pose.pos.x() || (a.pose.pos.x() == b.pose.pos.x() && (a.module < b.module || (a.module == b.module && a.dock < b.dock)));
+    return a.pose.pos.x() < b.pose.pos.x() ||
+           (a.pose.pos.x() == b.pose.pos.x() &&
+            (a.module < b.module || (a.module == b.module && a.dock < b.dock)));
   });
   m_proximityStep.store(m_steps, std::memory_order_release);
 }
@@ -124,7 +131,8 @@ SensorReading World::readSensor(Module& m, int mi, int code, bool velocity) cons
     switch (sd.kind) {
       case SensorKind::Accelerometer: {
         m.accelInUse = true;  // from now on its link's acceleration is tracked (the first read sees none)
-        const Vec3 f = link.rot.conjugate() * (m.accelWorld[size_t(code - joints - docks)] - m_settings.gravity);
+        const Vec3 f =
+            link.rot.conjugate() * (m.accelWorld[size_t(code - joints - docks)] - m_settings.gravity);
         r.kind = SensorReading::Kind::Vector;
         for (int k = 0; k < 3; ++k) r.v[k] = f[k];
         break;

@@ -1,6 +1,5 @@
 // The run summary (`--json`): DESIGN.md's fields, module by module, in id order.
 #include <cmath>
-
 #include <nlohmann/json.hpp>
 
 #include "world/world.h"
@@ -38,12 +37,14 @@ nlohmann::json World::summary(double wallSeconds) const {
       mj["orientation"] = {number(p.rot.w()), number(p.rot.x()), number(p.rot.y()), number(p.rot.z())};
     }
     json joints = json::object();
-    for (size_t k = 0; k < m.type->joints.size(); ++k) joints[m.type->joints[k].name] = number(jointAngle(int(i), int(k)));
+    for (size_t k = 0; k < m.type->joints.size(); ++k)
+      joints[m.type->joints[k].name] = number(jointAngle(int(i), int(k)));
     mj["joints"] = joints;
     json docks = json::object();
     for (size_t k = 0; k < m.docks.size(); ++k) {
       const DockState& d = m.docks[k];
-      json dj = {{"enabled", d.enabled}, {"engaged", d.engaged}, {"peer_module", nullptr}, {"peer_dock", nullptr}};
+      json dj = {
+          {"enabled", d.enabled}, {"engaged", d.engaged}, {"peer_module", nullptr}, {"peer_dock", nullptr}};
       if (d.engaged) {
         dj["peer_module"] = m_modules[size_t(d.peerModule)].id;
         dj["peer_dock"] = m_modules[size_t(d.peerModule)].type->docks[size_t(d.peerDock)].name;
@@ -58,8 +59,8 @@ nlohmann::json World::summary(double wallSeconds) const {
   auto dockName = [&](int m, int d) { return m_modules[size_t(m)].type->docks[size_t(d)].name; };
   json conns = json::array();
   for (const Connection& c : connections())
-    conns.push_back({m_modules[size_t(c.moduleA)].id, dockName(c.moduleA, c.dockA), m_modules[size_t(c.moduleB)].id,
-                     dockName(c.moduleB, c.dockB)});
+    conns.push_back({m_modules[size_t(c.moduleA)].id, dockName(c.moduleA, c.dockA),
+                     m_modules[size_t(c.moduleB)].id, dockName(c.moduleB, c.dockB)});
   j["connections"] = conns;
   json events = json::array();
   for (const DockEvent& e : World::events()) {

@@ -6,10 +6,9 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <string_view>
-
-#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "core/text_file.h"
@@ -24,13 +23,18 @@ namespace rm3d {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+double msSince(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
 
 MotorMode motorMode(JointMode m) {
   switch (m) {
-    case JointMode::Servo: return MotorMode::Servo;
-    case JointMode::Velocity: return MotorMode::Velocity;
-    default: return MotorMode::Off;
+    case JointMode::Servo:
+      return MotorMode::Servo;
+    case JointMode::Velocity:
+      return MotorMode::Velocity;
+    default:
+      return MotorMode::Off;
   }
 }
 
@@ -71,7 +75,8 @@ void prepareType(ModuleTypeDef& t) {
   }
   t.dockReach = 0;
   for (const DockDef& d : t.docks)
-    t.dockReach = std::max(t.dockReach, std::max(0.0, path[size_t(d.link)]) + (d.pos - lastPivot[size_t(d.link)]).norm() + d.captureRadius);
+    t.dockReach = std::max(t.dockReach, std::max(0.0, path[size_t(d.link)]) +
+                                            (d.pos - lastPivot[size_t(d.link)]).norm() + d.captureRadius);
 }
 
 }  // namespace
@@ -87,7 +92,6 @@ World::~World() {
   m_behaviours.clear();
   m_host.reset();
 }
-
 
 void World::setSettings(const WorldSettings& s) {
   m_settings = s;
@@ -133,8 +137,12 @@ int World::addObstacle(const ShapeDef& shape, const Pose& pose, double mass, dou
   return part;
 }
 
-Pose World::obstaclePose(int part) const { return m_physics->partPose(part); }
-Vec3 World::obstacleVelocity(int part) const { return m_physics->partLinearVelocity(part); }
+Pose World::obstaclePose(int part) const {
+  return m_physics->partPose(part);
+}
+Vec3 World::obstacleVelocity(int part) const {
+  return m_physics->partLinearVelocity(part);
+}
 
 std::string World::resolvePath(const std::string& path) const {
   const fs::path p(path);
@@ -150,11 +158,15 @@ std::string World::resolvePath(const std::string& path) const {
 const ModuleTypeDef& World::moduleType(const std::string& name) {
   auto it = m_types.find(name);
   if (it != m_types.end()) return *it->second;
-  if (!m_host) throw InputError("module type '" + name + "': module types are read by the script layer (load a world first)");
+  if (!m_host)
+    throw InputError("module type '" + name +
+                     "': module types are read by the script layer (load a world first)");
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".lua") == 0) {
     // A module-type file given by path (a variant kept next to a world, say).
     const std::string path = resolvePath(name);
-    if (path.empty()) throw InputError("module type file '" + name + "' not found (looked in the world's folder and the project root)");
+    if (path.empty())
+      throw InputError("module type file '" + name +
+                       "' not found (looked in the world's folder and the project root)");
     auto def = std::make_unique<ModuleTypeDef>(m_host->loadModuleType(path));
     prepareType(*def);
     const ModuleTypeDef& ref = *def;
@@ -191,9 +203,11 @@ int World::spawn(const SpawnDef& def) {
   if (!def.behaviour.empty()) {
     behaviourPath = resolvePath(def.behaviour);
     if (behaviourPath.empty())
-      throw InputError("behavior '" + def.behaviour + "' not found (looked in the world's folder and the project root)");
+      throw InputError("behavior '" + def.behaviour +
+                       "' not found (looked in the world's folder and the project root)");
     if (!fs::is_regular_file(behaviourPath))
-      throw InputError("behavior '" + def.behaviour + "' is not a file (" + behaviourPath + "; expected a .lua file)");
+      throw InputError("behavior '" + def.behaviour + "' is not a file (" + behaviourPath +
+                       "; expected a .lua file)");
   }
   const int index = int(m_modules.size());
   m_modules.emplace_back();
@@ -252,8 +266,9 @@ int World::spawn(const SpawnDef& def) {
   return index;
 }
 
-
-void World::addFailure(const std::string& message) { m_failures.push_back({m_time, message}); }
+void World::addFailure(const std::string& message) {
+  m_failures.push_back({m_time, message});
+}
 
 void World::faultModule(int i, const std::string& message) {
   Module& m = m_modules[size_t(i)];
@@ -261,7 +276,8 @@ void World::faultModule(int i, const std::string& message) {
 }
 
 int World::faultCount() const {
-  return int(std::count_if(m_modules.begin(), m_modules.end(), [](const Module& m) { return !m.fault.empty(); }));
+  return int(
+      std::count_if(m_modules.begin(), m_modules.end(), [](const Module& m) { return !m.fault.empty(); }));
 }
 
 void World::start() {
@@ -334,7 +350,8 @@ void World::reportModuleOutput() {
   for (Module& m : m_modules) {
     if (!m.log.empty()) {
       if (m_options.echoLog)
-        for (const std::string& line : m.log) std::fprintf(stderr, "[%8.3f %s] %s\n", m_time, m.name.c_str(), line.c_str());
+        for (const std::string& line : m.log)
+          std::fprintf(stderr, "[%8.3f %s] %s\n", m_time, m.name.c_str(), line.c_str());
       if (m_options.keepHistory)
         for (const std::string& line : m.log) {
           char t[32];
@@ -346,14 +363,12 @@ void World::reportModuleOutput() {
     }
     if (!m.fault.empty() && !m.faultReported) {
       m.faultReported = true;
-      if (m_options.echoLog) std::fprintf(stderr, "fault in %s at t=%.3f: %s\n", m.name.c_str(), m_time, m.fault.c_str());
+      if (m_options.echoLog)
+        std::fprintf(stderr, "fault in %s at t=%.3f: %s\n", m.name.c_str(), m_time, m.fault.c_str());
       if (m_options.strict) m_fatal = true;
     }
   }
 }
-
-
-
 
 void World::dropReleased() {
   for (const auto& [module, dock] : m_docking.released()) m_mailboxes[size_t(module)].dropInFlight(dock);
@@ -372,14 +387,17 @@ bool World::disconnect(int m, int dock) {
 }
 
 Wrench World::connectionLoad(const Connection& c) const {
-  return m_docking.connectionLoad({const_cast<std::vector<Module>&>(m_modules), *m_physics, m_time, m_started}, c);
+  return m_docking.connectionLoad(
+      {const_cast<std::vector<Module>&>(m_modules), *m_physics, m_time, m_started}, c);
 }
 
 void World::applyActuators() {
   for (const Module& m : m_modules)
     for (size_t j = 0; j < m.hinges.size(); ++j) {
-      if (m.stalled[j]) m_physics->setMotor(m.hinges[j], MotorMode::Servo, m.stallAngle[j]);  // stuck where it failed
-      else m_physics->setMotor(m.hinges[j], motorMode(m.commands[j].mode), m.commands[j].value);
+      if (m.stalled[j])
+        m_physics->setMotor(m.hinges[j], MotorMode::Servo, m.stallAngle[j]);  // stuck where it failed
+      else
+        m_physics->setMotor(m.hinges[j], motorMode(m.commands[j].mode), m.commands[j].value);
     }
 }
 
@@ -413,7 +431,10 @@ void World::step() {
   dropReleased();
   ++m_steps;
   m_time = double(m_steps) * m_settings.dt;
-  if (checkDivergence(*this, m_divergence)) { m_fatal = true; return; }  // world/divergence.h
+  if (checkDivergence(*this, m_divergence)) {
+    m_fatal = true;
+    return;
+  }  // world/divergence.h
   std::string err;
   if (m_program && !m_program->afterStep(m_time, err)) m_scriptError = err;
   const auto t5 = Clock::now();
@@ -422,8 +443,12 @@ void World::step() {
   m_times.other = msSince(t0, t5) - m_times.behaviours - m_times.physics;
 }
 
-Pose World::linkPose(int m, int link) const { return m_physics->partPose(m_modules[size_t(m)].parts[size_t(link)]); }
-Pose World::modulePose(int m) const { return linkPose(m, m_modules[size_t(m)].type->rootLink); }
+Pose World::linkPose(int m, int link) const {
+  return m_physics->partPose(m_modules[size_t(m)].parts[size_t(link)]);
+}
+Pose World::modulePose(int m) const {
+  return linkPose(m, m_modules[size_t(m)].type->rootLink);
+}
 
 Pose World::dockPose(int m, int dock) const {
   const DockDef& d = m_modules[size_t(m)].type->docks[size_t(dock)];
@@ -444,7 +469,8 @@ void World::sampleTracking() {
     for (size_t j = 0; j < m.commands.size(); ++j) {
       if (m.commands[j].mode != JointMode::Servo) continue;
       const JointDef& jd = m.type->joints[j];
-      const double target = jd.limited ? std::clamp(m.commands[j].value, jd.lower, jd.upper) : m.commands[j].value;
+      const double target =
+          jd.limited ? std::clamp(m.commands[j].value, jd.lower, jd.upper) : m.commands[j].value;
       const double e = target - m_physics->hingeAngle(m.hinges[j]);
       m_trackingSum += e * e;
       ++m_trackingCount;
@@ -466,7 +492,6 @@ Quality World::quality() const {
   q.trackingRmsDeg = m_trackingCount ? std::sqrt(m_trackingSum / double(m_trackingCount)) * kDegPerRad : 0;
   return q;
 }
-
 
 std::vector<std::vector<int>> World::components() const {
   std::vector<std::vector<int>> out;

@@ -5,18 +5,17 @@
 // and the scripts are reached through world/programs.h, so nothing here includes Lua.
 #pragma once
 
-#include <cstdint>
 #include <atomic>
+#include <cstdint>
 #include <deque>
 #include <map>
-#include <mutex>
 #include <memory>
+#include <mutex>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "core/rng.h"
 #include "core/types.h"
@@ -45,7 +44,7 @@ struct RunOptions {
   int threads = 1;                            ///< behaviour worker threads
   int chunkSize = 16;                         ///< modules a worker takes at a time (tests use 1)
   size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
-  int64_t behaviourBudget = 10'000'000;      ///< Lua instructions per callback
+  int64_t behaviourBudget = 10'000'000;       ///< Lua instructions per callback
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
   size_t worldMemoryLimit = 256u << 20;       ///< bytes for the world VM
   size_t mailboxLimit = 8u << 20;             ///< bytes of unread messages per module; more are dropped
@@ -124,7 +123,9 @@ class World {
   std::string worldFile() const { return m_worldFile; }
   /// The world script (null before a world is loaded); defined by the script layer.
   WorldScript* script() const;
-  void setScriptError(const std::string& e) { if (m_scriptError.empty()) m_scriptError = e; }
+  void setScriptError(const std::string& e) {
+    if (m_scriptError.empty()) m_scriptError = e;
+  }
 
   Pose modulePose(int m) const;
   Pose linkPose(int m, int link) const;
@@ -173,7 +174,7 @@ class World {
     std::string name;
     std::string behaviour;  ///< path as written; resolved against the world's folder, then root
     Value params;
-    bool fixed = false;     ///< the root link does not move
+    bool fixed = false;  ///< the root link does not move
   };
   /// Throws InputError (without location: the caller adds it).
   int spawn(const SpawnDef& def);
@@ -254,7 +255,7 @@ class World {
   std::unique_ptr<PhysicsWorld> m_physics;
   std::map<std::string, std::unique_ptr<ModuleTypeDef>> m_types;
   std::vector<Module> m_modules;
-  std::unique_ptr<ScriptHost> m_host;  ///< outlives the programs (declared before them)
+  std::unique_ptr<ScriptHost> m_host;                        ///< outlives the programs (declared before them)
   std::vector<std::unique_ptr<ModuleProgram>> m_behaviours;  ///< one per module (null: none)
   std::vector<Mailbox> m_mailboxes;
   Router m_router;

@@ -9,10 +9,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <string>
-
 #include <lua.hpp>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "script/lua_value.h"
 
@@ -37,7 +36,9 @@ struct Bytes {
 
 constexpr int kMaxDepth = 80;  // beyond the copier's own limit (64), to reach that refusal
 
-int noop(lua_State*) { return 0; }
+int noop(lua_State*) {
+  return 0;
+}
 
 // Pushes one generated value. `depth` tables are open below it: with a table at the top of the
 // stack slots [base, top), a cycle refers back to one of them.
@@ -45,10 +46,18 @@ void gen(lua_State* L, Bytes& b, int depth, int base) {
   luaL_checkstack(L, 8, "fuzz generator");
   const uint8_t kind = b.n == 0 ? 0 : b.u8() % 16;
   switch (kind) {
-    case 0: lua_pushnil(L); break;
-    case 1: lua_pushboolean(L, b.u8() & 1); break;
-    case 2: lua_pushinteger(L, lua_Integer(b.u64())); break;
-    case 3: lua_pushinteger(L, int8_t(b.u8())); break;
+    case 0:
+      lua_pushnil(L);
+      break;
+    case 1:
+      lua_pushboolean(L, b.u8() & 1);
+      break;
+    case 2:
+      lua_pushinteger(L, lua_Integer(b.u64()));
+      break;
+    case 3:
+      lua_pushinteger(L, int8_t(b.u8()));
+      break;
     case 4: {
       const uint64_t bits = b.u64();
       double d;
@@ -57,10 +66,19 @@ void gen(lua_State* L, Bytes& b, int depth, int base) {
       break;
     }
     case 5: {
-      static const double special[] = {0.0, -0.0, 0.5, 1.0, -1.0, 9007199254740993.0, 9223372036854775808.0,
-                                        -9223372036854775808.0, 1e308, std::numeric_limits<double>::infinity(),
-                                        -std::numeric_limits<double>::infinity(), std::nan(""),
-                                        std::numeric_limits<double>::denorm_min()};
+      static const double special[] = {0.0,
+                                       -0.0,
+                                       0.5,
+                                       1.0,
+                                       -1.0,
+                                       9007199254740993.0,
+                                       9223372036854775808.0,
+                                       -9223372036854775808.0,
+                                       1e308,
+                                       std::numeric_limits<double>::infinity(),
+                                       -std::numeric_limits<double>::infinity(),
+                                       std::nan(""),
+                                       std::numeric_limits<double>::denorm_min()};
       lua_pushnumber(L, special[b.u8() % (sizeof special / sizeof special[0])]);
       break;
     }
@@ -120,16 +138,26 @@ void gen(lua_State* L, Bytes& b, int depth, int base) {
     case 13:
       if (b.u8() % 4 == 0) {
         switch (b.u8() % 4) {
-          case 0: lua_pushcfunction(L, noop); break;
-          case 1: lua_newuserdatauv(L, 8, 0); break;
-          case 2: lua_pushlightuserdata(L, &b); break;
-          default: lua_newthread(L); break;
+          case 0:
+            lua_pushcfunction(L, noop);
+            break;
+          case 1:
+            lua_newuserdatauv(L, 8, 0);
+            break;
+          case 2:
+            lua_pushlightuserdata(L, &b);
+            break;
+          default:
+            lua_newthread(L);
+            break;
         }
       } else {
         lua_pushstring(L, "k");
       }
       break;
-    default: lua_pushinteger(L, b.u8()); break;
+    default:
+      lua_pushinteger(L, b.u8());
+      break;
   }
 }
 
@@ -159,21 +187,31 @@ bool keyOrder(const std::pair<LuaValue, LuaValue>& x, const std::pair<LuaValue, 
   const LuaValue &a = x.first, &c = y.first;
   if (a.type != c.type) return a.type < c.type;
   switch (a.type) {
-    case LuaValue::Type::Boolean: return a.boolean < c.boolean;
-    case LuaValue::Type::Integer: return a.integer < c.integer;
-    case LuaValue::Type::Number: return a.number < c.number;
-    case LuaValue::Type::String: return a.string < c.string;
-    default: return false;
+    case LuaValue::Type::Boolean:
+      return a.boolean < c.boolean;
+    case LuaValue::Type::Integer:
+      return a.integer < c.integer;
+    case LuaValue::Type::Number:
+      return a.number < c.number;
+    case LuaValue::Type::String:
+      return a.string < c.string;
+    default:
+      return false;
   }
 }
 bool same(const LuaValue& a, const LuaValue& b) {
   if (a.type != b.type) return false;
   switch (a.type) {
-    case LuaValue::Type::Nil: return true;
-    case LuaValue::Type::Boolean: return a.boolean == b.boolean;
-    case LuaValue::Type::Integer: return a.integer == b.integer;
-    case LuaValue::Type::Number: return std::memcmp(&a.number, &b.number, sizeof a.number) == 0;
-    case LuaValue::Type::String: return a.string == b.string;
+    case LuaValue::Type::Nil:
+      return true;
+    case LuaValue::Type::Boolean:
+      return a.boolean == b.boolean;
+    case LuaValue::Type::Integer:
+      return a.integer == b.integer;
+    case LuaValue::Type::Number:
+      return std::memcmp(&a.number, &b.number, sizeof a.number) == 0;
+    case LuaValue::Type::String:
+      return a.string == b.string;
     case LuaValue::Type::Table: {
       if (a.table.size() != b.table.size()) return false;
       auto x = a.table, y = b.table;

@@ -3,9 +3,8 @@
 // script ends quickly. Bad input must end in InputError (or a recorded script error); anything
 // else is a finding. The summary is built as `rm3d run --json` builds it.
 #include <cstdint>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "core/error.h"
 #include "world/world.h"

@@ -1,13 +1,14 @@
 // WorldSession (the hot-reload session of `run --watch` and `view`): an edited behaviour is
 // reloaded into the modules running it, a broken edit is rejected with file:line, an edited
 // world file rebuilds the world, and a world file that fails to load keeps the last good world.
+#include "app/world_session.h"
+
 #include <doctest/doctest.h>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 
-#include "app/world_session.h"
 #include "test_world.h"
 
 using namespace rm3d;
@@ -35,9 +36,10 @@ TEST_CASE("world session: reloads behaviours, rebuilds on a world edit, keeps th
   fs::create_directories(dir);
   const fs::path behaviour = dir / "b.lua", worldFile = dir / "w.lua";
   write(behaviour, "function step(dt) module.joint('pitch'):set_target(0.3) end\n");
-  const std::string twoModules = "world.set{gravity = {0, 0, 0}}\n"
-                                 "world.spawn('superbot', {behavior = 'b.lua'})\n"
-                                 "world.spawn('superbot', {at = {1, 0, 0}, behavior = 'b.lua'})\n";
+  const std::string twoModules =
+      "world.set{gravity = {0, 0, 0}}\n"
+      "world.spawn('superbot', {behavior = 'b.lua'})\n"
+      "world.spawn('superbot', {at = {1, 0, 0}, behavior = 'b.lua'})\n";
   write(worldFile, twoModules);
 
   WorldSession session(worldFile.string(), test::options(), std::chrono::milliseconds(0));

@@ -1,9 +1,9 @@
 // Rng: repeatable streams, independent per module id, sane statistics.
+#include "core/rng.h"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
-
-#include "core/rng.h"
 
 using rm3d::Rng;
 

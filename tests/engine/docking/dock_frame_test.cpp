@@ -1,7 +1,7 @@
 // Dock frames and mating: normals opposite, orientations 360/symmetry apart, gender rules.
-#include <doctest/doctest.h>
-
 #include "docking/dock_frame.h"
+
+#include <doctest/doctest.h>
 
 using namespace rm3d;
 

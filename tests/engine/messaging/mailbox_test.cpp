@@ -1,7 +1,7 @@
 // Mailbox: delivery at the next step, FIFO, consumption, per-dock reads.
-#include <doctest/doctest.h>
-
 #include "messaging/mailbox.h"
+
+#include <doctest/doctest.h>
 
 using namespace rm3d;
 

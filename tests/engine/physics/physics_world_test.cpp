@@ -1,7 +1,7 @@
 // PhysicsWorld: resting heights (no convex margin gap), locking parts into one body, hinges.
-#include <doctest/doctest.h>
-
 #include "physics/physics_world.h"
+
+#include <doctest/doctest.h>
 
 using namespace rm3d;
 
@@ -19,7 +19,8 @@ ShapeDef hullCube(double h) {
   ShapeDef s;
   s.kind = ShapeKind::Hull;
   for (int i = 0; i < 8; ++i) s.points.emplace_back(i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h);
-  s.triangles = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  s.triangles = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
   return s;
 }
 

@@ -8,8 +8,8 @@
 #include <filesystem>
 
 #include "render/offscreen_renderer.h"
-#include "test_world.h"
 #include "render/world_snapshot.h"
+#include "test_world.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"

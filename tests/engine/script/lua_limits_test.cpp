@@ -3,12 +3,11 @@
 // UTF-8-safe fault texts, mailbox byte limit.
 #include <doctest/doctest.h>
 
-#include <lua.hpp>
-
 #include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <lua.hpp>
 
 #include "messaging/mailbox.h"
 #include "script/lua_value.h"
@@ -27,7 +26,9 @@ bool runString(LuaVm& vm, const char* code, std::string& err) {
   }
   return vm.call(0, 0, err, "the test call");
 }
-bool has(const std::string& s, const char* needle) { return s.find(needle) != std::string::npos; }
+bool has(const std::string& s, const char* needle) {
+  return s.find(needle) != std::string::npos;
+}
 
 // Runs `code` (which returns a string) in a state and returns that string or "ERROR".
 std::string evalIn(lua_State* L, const char* code) {
@@ -48,16 +49,23 @@ TEST_CASE("pcall cannot swallow the instruction budget, nor can coroutines split
   std::string err;
   CHECK_FALSE(runString(vm, "while true do pcall(function() while true do end end) end", err));
   CHECK(has(err, "probe.lua:1: instruction budget exceeded"));
-  CHECK_FALSE(runString(vm, "while true do xpcall(function() while true do end end, function(m) while true do end end) end", err));
+  CHECK_FALSE(runString(
+      vm, "while true do xpcall(function() while true do end end, function(m) while true do end end) end",
+      err));
   CHECK(has(err, "instruction budget exceeded"));
   // Each coroutine alone is under the budget; together they are not.
-  CHECK_FALSE(runString(vm, "for k = 1, 100 do coroutine.resume(coroutine.create(function() for i = 1, 10000 do end end)) end", err));
+  CHECK_FALSE(runString(
+      vm, "for k = 1, 100 do coroutine.resume(coroutine.create(function() for i = 1, 10000 do end end)) end",
+      err));
   CHECK(has(err, "instruction budget exceeded"));
   // A failed coroutine swallowed just before returning still fails the call.
   CHECK_FALSE(runString(vm, "local co = coroutine.wrap(function() while true do end end) pcall(co)", err));
   CHECK(has(err, "instruction budget exceeded"));
   // And the next call has a fresh budget.
-  CHECK(runString(vm, "for i = 1, 10000 do end local co = coroutine.wrap(function() for i = 1, 1000 do end return 1 end) assert(co() == 1)", err));
+  CHECK(runString(vm,
+                  "for i = 1, 10000 do end local co = coroutine.wrap(function() for i = 1, 1000 do end "
+                  "return 1 end) assert(co() == 1)",
+                  err));
 }
 
 TEST_CASE("our pattern matcher gives the stock Lua 5.4 results") {
@@ -143,7 +151,10 @@ TEST_CASE("the memory cap is soft: the error names file:line and has a traceback
   CHECK_FALSE(runString(vm, "local s = string.rep('x', 1e9)", err));
   CHECK(has(err, "probe.lua:1: out of memory: string.rep would make a string of 1000000000 bytes"));
   // table.concat and string.format are bounded by the cap too.
-  CHECK_FALSE(runString(vm, "local t = {} for i = 1, 64 do t[i] = string.rep('y', 100000) end\nlocal s = t\nfor k = 1, 10 do s = {table.concat(s)} s[2] = s[1] end", err));
+  CHECK_FALSE(runString(vm,
+                        "local t = {} for i = 1, 64 do t[i] = string.rep('y', 100000) end\nlocal s = t\nfor "
+                        "k = 1, 10 do s = {table.concat(s)} s[2] = s[1] end",
+                        err));
   CHECK(has(err, "out of memory"));
   LuaVm world(4u << 20);
   world.setOwnerLabel("world script");
@@ -159,7 +170,10 @@ TEST_CASE("finalizers are refused, so closing a VM cannot hang") {
     CHECK_FALSE(runString(vm, "local t = setmetatable({}, {__gc = function() while true do end end})", err));
     CHECK(has(err, "probe.lua:1: setmetatable: a metatable with __gc is not allowed"));
     // Adding __gc later does not mark the object for finalization (Lua 5.4 semantics).
-    CHECK(runString(vm, "local mt = {} g = setmetatable({}, mt) mt.__gc = function() while true do end end g = nil collectgarbage()", err));
+    CHECK(runString(vm,
+                    "local mt = {} g = setmetatable({}, mt) mt.__gc = function() while true do end end g = "
+                    "nil collectgarbage()",
+                    err));
   }  // lua_close returns
   CHECK(true);
 }
@@ -190,8 +204,9 @@ TEST_CASE("require: dot-separated names only, and nothing that resolves outside 
   vm.setRequirePath({(dir / "inside").string()});
   std::string err;
   CHECK(runString(vm, "assert(require('fine') == 'fine')", err));
-  for (const char* bad : {"require('.tmp.x')", "require('../outside/secret')", "require('/etc/passwd')", "require('a..b')",
-                          "require('a.')", "require('1abc')", "require('a-b')", "require('')"}) {
+  for (const char* bad :
+       {"require('.tmp.x')", "require('../outside/secret')", "require('/etc/passwd')", "require('a..b')",
+        "require('a.')", "require('1abc')", "require('a-b')", "require('')"}) {
     CHECK_FALSE(runString(vm, bad, err));
     CHECK(has(err, "probe.lua:1: require: bad module name"));
   }
@@ -274,6 +289,7 @@ TEST_CASE("the world VM has a memory cap and a watchdog too") {
     rm3d::test::makeWorld("local x = 0\nwhile true do x = x + 1 end", o);
     CHECK(false);
   } catch (const rm3d::InputError& e) {
-    CHECK(has(e.what(), "test_world.lua:2: watchdog: the world script's top level did not return within 0.3 s"));
+    CHECK(has(e.what(),
+              "test_world.lua:2: watchdog: the world script's top level did not return within 0.3 s"));
   }
 }

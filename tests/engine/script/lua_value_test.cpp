@@ -1,10 +1,11 @@
 // LuaValue: deep copies between VMs, refusing what cannot be copied.
+#include "script/lua_value.h"
+
 #include <doctest/doctest.h>
 
 #include <lua.hpp>
 #include <nlohmann/json.hpp>
 
-#include "script/lua_value.h"
 #include "script/lua_vm.h"
 
 using namespace rm3d;
@@ -17,8 +18,9 @@ TEST_CASE("plain values survive a copy from one VM to another") {
   REQUIRE(readLuaValue(a.L(), -1, v, 0, err));
   pushLuaValue(b.L(), v);
   lua_setglobal(b.L(), "v");
-  CHECK(luaL_dostring(b.L(), "assert(v[1] == 1 and math.type(v[1]) == 'integer' and v[2] == 2.5 and v[3] == 'three' "
-                             "and v[4] == true and v.nested.x.y == 'z')") == LUA_OK);
+  CHECK(luaL_dostring(b.L(),
+                      "assert(v[1] == 1 and math.type(v[1]) == 'integer' and v[2] == 2.5 and v[3] == 'three' "
+                      "and v[4] == true and v.nested.x.y == 'z')") == LUA_OK);
   CHECK(valueToJson(v)["nested"]["x"]["y"] == "z");
 }
 

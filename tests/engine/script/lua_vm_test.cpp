@@ -1,11 +1,10 @@
 // LuaVm: sandbox, memory cap, instruction budget, protected calls with file:line and traceback.
+#include "script/lua_vm.h"
+
 #include <doctest/doctest.h>
 
-#include <lua.hpp>
-
 #include <cstring>
-
-#include "script/lua_vm.h"
+#include <lua.hpp>
 
 using rm3d::LuaVm;
 
@@ -23,7 +22,8 @@ bool runString(LuaVm& vm, const char* code, std::string& err) {
 TEST_CASE("the sandbox hides io, os and file loaders and refuses binary chunks") {
   LuaVm vm;
   std::string err;
-  CHECK(runString(vm, "assert(io == nil and os == nil and dofile == nil and loadfile == nil and package == nil)", err));
+  CHECK(runString(
+      vm, "assert(io == nil and os == nil and dofile == nil and loadfile == nil and package == nil)", err));
   CHECK(runString(vm, "assert(load(string.dump(function() end)) == nil)", err));
   CHECK(runString(vm, "assert(math and string and table and utf8 and coroutine)", err));
 }
@@ -63,5 +63,7 @@ TEST_CASE("require searches only the given folders and rejects paths") {
   CHECK(err.find("bad module name") != std::string::npos);
   CHECK_FALSE(runString(vm, "require('no_such_module')", err));
   CHECK(err.find("module 'no_such_module' not found") != std::string::npos);
-  CHECK(runString(vm, "local g = require('gaits') assert(type(g.wave) == 'function') assert(require('gaits') == g)", err));
+  CHECK(runString(
+      vm, "local g = require('gaits') assert(type(g.wave) == 'function') assert(require('gaits') == g)",
+      err));
 }

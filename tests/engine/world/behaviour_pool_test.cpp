@@ -1,10 +1,10 @@
 // BehaviourPool: every index runs exactly once, whatever the thread count.
+#include "world/behaviour_pool.h"
+
 #include <doctest/doctest.h>
 
 #include <atomic>
 #include <vector>
-
-#include "world/behaviour_pool.h"
 
 TEST_CASE("each index runs once with 1, 2 and 4 threads, many times over") {
   for (int threads : {1, 2, 4}) {

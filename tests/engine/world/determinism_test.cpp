@@ -10,9 +10,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "test_world.h"
 
@@ -59,10 +58,12 @@ uint64_t stateHash(const World& w) {
       h.f(p.rot.w()), h.f(p.rot.x()), h.f(p.rot.y()), h.f(p.rot.z());
     }
     for (size_t j = 0; j < mod.type->joints.size(); ++j) h.f(w.jointVelocity(int(m), int(j)));
-    for (const rm3d::DockState& d : mod.docks) h.i(d.enabled), h.i(d.engaged), h.i(d.peerModule), h.i(d.peerDock);
+    for (const rm3d::DockState& d : mod.docks)
+      h.i(d.enabled), h.i(d.engaged), h.i(d.peerModule), h.i(d.peerDock);
     h.s(mod.fault);
   }
-  for (const rm3d::Connection& c : w.connections()) h.i(c.moduleA), h.i(c.dockA), h.i(c.moduleB), h.i(c.dockB);
+  for (const rm3d::Connection& c : w.connections())
+    h.i(c.moduleA), h.i(c.dockA), h.i(c.moduleB), h.i(c.dockB);
   for (const rm3d::DockEvent& e : w.events()) h.f(e.time), h.s(e.kind), h.i(e.moduleA), h.i(e.moduleB);
   const World::MessageStats ms = w.messageStats();
   h.i(int64_t(ms.sent)), h.i(int64_t(ms.received)), h.i(int64_t(ms.dropped));
@@ -102,8 +103,9 @@ constexpr int kSteps = 90;
 
 TEST_CASE("determinism: 136 modules docking, toggling, sensing, messaging at 1, 2, 8 and 16 threads") {
   const Outcome one = run(1, kSteps);
-  std::printf("determinism: hash %016llx, %zu engaged, %zu disengaged, %zu broken, %zu messages read, %d faults\n",
-              (unsigned long long)one.hash, one.engaged, one.disengaged, one.broken, one.received, one.faults);
+  std::printf(
+      "determinism: hash %016llx, %zu engaged, %zu disengaged, %zu broken, %zu messages read, %d faults\n",
+      (unsigned long long)one.hash, one.engaged, one.disengaged, one.broken, one.received, one.faults);
   // The world exercises what it claims to: docks latch and release, messages flow, nothing faults.
   CHECK(one.faults == 0);
   CHECK(one.engaged >= 20);

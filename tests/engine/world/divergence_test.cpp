@@ -3,9 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "core/error.h"
 #include "test_world.h"
@@ -32,7 +31,8 @@ void checkNoNulls(const nlohmann::json& s) {
 
 }  // namespace
 
-TEST_CASE("gravity 1e4 and a 1e9 N push: the run stops at the step after the push, naming the module and link") {
+TEST_CASE(
+    "gravity 1e4 and a 1e9 N push: the run stops at the step after the push, naming the module and link") {
   auto w = makeWorld(R"(world.set{gravity = {0, 0, -1e4}, duration = 2}
 world.ground{}
 local m = world.spawn("superbot", {at = {0, 0, 0.053}, name = "bot"})
@@ -56,7 +56,9 @@ world.at(0.5, function() m:push({1e9, 0, 0}) end)
   checkNoNulls(s);
 }
 
-TEST_CASE("a body falling under gravity 1e4 passes max_speed: the message names the obstacle, the speed and the time") {
+TEST_CASE(
+    "a body falling under gravity 1e4 passes max_speed: the message names the obstacle, the speed and the "
+    "time") {
   auto w = makeWorld(R"(world.set{gravity = {0, 0, -1e4}, max_speed = 950}
 world.box{size = {0.1, 0.1, 0.1}, at = {0, 0, 5}}
 world.box{size = {0.1, 0.1, 0.1}, at = {0, 0, 5}, mass = 1}
@@ -77,7 +79,8 @@ world.sphere{radius = 0.1, at = {9.5, 0, 0}, mass = 1, velocity = {60, 0, 0}}
   runToEnd(*w);
   INFO(w->divergence());
   CHECK(w->divergence().find("physics diverged at t=0.01667 s (step 1): obstacle 1 (a sphere") == 0);
-  CHECK(w->divergence().find("left the world bounds: 10.5 m from the origin, beyond bounds 10 m") != std::string::npos);
+  CHECK(w->divergence().find("left the world bounds: 10.5 m from the origin, beyond bounds 10 m") !=
+        std::string::npos);
 
   auto spin = makeWorld(R"(world.set{gravity = {0, 0, 0}, max_angular_speed = 5}
 local m = world.spawn("superbot", {at = {0, 0, 1}, name = "spinner"})
@@ -142,25 +145,38 @@ TEST_CASE("settings that cannot make progress are bad input naming file:line and
       {"world.set{solver_iterations = 10001}", "solver_iterations must be 1..10000, got 10001"},
       {"world.set{duration = -1}", "duration must be 0 or more seconds, got -1"},
       {"world.set{duration = 1/0}", "option 'duration' must be a finite number, got inf"},
-      {"world.set{gravity = {0, 0, -1e30}}", "gravity must be at most 10000 m/s^2 in magnitude (1000 g), got {0, 0, -1e+30}"},
+      {"world.set{gravity = {0, 0, -1e30}}",
+       "gravity must be at most 10000 m/s^2 in magnitude (1000 g), got {0, 0, -1e+30}"},
       {"world.set{gravity = {0, 0, 0/0}}", "option 'gravity' must be a table of 3 finite numbers, got "},
       {"world.set{max_speed = 0}", "max_speed must be positive (m/s), got 0"},
       {"world.set{bounds = 1e30}", "bounds must be in (0, 1e+07] metres from the origin, got 1e+30"},
-      {"world.every(1e-300, function() end)", "world.every: period must be a finite number of seconds >= 1e-06, got 1e-300"},
-      {"world.every(0/0, function() end)", "world.every: period must be a finite number of seconds >= 1e-06, got "},
+      {"world.every(1e-300, function() end)",
+       "world.every: period must be a finite number of seconds >= 1e-06, got 1e-300"},
+      {"world.every(0/0, function() end)",
+       "world.every: period must be a finite number of seconds >= 1e-06, got "},
       {"world.at(-1, function() end)", "world.at: time must be a finite number of seconds >= 0, got -1"},
       {"world.at(1/0, function() end)", "world.at: time must be a finite number of seconds >= 0, got inf"},
-      {"world.box{at = {1e39, 0, 0}}", "world.box: 'at' must lie within the world bounds (10000 m from the origin; world.set{bounds=}), got {1e+39, 0, 0}"},
-      {"world.box{size = {1, 1, 0}}", "world.box: size must be positive and at most the world bounds (10000 m), got {1, 1, 0}"},
+      {"world.box{at = {1e39, 0, 0}}",
+       "world.box: 'at' must lie within the world bounds (10000 m from the origin; world.set{bounds=}), got "
+       "{1e+39, 0, 0}"},
+      {"world.box{size = {1, 1, 0}}",
+       "world.box: size must be positive and at most the world bounds (10000 m), got {1, 1, 0}"},
       {"world.box{size = {1e30, 1, 1}}", "got {1e+30, 1, 1}"},
       {"world.box{mass = -1}", "world.box: mass must not be negative (0 is static), got -1"},
       {"world.box{mass = 0/0}", "world.box: option 'mass' must be a finite number, got "},
-      {"world.box{mass = 1, velocity = {1e4, 0, 0}}", "world.box: velocity must be at most max_speed (1000 m/s; world.set{max_speed=}), got 10000 m/s"},
-      {"world.sphere{radius = -1}", "world.sphere: radius must be positive and at most the world bounds (10000 m), got -1"},
-      {"world.cylinder{length = 0}", "world.cylinder: length must be positive and at most the world bounds (10000 m), got 0"},
-      {"world.spawn('superbot', {at = {2e4, 0, 0}})", "world.spawn: 'at' must lie within the world bounds (10000 m from the origin; world.set{bounds=}), got {20000, 0, 0}"},
-      {"world.spawn('superbot'):push({1e10, 0, 0})", "m:push: the force must be at most 1e+09 N in magnitude, got {1e+10, 0, 0} (1e+10 N)"},
-      {"world.spawn('superbot'):push({0, 1/0, 0})", "m:push: the force must be finite, got component 2 = inf"},
+      {"world.box{mass = 1, velocity = {1e4, 0, 0}}",
+       "world.box: velocity must be at most max_speed (1000 m/s; world.set{max_speed=}), got 10000 m/s"},
+      {"world.sphere{radius = -1}",
+       "world.sphere: radius must be positive and at most the world bounds (10000 m), got -1"},
+      {"world.cylinder{length = 0}",
+       "world.cylinder: length must be positive and at most the world bounds (10000 m), got 0"},
+      {"world.spawn('superbot', {at = {2e4, 0, 0}})",
+       "world.spawn: 'at' must lie within the world bounds (10000 m from the origin; world.set{bounds=}), "
+       "got {20000, 0, 0}"},
+      {"world.spawn('superbot'):push({1e10, 0, 0})",
+       "m:push: the force must be at most 1e+09 N in magnitude, got {1e+10, 0, 0} (1e+10 N)"},
+      {"world.spawn('superbot'):push({0, 1/0, 0})",
+       "m:push: the force must be finite, got component 2 = inf"},
   };
   for (const Case& c : cases) {
     const std::string script = std::string("-- line 1\n") + c.script + "\n";
@@ -171,7 +187,8 @@ TEST_CASE("settings that cannot make progress are bad input naming file:line and
   // NaN is named as such (glibc writes "nan" or "-nan").
   CHECK_THROWS_WITH_AS(makeWorld("world.set{dt = 0/0}"), doctest::Contains("nan"), InputError);
   CHECK_THROWS_WITH_AS(makeWorld("world.every(0/0, function() end)"), doctest::Contains("nan"), InputError);
-  // The edges are accepted: dt 1e-6 and 1 s, duration 0, gravity of 1e4, a period of 1e-6 s, time 0, a 1e9 N push.
+  // The edges are accepted: dt 1e-6 and 1 s, duration 0, gravity of 1e4, a period of 1e-6 s, time 0, a 1e9 N
+  // push.
   CHECK_NOTHROW(makeWorld("world.set{dt = 1e-6}"));
   CHECK_NOTHROW(makeWorld("world.set{dt = 1, duration = 0, gravity = {0, 0, -1e4}}"));
   CHECK_NOTHROW(makeWorld("world.every(1e-6, function() end); world.at(0, function() end)"));
@@ -195,6 +212,7 @@ world.at(0.1, function()
 end)
 )");
   runToEnd(*w, 30);
-  CHECK(w->scriptError().find("test_world.lua:3: m:push: the force must be at most 1e+09 N") != std::string::npos);
+  CHECK(w->scriptError().find("test_world.lua:3: m:push: the force must be at most 1e+09 N") !=
+        std::string::npos);
   CHECK(w->divergence().empty());
 }

@@ -24,9 +24,13 @@ TEST_CASE("a rewritten behaviour takes over, keeping state; a broken one is reje
   write(file,
         "state.steps = state.steps or 0\n"
         "function step(dt) state.steps = state.steps + 1; module.joint('pitch'):set_target(0.3) end\n");
-  const std::string script = "world.set{gravity = {0, 0, 0}}\n"
-                             "world.spawn('superbot', {behavior = '" + file.string() + "'})\n"
-                             "world.spawn('superbot', {at = {1, 0, 0}, behavior = '" + file.string() + "'})\n";
+  const std::string script =
+      "world.set{gravity = {0, 0, 0}}\n"
+      "world.spawn('superbot', {behavior = '" +
+      file.string() +
+      "'})\n"
+      "world.spawn('superbot', {at = {1, 0, 0}, behavior = '" +
+      file.string() + "'})\n";
   auto w = test::makeWorld(script);
   test::stepFor(*w, 1.0);
   CHECK(w->jointAngle(0, 0) == doctest::Approx(0.3).epsilon(0.02));
@@ -52,7 +56,8 @@ TEST_CASE("a rewritten behaviour takes over, keeping state; a broken one is reje
   CHECK(w->reloadFile(file.string(), errors) == 0);
   REQUIRE(errors.size() == 1);
   CHECK(errors[0].find("nod.lua:3:") != std::string::npos);
-  write(file, "local x = nil\nlocal y = x.field\nfunction step(dt) module.joint('pitch'):set_target(0.2) end\n");
+  write(file,
+        "local x = nil\nlocal y = x.field\nfunction step(dt) module.joint('pitch'):set_target(0.2) end\n");
   errors.clear();
   CHECK(w->reloadFile(file.string(), errors) == 0);
   REQUIRE(errors.size() == 1);

@@ -26,7 +26,8 @@ TEST_CASE("a servo reaches a 45 degree target within 2 degrees in 1 s, and the s
   stepFor(*w, 1.0);
   CHECK(std::abs(w->jointAngle(0, pitch) - kPi / 4) < 2.0 / kDegPerRad);
   // angle = rotation of the child (front_outer) relative to the parent about +y
-  const double rel = test::relativeAngle(*w, 0, m.type->findLink("front_inner"), m.type->findLink("front_outer"), Vec3::UnitY());
+  const double rel = test::relativeAngle(*w, 0, m.type->findLink("front_inner"),
+                                         m.type->findLink("front_outer"), Vec3::UnitY());
   CHECK(std::abs(rel - kPi / 4) < 2.0 / kDegPerRad);
 }
 
@@ -69,12 +70,16 @@ TEST_CASE("a module rests on the ground at its dock height") {
 }
 
 TEST_CASE("spawning an unknown type or a missing behaviour is bad input with file:line") {
-  CHECK_THROWS_WITH_AS(makeWorld("world.spawn('superbat')"), doctest::Contains("test_world.lua:1: world.spawn: unknown module type 'superbat'"),
+  CHECK_THROWS_WITH_AS(makeWorld("world.spawn('superbat')"),
+                       doctest::Contains("test_world.lua:1: world.spawn: unknown module type 'superbat'"),
                        InputError);
   CHECK_THROWS_WITH_AS(makeWorld("\nworld.spawn('superbot', {behavior='nope.lua'})"),
-                       doctest::Contains("test_world.lua:2: world.spawn: behavior 'nope.lua' not found"), InputError);
-  CHECK_THROWS_WITH_AS(makeWorld("world.spawn('superbot', {att={0,0,0}})"), doctest::Contains("unknown option 'att'"), InputError);
-  CHECK_THROWS_WITH_AS(makeWorld("world.set{dt='x'}"), doctest::Contains("option 'dt' must be a finite number"), InputError);
+                       doctest::Contains("test_world.lua:2: world.spawn: behavior 'nope.lua' not found"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(makeWorld("world.spawn('superbot', {att={0,0,0}})"),
+                       doctest::Contains("unknown option 'att'"), InputError);
+  CHECK_THROWS_WITH_AS(makeWorld("world.set{dt='x'}"),
+                       doctest::Contains("option 'dt' must be a finite number"), InputError);
 }
 
 TEST_CASE("two worlds with the same seed step identically; several worlds live in one process") {
@@ -99,8 +104,9 @@ end)";
 
 TEST_CASE("a named module's random stream does not change when other modules are added") {
   auto a = makeWorld("world.spawn('superbot', {name = 'alpha'})\nworld.spawn('superbot', {name = 'beta'})");
-  auto b = makeWorld("world.spawn('superbot', {name = 'extra'})\nworld.spawn('superbot', {name = 'beta'})\n"
-                     "world.spawn('superbot', {name = 'alpha'})");
+  auto b = makeWorld(
+      "world.spawn('superbot', {name = 'extra'})\nworld.spawn('superbot', {name = 'beta'})\n"
+      "world.spawn('superbot', {name = 'alpha'})");
   auto c = makeWorld("world.spawn('superbot', {name = 'alpha'})", [] {
     RunOptions o = test::options();
     o.seed = 99;

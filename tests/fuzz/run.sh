@@ -3,7 +3,8 @@
 # Usage: tests/fuzz/run.sh TARGET SECONDS    TARGET: module_type, world_script, lua_value or all
 #        (all: each target in turn for SECONDS). Env: FUZZ_JOBS (parallel fuzzing processes per
 #        target, default 1), FUZZ_ARGS (extra libFuzzer flags).
-# The corpus grows in build-fuzz/corpus/TARGET (seeded from tests/fuzz/corpus/TARGET); crashes,
+# The corpus grows in build-fuzz/corpus/TARGET (seeded from the project's module types or worlds,
+# and tests/fuzz/corpus/TARGET); crashes,
 # timeouts and out-of-memory inputs are saved under build-fuzz/crashes/TARGET/. The fuzzer keeps
 # going after a finding (libFuzzer's fork mode) and the script exits 1 if any was saved.
 # Reproduce one: build-fuzz/fuzz_TARGET build-fuzz/crashes/TARGET/crash-...
@@ -38,6 +39,13 @@ for t in "${sel[@]}"; do
   mkdir -p "$corpus" "$crashes"
   dict=()
   [ -f "tests/fuzz/$t.dict" ] && dict=(-dict="tests/fuzz/$t.dict")
+  # Seeds: the project's own files of that kind (read in place, not copied), plus hand-made ones.
+  seeds=()
+  case $t in
+    module_type) seeds=(assets/modules tests/modules) ;;
+    world_script) seeds=(worlds tests/worlds) ;;
+  esac
+  [ -d "tests/fuzz/corpus/$t" ] && seeds+=("tests/fuzz/corpus/$t")
   echo "== fuzz_$t for $seconds s"
   # fork mode: a crash, timeout or OOM is saved and fuzzing goes on. -close_fd_mask=3: the
   # targets' own output (world-script print, module logs) is dropped; libFuzzer and sanitizer
@@ -46,7 +54,7 @@ for t in "${sel[@]}"; do
   "build-fuzz/fuzz_$t" -fork="${FUZZ_JOBS:-1}" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
     -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=8192 -close_fd_mask=3 \
     -artifact_prefix="$crashes/" -print_final_stats=1 "${dict[@]}" ${FUZZ_ARGS:-} \
-    "$corpus" "tests/fuzz/corpus/$t" || rc=$?
+    "$corpus" "${seeds[@]}" || rc=$?
   n=$(find "$crashes" -type f | wc -l)
   echo "== fuzz_$t: exit $rc, $n saved finding(s) in $crashes"
   [ "$rc" -eq 0 ] && [ "$n" -eq 0 ] || found=1

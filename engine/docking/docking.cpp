@@ -97,7 +97,7 @@ void Docking::lock(const DockingScene& s, int a, int da, int b, int db, int orie
     st->peerDock = peerDock;
     st->brokeFromModule = st->brokeFromDock = -1;
   }
-  Connection c{a, da, b, db, s.time};
+  Connection c{a, da, b, db, s.time, {}, 0};
   m_connections.push_back(c);
   m_events.push_back({s.time, "engaged", a, da, b, db});
   if (s.started) {

@@ -23,6 +23,7 @@ struct Message {
 /// (safe to fill from worker threads); pending and inbox are touched only between phases.
 struct Mailbox {
   std::vector<Message> outbox;   ///< this step's sends, in order
+  size_t outboxBytes = 0;        ///< their size (a module cannot queue more than its peers could hold)
   std::vector<Message> pending;  ///< routed to this module, in flight, in routing order
   std::deque<Message> inbox;     ///< readable now, oldest first
   size_t sent = 0, received = 0, dropped = 0;

@@ -40,6 +40,8 @@ void Router::route(std::vector<Mailbox>& boxes, std::vector<Module>& modules, in
             " MiB of unread messages (read them with module.receive)");
     }
     box.outbox.resize(kept);
+    box.outboxBytes = 0;
+    for (const Message& msg : box.outbox) box.outboxBytes += msg.bytes;
   }
 }
 

@@ -77,12 +77,16 @@ int dockName(lua_State* L) {
 
 /// dock:send(value) -> bool: queue a plain Lua value (<= the channel's max_bytes, 64 KiB by default)
 /// for the module docked here;
-/// it can read it next step. False when nothing is engaged here.
+/// it can read it next step. False when nothing is engaged here, or when this step's sends already
+/// fill the mailbox limit (RunOptions::mailboxLimit, 8 MiB: no receiver could hold more).
 int dockSend(lua_State* L) {
   const int d = checkDock(L);
   luaL_checkany(L, 2);
   const BehaviourContext& c = behaviourContext(L);
-  if (!c.module.self().docks[size_t(d)].engaged) {
+  Mailbox& box = c.module.mailbox();
+  const size_t limit = c.module.world().options().mailboxLimit;
+  if (!c.module.self().docks[size_t(d)].engaged || (limit && box.outboxBytes >= limit)) {
+    if (c.module.self().docks[size_t(d)].engaged) ++box.dropped;
     lua_pushboolean(L, 0);
     return 1;
   }
@@ -93,9 +97,11 @@ int dockSend(lua_State* L) {
     msg.dock = d;
     msg.time = c.module.world().time();
     ok = readLuaValue(L, 2, msg.data, c.module.world().channel().maxBytes, err);
-    if (ok)
-      c.module.mailbox().outbox.push_back(std::move(msg));
-    else
+    if (ok) {
+      msg.bytes = valueSize(msg.data);
+      box.outboxBytes += msg.bytes;
+      box.outbox.push_back(std::move(msg));
+    } else
       lua_pushfstring(L, "dock:send: %s", err.c_str());
   }
   if (!ok) {

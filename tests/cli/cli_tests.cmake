@@ -311,7 +311,7 @@ expect_run("test --watchdog" 0 "1 passed" test ${SRC}/tests/worlds/servo_45.lua 
 # budget does not fire first) faults only its module (exit 0), or ends the run with 3 under --strict.
 file(WRITE ${OUT}/hung_hook.lua "world.spawn('superbot', {at = {0, 0, 0.053}})\nworld.on_step(function(t)\n  while true do end\nend)\n")
 file(WRITE ${OUT}/hung_load.lua "world.spawn('superbot', {at = {0, 0, 0.053}})\nwhile true do end\n")
-file(WRITE ${OUT}/churn.lua "function step(dt)\n  while true do local s = string.rep('x', 1e6) end\nend\n")
+file(WRITE ${OUT}/churn.lua "local s = string.rep('x', 1e6)\nfunction step(dt)\n  while true do local u = s:upper() end\nend\n")
 file(WRITE ${OUT}/hung_module.lua "world.set{duration = 0.5}\nworld.spawn('superbot', {at = {0, 0, 0.053}, behavior = 'churn.lua', name = 'stuck'})\nworld.spawn('superbot', {at = {1, 0, 0.053}, name = 'fine'})\n")
 string(TIMESTAMP t0 "%s")
 expect_run("watchdog stops a world hook" 3 "hung_hook.lua:3: watchdog: a world.on_step hook did not return within 0.5 s.*exit code 3"
@@ -337,15 +337,15 @@ foreach(i RANGE 1)
   string(JSON mname ERROR_VARIABLE e GET "${hm}" modules ${i} name)
   string(JSON mtype ERROR_VARIABLE e TYPE "${hm}" modules ${i} error)
   string(JSON merr ERROR_VARIABLE e GET "${hm}" modules ${i} error)
-  if(mname STREQUAL "stuck" AND NOT merr MATCHES "churn.lua:2: watchdog: step\\(\\) did not return within 0.5 s")
+  if(mname STREQUAL "stuck" AND NOT merr MATCHES "churn.lua:3: watchdog: step\\(\\) did not return within 0.5 s")
     message(SEND_ERROR "stuck module: error is '${merr}'")
   elseif(mname STREQUAL "fine" AND NOT mtype STREQUAL "NULL")
     message(SEND_ERROR "fine module: error is '${merr}', expected null")
   endif()
 endforeach()
-expect_run("watchdog under --strict" 3 "churn.lua:2: watchdog: step\\(\\) did not return.*exit code 3"
+expect_run("watchdog under --strict" 3 "churn.lua:3: watchdog: step\\(\\) did not return.*exit code 3"
   run ${OUT}/hung_module.lua --quiet --strict --watchdog 0.5)
-expect_run("test: a module stopped by the watchdog fails" 1 "module stuck \\(id 1\\) faulted: .*churn.lua:2: watchdog.*0 passed, 1 failed"
+expect_run("test: a module stopped by the watchdog fails" 1 "module stuck \\(id 1\\) faulted: .*churn.lua:3: watchdog.*0 passed, 1 failed"
   test ${OUT}/hung_module.lua --watchdog 0.5)
 
 # --- Numeric flags out of range say what was expected and what was given.

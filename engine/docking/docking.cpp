@@ -332,20 +332,21 @@ void Docking::dock(const DockingScene& s) {
   }
 }
 
-Wrench Docking::connectionLoad(const DockingScene& s, const Connection& c) const {
-  const Module& ma = s.modules[size_t(c.moduleA)];
-  const Module& mb = s.modules[size_t(c.moduleB)];
+Wrench Docking::connectionLoad(const std::vector<Module>& modules, const PhysicsWorld& physics,
+                               const Connection& c) const {
+  const Module& ma = modules[size_t(c.moduleA)];
+  const Module& mb = modules[size_t(c.moduleB)];
   const int pa = ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)];
   const int pb = mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)];
   // B's side: the parts locked to B's link without crossing this connection. In a closed loop
   // that reaches A's side too, so only B's own link is counted. Recomputed only when the lock
   // graph has changed.
   if (c.sideOf != m_topology) {
-    c.side = s.physics.lockedGroup(pb, pa, pb);
+    c.side = physics.lockedGroup(pb, pa, pb);
     if (std::find(c.side.begin(), c.side.end(), pa) != c.side.end()) c.side = {pb};
     c.sideOf = m_topology;
   }
-  return s.physics.internalLoad(c.side, dockPose(s.physics, s.modules[size_t(c.moduleB)], c.dockB).pos);
+  return physics.internalLoad(c.side, dockPose(physics, modules[size_t(c.moduleB)], c.dockB).pos);
 }
 
 void Docking::breakage(const DockingScene& s) {
@@ -353,7 +354,7 @@ void Docking::breakage(const DockingScene& s) {
     const Connection& c = m_connections[i];
     const DockDef& da = s.modules[size_t(c.moduleA)].type->docks[size_t(c.dockA)];
     const DockDef& db = s.modules[size_t(c.moduleB)].type->docks[size_t(c.dockB)];
-    const Wrench w = connectionLoad(s, c);
+    const Wrench w = connectionLoad(s.modules, s.physics, c);
     const double f = w.force.norm(), t = w.torque.norm();
     if (f > std::min(da.strength, db.strength) || t > std::min(da.strengthTorque, db.strengthTorque))
       release(s, i, "broken", f, t);

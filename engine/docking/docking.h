@@ -63,7 +63,8 @@ class Docking {
   /// Step 7: connections whose transmitted load exceeds the docks' strength break.
   void breakage(const DockingScene& s);
   /// Load through a connection during the last step (force N, torque N m about the dock face).
-  Wrench connectionLoad(const DockingScene& s, const Connection& c) const;
+  Wrench connectionLoad(const std::vector<Module>& modules, const PhysicsWorld& physics,
+                        const Connection& c) const;
 
   /// Docks released since the last call, (module, dock): the messages in flight there are lost.
   std::vector<std::pair<int, int>>& released() { return m_released; }

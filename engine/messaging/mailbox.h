@@ -16,7 +16,7 @@ struct Message {
   double time = 0;  ///< sim time it was sent
   int64_t due = 0;  ///< step at whose start it becomes readable
   Value data;
-  size_t bytes = 0;  ///< valueSize(data), counted against the receiver's mailbox limit
+  size_t bytes = 0;  ///< valueSize(data) (0: not yet sized), counted against the receiver's mailbox limit
 };
 
 /// One module's message queues. The outbox is written only by the module's own behaviour
@@ -34,7 +34,7 @@ struct Mailbox {
   /// Routes a message towards this module, unless its unread messages would exceed `limit`
   /// bytes (0: no limit): then it is dropped (FirstDrop the first time, to be reported once).
   Accept accept(Message&& msg, size_t limit) {
-    msg.bytes = valueSize(msg.data);
+    if (msg.bytes == 0) msg.bytes = valueSize(msg.data);  // dock:send sized it already
     if (limit && bytes + msg.bytes > limit) {
       ++dropped;
       if (overflowed) return Accept::Dropped;

@@ -387,8 +387,7 @@ bool World::disconnect(int m, int dock) {
 }
 
 Wrench World::connectionLoad(const Connection& c) const {
-  return m_docking.connectionLoad(
-      {const_cast<std::vector<Module>&>(m_modules), *m_physics, m_time, m_started}, c);
+  return m_docking.connectionLoad(m_modules, *m_physics, c);
 }
 
 void World::applyActuators() {

@@ -108,6 +108,8 @@ struct PhysicsWorld::Impl {
     double value = 0;
     double angle = 0;  // unwrapped
     double rawLast = 0;
+    double torque = 0;                          // N m over the last step
+    bool saturated = false;                     // at its rating over the last step
     std::unique_ptr<btJointFeedback> feedback;  // reactions, when load tracking is on
   };
   struct Force {
@@ -819,6 +821,14 @@ double PhysicsWorld::hingeVelocity(int hinge) const {
   const Vec3 axis = m->partPose(h.d.partA).rot * h.axisA;
   return (fromBt(m->bodies[bb].rb->getAngularVelocity()) - fromBt(m->bodies[ba].rb->getAngularVelocity()))
       .dot(axis);
+}
+
+double PhysicsWorld::hingeTorque(int hinge) const {
+  return m->hinges[size_t(hinge)].torque;
+}
+
+bool PhysicsWorld::hingeSaturated(int hinge) const {
+  return m->hinges[size_t(hinge)].saturated;
 }
 
 HingeQuality PhysicsWorld::hingeQuality() const {

@@ -15,7 +15,13 @@
 
 namespace rm3d {
 
+/// How joints are solved. Exact: each cluster's hinges by a direct linear-time solve, motors at
+/// their true articulated inertia (engine/physics/exact_solver.h). Pgs: Bullet's
+/// sequential impulses over every row (the first versions' solver, kept for comparison).
+enum class SolverKind { Exact, Pgs };
+
 struct PhysicsSettings {
+  SolverKind solver = SolverKind::Exact;
   Vec3 gravity = Vec3(0, 0, -9.81);
   int solverIterations = 10;  ///< sequential-impulse iterations per substep
   int jointIterations = 0;    ///< per-hinge override (0: use solverIterations)
@@ -118,6 +124,12 @@ class PhysicsWorld {
   bool partTouching(int part) const;
   double hingeAngle(int hinge) const;
   double hingeVelocity(int hinge) const;
+  /// Torque (N m) the hinge's motor applied during the last step, positive turning B about the
+  /// axis relative to A; with a limit in contact, the motor and the limit stop together.
+  double hingeTorque(int hinge) const;
+  /// True when the motor delivered its rated torque during the last step (it could not hold or
+  /// reach its command).
+  bool hingeSaturated(int hinge) const;
   HingeQuality hingeQuality() const;
   /// One pass over Bullet's dynamic bodies (no allocation): the first whose position,
   /// orientation or velocity is NaN or infinite, whose linear or angular speed exceeds the given

@@ -37,6 +37,23 @@ int jointVelocity(lua_State* L) {
   return 1;
 }
 
+/// joint:torque() -> N m the motor applied over the last step, saturated (true at its rating)
+int jointTorque(lua_State* L) {
+  const int j = checkJoint(L);
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushnumber(L, c.module.world().jointTorque(c.module.index(), j));
+  lua_pushboolean(L, c.module.world().jointSaturated(c.module.index(), j));
+  return 2;
+}
+
+/// joint:saturated() -> true when the motor gave its rated torque over the last step
+int jointSaturated(lua_State* L) {
+  const int j = checkJoint(L);
+  const BehaviourContext& c = behaviourContext(L);
+  lua_pushboolean(L, c.module.world().jointSaturated(c.module.index(), j));
+  return 1;
+}
+
 /// joint:set_target(rad): position servo, within the joint's limits, torque and speed
 int jointSetTarget(lua_State* L) {
   const int j = checkJoint(L);
@@ -105,6 +122,8 @@ int jointToString(lua_State* L) {
 void openJointType(lua_State* L) {
   static const luaL_Reg methods[] = {{"angle", jointAngle},
                                      {"velocity", jointVelocity},
+                                     {"torque", jointTorque},
+                                     {"saturated", jointSaturated},
                                      {"set_target", jointSetTarget},
                                      {"set_velocity", jointSetVelocity},
                                      {"free", jointFree},

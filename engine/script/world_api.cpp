@@ -6,6 +6,7 @@
 #include <lua.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "core/error.h"
 #include "docking/dock_frame.h"
@@ -32,14 +33,26 @@ constexpr double kMaxDt = 1.0;       ///< s
 constexpr double kMaxGravity = 1e4;  ///< m/s^2 (1000 g)
 constexpr double kMaxBounds = 1e7;   ///< m; single-precision positions out there are 1 m apart
 
-/// world.set{dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=, joint_iterations=, erp=,
-/// max_speed=, max_angular_speed=, bounds=, expect_faults=}
+/// world.set{solver=, dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=,
+/// joint_iterations=, erp=, max_speed=, max_angular_speed=, bounds=, expect_faults=}
 int worldSet(lua_State* L) {
   const char* fn = "world.set";
   checkOptionKeys(L, 1, fn,
-                  {"dt", "substeps", "gravity", "seed", "duration", "solver_iterations", "joint_iterations",
-                   "erp", "max_speed", "max_angular_speed", "bounds", "expect_faults"});
+                  {"solver", "dt", "substeps", "gravity", "seed", "duration", "solver_iterations",
+                   "joint_iterations", "erp", "max_speed", "max_angular_speed", "bounds", "expect_faults"});
   WorldSettings s = world(L).settings();
+  lua_getfield(L, 1, "solver");
+  if (!lua_isnil(L, -1)) {
+    const char* name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : nullptr;
+    if (name && std::string_view(name) == "exact")
+      s.solver = SolverKind::Exact;
+    else if (name && std::string_view(name) == "pgs")
+      s.solver = SolverKind::Pgs;
+    else
+      return luaL_error(L, "%s: solver must be \"exact\" or \"pgs\", got %s", fn,
+                        name ? name : luaL_typename(L, -1));
+  }
+  lua_pop(L, 1);
   const double dt = optNumberField(L, 1, fn, "dt", s.dt);
   if (!(dt >= kMinDt && dt <= kMaxDt))
     return luaL_error(L, "%s: dt must be between %s and %s seconds, got %s", fn, numText(kMinDt).s,

@@ -98,6 +98,7 @@ void World::setSettings(const WorldSettings& s) {
   if (m_options.seed) m_settings.seed = *m_options.seed;
   if (m_physics) {
     PhysicsSettings ps = m_physics->settings();
+    ps.solver = s.solver;
     ps.gravity = s.gravity;
     ps.solverIterations = s.solverIterations;
     ps.jointIterations = s.jointIterations;
@@ -109,6 +110,7 @@ void World::setSettings(const WorldSettings& s) {
 void World::ensurePhysics() {
   if (m_physics) return;
   PhysicsSettings ps;
+  ps.solver = m_settings.solver;
   ps.gravity = m_settings.gravity;
   ps.solverIterations = m_settings.solverIterations;
   ps.jointIterations = m_settings.jointIterations;
@@ -460,6 +462,14 @@ double World::jointAngle(int m, int joint) const {
 
 double World::jointVelocity(int m, int joint) const {
   return m_physics->hingeVelocity(m_modules[size_t(m)].hinges[size_t(joint)]);
+}
+
+double World::jointTorque(int m, int joint) const {
+  return m_physics->hingeTorque(m_modules[size_t(m)].hinges[size_t(joint)]);
+}
+
+bool World::jointSaturated(int m, int joint) const {
+  return m_physics->hingeSaturated(m_modules[size_t(m)].hinges[size_t(joint)]);
 }
 
 void World::sampleTracking() {

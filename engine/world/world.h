@@ -55,6 +55,7 @@ struct RunOptions {
 
 /// world.set{...}: fixed before the first step.
 struct WorldSettings {
+  SolverKind solver = SolverKind::Exact;
   double dt = 1.0 / 60.0;
   int substeps = 4;
   int solverIterations = 30;
@@ -132,6 +133,9 @@ class World {
   Pose dockPose(int m, int dock) const;  ///< dock frame in the world
   double jointAngle(int m, int joint) const;
   double jointVelocity(int m, int joint) const;
+  /// Torque (N m) the joint's motor applied over the last step, and whether it was saturated.
+  double jointTorque(int m, int joint) const;
+  bool jointSaturated(int m, int joint) const;
   Quality quality() const;
   /// Adds this step's servo tracking error to the running RMS that quality() reports.
   void sampleTracking();

@@ -41,6 +41,7 @@ struct BenchArgs {
   std::vector<std::string> scenes;
   std::optional<double> dt;
   long long steps = 300;
+  bool stepsGiven = false;  ///< --steps was on the command line
   int threads = 1;
   std::optional<int> modules;
   std::optional<int> iterations;
@@ -48,6 +49,7 @@ struct BenchArgs {
   std::optional<int> jointIterations;
   std::string type = "superbot";
   std::string json;
+  bool converged = false;  ///< --converged: the converged reference (bench_converged.cpp)
 };
 
 /// Exit codes (run_world.h, ExitCode; README "Exit codes"): 0 ok; 1 failed expectations, a fault
@@ -57,6 +59,9 @@ struct BenchArgs {
 int runCommand(const RunArgs& a, const std::string& root);
 int testCommand(const TestArgs& a, const std::string& root);
 int benchCommand(const BenchArgs& a, const std::string& root);
+/// `rm3d bench --converged`: the 10-module snake at the world's defaults against a converged run
+/// (20 substeps x 100 iterations); exit code 1 when a difference exceeds its threshold.
+int convergedCommand(const BenchArgs& a, const std::string& root);
 
 /// Parses ["k=v", ...]; false and err on a malformed entry.
 bool parseParams(const std::vector<std::string>& in, std::map<std::string, std::string>& out,

@@ -122,7 +122,8 @@ int run(int argc, char** argv) {
   benchCmd->add_option("--dt", bench.dt, "control step, s (default: 1/30 and 1/60)")
       ->check(
           numberCheck("a positive number of seconds", [](double v) { return v > 0 && std::isfinite(v); }));
-  benchCmd->add_option("--steps", bench.steps, "measured steps per scene")->check(positiveWhole("steps"));
+  auto* benchSteps =
+      benchCmd->add_option("--steps", bench.steps, "measured steps per scene")->check(positiveWhole("steps"));
   benchCmd->add_option("--threads", bench.threads, "behaviour worker threads")->check(kThreads);
   benchCmd->add_option("--modules", bench.modules, "modules per scene (default 1000)")
       ->check(positiveWhole("modules"));
@@ -138,6 +139,11 @@ int run(int argc, char** argv) {
   benchCmd->add_option("--type", bench.type,
                        "module type (default superbot; superbot_box: brackets as boxes)");
   benchCmd->add_option("--json", bench.json, "write results as JSON");
+  benchCmd->add_flag(
+      "--converged", bench.converged,
+      "the 10-module snake for 2 s at the world's defaults against a converged run (20 substeps x "
+      "100 iterations): largest joint, position and dock-load differences; exit 1 above 1 deg, 2 mm, "
+      "10%");
 
   rm3d::ViewArgs view;
   CLI::App* viewCmd =
@@ -185,7 +191,10 @@ int run(int argc, char** argv) {
   const std::string r = projectRoot(root);
   if (*runCmd) return rm3d::runCommand(run, r);
   if (*testCmd) return rm3d::testCommand(test, r);
-  if (*benchCmd) return rm3d::benchCommand(bench, r);
+  if (*benchCmd) {
+    bench.stepsGiven = benchSteps->count() > 0;
+    return bench.converged ? rm3d::convergedCommand(bench, r) : rm3d::benchCommand(bench, r);
+  }
   if (*viewCmd) return rm3d::viewCommand(view, r);
   return 2;
 }

@@ -8,6 +8,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "physics/exact_solver.h"
+
 #if defined(__SSE__)
 #include <xmmintrin.h>
 #endif
@@ -102,8 +104,10 @@ struct PhysicsWorld::Impl {
   };
   struct Hinge {
     HingeDesc d;
-    btHingeConstraint* c = nullptr;
-    Vec3 axisA = Vec3::UnitZ();  // in part A frame
+    btHingeConstraint* c = nullptr;   // Bullet's hinge (pgs, or a loop-closing hinge)
+    std::unique_ptr<ExactLink> link;  // exact: the hinge is solved by ExactSolver
+    bool tree = true;                 // exact: part of the cluster's spanning forest
+    Vec3 axisA = Vec3::UnitZ();       // in part A frame
     MotorMode mode = MotorMode::Off;
     double value = 0;
     double angle = 0;  // unwrapped
@@ -146,7 +150,8 @@ struct PhysicsWorld::Impl {
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
+  ExactSolver solver;
+  bool forestDirty = true;  // hinges or bodies changed: which hinges are tree and which close loops
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
   OwnerFilter filter;
   std::vector<Part> parts;
@@ -177,11 +182,7 @@ struct PhysicsWorld::Impl {
   }
 
   ~Impl() {
-    for (Hinge& h : hinges)
-      if (h.c) {
-        world.removeConstraint(h.c);
-        delete h.c;
-      }
+    for (Hinge& h : hinges) removeHinge(h);
     for (Body& b : bodies) destroyBody(b);
     for (btRigidBody* rb : extraBodies) {
       world.removeRigidBody(rb);
@@ -303,6 +304,7 @@ struct PhysicsWorld::Impl {
   }
 
   void makeHinge(Hinge& h) {
+    forestDirty = true;
     const Part& a = parts[h.d.partA];
     const Part& b = parts[h.d.partB];
     if (a.body == b.body) {  // both ends inside one rigid body (a closed loop): the joint is frozen
@@ -311,6 +313,18 @@ struct PhysicsWorld::Impl {
     }
     const btTransform fa = toBt(a.inBody * h.d.frameA);
     const btTransform fb = toBt(b.inBody * h.d.frameB);
+    if (settings.solver == SolverKind::Exact && h.tree) {
+      const int id = int(&h - hinges.data());
+      if (solver.joints.size() < hinges.size()) solver.joints.resize(hinges.size());
+      ExactJoint& e = solver.joints[size_t(id)];
+      e.a = bodies[a.body].rb;
+      e.b = bodies[b.body].rb;
+      e.frameA = fa;
+      e.frameB = fb;
+      h.link = std::make_unique<ExactLink>(*e.a, *e.b, id);
+      world.addConstraint(h.link.get(), true);
+      return;
+    }
     h.c = new btHingeConstraint(*bodies[a.body].rb, *bodies[b.body].rb, fa, fb, false);
     // Bullet measures the hinge angle the other way round (A relative to B); RM3D's angles are
     // right-handed rotations of B about the axis, so limits, angles and speeds change sign here.
@@ -324,10 +338,45 @@ struct PhysicsWorld::Impl {
   }
 
   void removeHinge(Hinge& h) {
+    forestDirty = true;
+    if (h.link) {
+      world.removeConstraint(h.link.get());
+      h.link.reset();
+    }
     if (!h.c) return;
     world.removeConstraint(h.c);
     delete h.c;
     h.c = nullptr;
+  }
+
+  /// Exact solver: the hinges that span each cluster as a tree go to ExactSolver; a hinge that
+  /// would close a loop (a ring of modules, a second anchor to the static world) stays a Bullet
+  /// hinge. Hinges are taken in index order, so the choice is deterministic.
+  void refreshForest() {
+    if (!forestDirty) return;
+    std::vector<int> up(bodies.size() + 1);
+    for (size_t i = 0; i < up.size(); ++i) up[i] = int(i);
+    auto find = [&](int x) {
+      while (up[size_t(x)] != x) x = up[size_t(x)] = up[size_t(up[size_t(x)])];
+      return x;
+    };
+    const int staticNode = int(bodies.size());
+    auto node = [&](int part) {
+      const int body = parts[size_t(part)].body;
+      return bodies[size_t(body)].rb->getInvMass() == 0 ? staticNode : body;
+    };
+    for (Hinge& h : hinges) {
+      const int a = find(node(h.d.partA)), b = find(node(h.d.partB));
+      const bool tree = a != b && settings.solver == SolverKind::Exact;
+      if (a != b) up[size_t(a)] = b;
+      if (tree != h.tree) {
+        const bool made = h.c || h.link;
+        removeHinge(h);
+        h.tree = tree;
+        if (made) makeHinge(h);
+      }
+    }
+    forestDirty = false;
   }
 
   /// Hinges attached to any of the parts, sorted.
@@ -388,6 +437,16 @@ struct PhysicsWorld::Impl {
       }
     }
     for (const Hinge& hg : hinges) {
+      if (hg.link) {
+        const ExactJoint& e = solver.joints[size_t(&hg - hinges.data())];
+        const Vec3 ca = fromBt(e.a->getCenterOfMassPosition()), cb = fromBt(e.b->getCenterOfMassPosition());
+        const Vec3 fa = e.impulseA.head<3>(), fbB = e.impulseB.head<3>();
+        partExtForce[size_t(hg.d.partA)] += fa;
+        partExtTorque[size_t(hg.d.partA)] += Vec3(e.impulseA.tail<3>()) + ca.cross(fa);
+        partExtForce[size_t(hg.d.partB)] += fbB;
+        partExtTorque[size_t(hg.d.partB)] += Vec3(e.impulseB.tail<3>()) + cb.cross(fbB);
+        continue;
+      }
       if (!hg.c || !hg.feedback) continue;
       const btJointFeedback& fb = *hg.feedback;
       const Vec3 ca = fromBt(hg.c->getRigidBodyA().getCenterOfMassPosition());
@@ -401,6 +460,13 @@ struct PhysicsWorld::Impl {
   }
 
   double rawAngle(const Hinge& h) const {
+    if (h.link) {  // B relative to A about A's z axis
+      const ExactJoint& e = solver.joints[size_t(&h - hinges.data())];
+      const btMatrix3x3 r =
+          (e.a->getCenterOfMassTransform().getBasis() * e.frameA.getBasis())
+              .transposeTimes(e.b->getCenterOfMassTransform().getBasis() * e.frameB.getBasis());
+      return std::atan2(double(r[1][0]), double(r[0][0]));
+    }
     if (!h.c) return h.rawLast;
     return -h.c->getHingeAngle();
   }
@@ -414,30 +480,36 @@ struct PhysicsWorld::Impl {
     h.rawLast = raw;
   }
 
+  /// The motor's speed command: a servo's proportional speed, bounded by the joint's speed and
+  /// by what reaches the target within one substep (no overshoot from the command itself).
+  double motorSpeed(const Hinge& h, double dtSub) const {
+    if (h.mode == MotorMode::Velocity) return std::clamp(h.value, -h.d.maxSpeed, h.d.maxSpeed);
+    double target = h.value;
+    if (h.d.limited) target = std::clamp(target, h.d.lower, h.d.upper);
+    const double err = target - h.angle;
+    const double v = std::clamp(h.d.servoGain * err, -h.d.maxSpeed, h.d.maxSpeed);
+    const double deadbeat = std::abs(err) / dtSub;
+    return std::clamp(v, -deadbeat, deadbeat);
+  }
+
   void applyMotor(Hinge& h, double dtSub) {
-    if (!h.c) return;
     const double impulse = h.d.maxTorque * dtSub;
-    switch (h.mode) {
-      case MotorMode::Off:
-        h.c->enableMotor(false);
-        break;
-      case MotorMode::Servo: {
-        double target = h.value;
-        if (h.d.limited) target = std::clamp(target, h.d.lower, h.d.upper);
-        const double err = target - h.angle;
-        // Proportional speed command, bounded by the joint's speed and by what reaches the
-        // target within one substep (no overshoot from the command itself).
-        double v = std::clamp(h.d.servoGain * err, -h.d.maxSpeed, h.d.maxSpeed);
-        const double deadbeat = std::abs(err) / dtSub;
-        v = std::clamp(v, -deadbeat, deadbeat);
-        h.c->enableAngularMotor(true, btScalar(-v), btScalar(impulse));
-        break;
-      }
-      case MotorMode::Velocity:
-        h.c->enableAngularMotor(true, btScalar(-std::clamp(h.value, -h.d.maxSpeed, h.d.maxSpeed)),
-                                btScalar(impulse));
-        break;
+    if (h.link) {
+      ExactJoint& e = solver.joints[size_t(&h - hinges.data())];
+      e.motorOn = h.mode != MotorMode::Off;
+      e.targetVel = e.motorOn ? motorSpeed(h, dtSub) : 0;
+      e.maxImpulse = impulse;
+      e.limited = h.d.limited;
+      e.lower = h.d.lower;
+      e.upper = h.d.upper;
+      e.angle = h.angle;
+      return;
     }
+    if (!h.c) return;
+    if (h.mode == MotorMode::Off)
+      h.c->enableMotor(false);
+    else
+      h.c->enableAngularMotor(true, btScalar(-motorSpeed(h, dtSub)), btScalar(impulse));
   }
 };
 
@@ -455,7 +527,15 @@ int PhysicsWorld::bodyCount() const {
 }
 
 void PhysicsWorld::configure(const PhysicsSettings& s) {
+  const bool switched = s.solver != m->settings.solver;
+  if (switched)
+    for (Impl::Hinge& h : m->hinges) m->removeHinge(h);
   m->settings = s;
+  if (switched)
+    for (Impl::Hinge& h : m->hinges) {
+      h.tree = s.solver == SolverKind::Exact;
+      m->makeHinge(h);
+    }
   m->world.setGravity(toBt(s.gravity));
   m->world.getSolverInfo().m_numIterations = s.solverIterations;
   m->world.getSolverInfo().m_erp = btScalar(s.erp);
@@ -753,8 +833,15 @@ void PhysicsWorld::step(double dt, int substeps) {
   const FlushDenormals flush;
   const int n = std::max(1, substeps);
   const double h = dt / n;
+  m->refreshForest();
+  const bool exact = m->settings.solver == SolverKind::Exact;
+  for (Impl::Hinge& hg : m->hinges) {
+    hg.torque = 0;
+    hg.saturated = false;
+  }
   for (int s = 0; s < n; ++s) {
     for (Impl::Hinge& hg : m->hinges) m->applyMotor(hg, h);
+    if (exact) m->solver.beginSubstep();
     for (const Impl::Force& f : m->forces) {
       btRigidBody* rb = m->bodies[size_t(m->parts[size_t(f.part)].body)].rb;
       rb->applyForce(toBt(f.force), toBt(f.point) - rb->getCenterOfMassPosition());
@@ -762,6 +849,15 @@ void PhysicsWorld::step(double dt, int substeps) {
     }
     if (m->tracking && s == 0) m->snapshotVelocities();
     m->world.stepSimulation(btScalar(h), 0, btScalar(h));
+    if (exact) {
+      m->solver.postStabilise();
+      for (Impl::Hinge& hg : m->hinges) {
+        if (!hg.link) continue;
+        const ExactJoint& e = m->solver.joints[size_t(&hg - m->hinges.data())];
+        hg.torque += std::clamp(e.axialImpulse, -e.maxImpulse, e.maxImpulse) / dt;
+        hg.saturated = hg.saturated || e.saturated;
+      }
+    }
     for (Impl::Hinge& hg : m->hinges) m->updateAngle(hg);
     if (m->tracking) m->accumulateLoads(h, s == 0);
   }
@@ -834,7 +930,7 @@ bool PhysicsWorld::hingeSaturated(int hinge) const {
 HingeQuality PhysicsWorld::hingeQuality() const {
   HingeQuality q;
   for (const Impl::Hinge& h : m->hinges) {
-    if (!h.c) continue;
+    if (!h.c && !h.link) continue;
     const Pose a = m->partPose(h.d.partA) * h.d.frameA;
     const Pose b = m->partPose(h.d.partB) * h.d.frameB;
     q.maxGap = std::max(q.maxGap, (a.pos - b.pos).norm());

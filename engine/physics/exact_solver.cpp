@@ -1,0 +1,539 @@
+// The exact joint solver (see exact_solver.h for the method).
+#include "physics/exact_solver.h"
+
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rm3d {
+
+namespace {
+
+using Vec3d = Eigen::Vector3d;
+using Mat3d = Eigen::Matrix3d;
+
+constexpr double kRegularisation = 1e-9;  // -e on the joint diagonal (m/(N s) and rad/(N m s))
+constexpr double kLimitMargin = 0.25;     // rad: a limit row may engage only this close to its stop
+constexpr double kLimitRecovery = 0.2;    // share of a limit overshoot removed per substep
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Vec3d toEigen(const btVector3& v) {
+  return Vec3d(v.x(), v.y(), v.z());
+}
+
+Mat3d toEigen(const btMatrix3x3& m) {
+  Mat3d r;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) r(i, k) = m[i][k];
+  return r;
+}
+
+Mat3d skew(const Vec3d& v) {
+  Mat3d s;
+  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return s;
+}
+
+/// Inverse of a symmetric, definite (positive or negative) 6x6 matrix through LDL^T without
+/// pivoting: a definite matrix needs none, and the fixed size keeps it in registers.
+Mat6 symmetricInverse(const Mat6& a) {
+  double l[6][6] = {}, d[6];
+  for (int j = 0; j < 6; ++j) {
+    double dj = a(j, j);
+    for (int k = 0; k < j; ++k) dj -= l[j][k] * l[j][k] * d[k];
+    d[j] = dj;
+    const double inv = 1.0 / dj;
+    for (int i = j + 1; i < 6; ++i) {
+      double v = a(i, j);
+      for (int k = 0; k < j; ++k) v -= l[i][k] * l[j][k] * d[k];
+      l[i][j] = v * inv;
+    }
+  }
+  // Columns of L^-1 by forward substitution, then A^-1 = L^-T D^-1 L^-1.
+  double li[6][6] = {};
+  for (int c = 0; c < 6; ++c) {
+    li[c][c] = 1;
+    for (int i = c + 1; i < 6; ++i) {
+      double v = 0;
+      for (int k = c; k < i; ++k) v -= l[i][k] * li[k][c];
+      li[i][c] = v;
+    }
+  }
+  Mat6 out;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j <= i; ++j) {
+      double v = 0;
+      for (int k = i; k < 6; ++k) v += li[k][i] * li[k][j] / d[k];
+      out(i, j) = out(j, i) = v;
+    }
+  return out;
+}
+
+}  // namespace
+
+ExactLink::ExactLink(btRigidBody& a, btRigidBody& b, int joint)
+    : btTypedConstraint(MAX_CONSTRAINT_TYPE, a, b), m_joint(joint) {
+  setUserConstraintType(kType);
+}
+
+void ExactLink::getInfo1(btConstraintInfo1* info) {
+  info->m_numConstraintRows = 0;
+  info->nub = 0;
+}
+
+void ExactLink::getInfo2(btConstraintInfo2*) {}
+
+void ExactSolver::beginSubstep() {
+  m_bodies.clear();
+  m_nodes.clear();
+  m_clusters.clear();
+  if (m_rows.size() < joints.size()) m_rows.resize(joints.size());
+}
+
+Vec6 ExactSolver::bodyVelocity(int b) const {
+  const btSolverBody& s = m_tmpSolverBodyPool[m_bodies[size_t(b)].sid];
+  const btVector3 l = s.m_linearVelocity + s.m_externalForceImpulse + s.m_deltaLinearVelocity;
+  const btVector3 w = s.m_angularVelocity + s.m_externalTorqueImpulse + s.m_deltaAngularVelocity;
+  Vec6 v;
+  v << l.x(), l.y(), l.z(), w.x(), w.y(), w.z();
+  return v;
+}
+
+void ExactSolver::addBodyVelocity(int b, const Vec6& dv) {
+  btSolverBody& s = m_tmpSolverBodyPool[m_bodies[size_t(b)].sid];
+  s.m_deltaLinearVelocity += btVector3(btScalar(dv[0]), btScalar(dv[1]), btScalar(dv[2]));
+  s.m_deltaAngularVelocity += btVector3(btScalar(dv[3]), btScalar(dv[4]), btScalar(dv[5]));
+}
+
+/// Moves the axial impulse of joint j by `impulse`, changing its bodies' velocities.
+void ExactSolver::applyAxial(int j, double impulse) {
+  if (impulse == 0) return;
+  Row& r = m_rows[size_t(j)];
+  r.lambda[5] += impulse;
+  for (int side = 0; side < 2; ++side) {
+    const int b = side == 0 ? r.na : r.nb;
+    if (b < 0) continue;
+    const Body& body = m_bodies[size_t(b)];
+    const Eigen::Matrix<double, 1, 6> row = side == 0 ? r.ja.row(5) : r.jb.row(5);
+    Vec6 dv;
+    dv.head<3>() = body.invMass * row.head<3>().transpose() * impulse;
+    dv.tail<3>() = body.invInertia * row.tail<3>().transpose() * impulse;
+    addBodyVelocity(b, dv);
+  }
+}
+
+/// Rows, targets and the axial row's state for one joint at the start of a substep.
+void ExactSolver::setupJoint(int j, double h) {
+  ExactJoint& e = joints[size_t(j)];
+  Row& r = m_rows[size_t(j)];
+  const btTransform ta = e.a->getCenterOfMassTransform() * e.frameA;
+  const btTransform tb = e.b->getCenterOfMassTransform() * e.frameB;
+  const Vec3d ra = toEigen(ta.getOrigin()) - toEigen(e.a->getCenterOfMassPosition());
+  const Vec3d rb = toEigen(tb.getOrigin()) - toEigen(e.b->getCenterOfMassPosition());
+  const Mat3d frame = toEigen(ta.getBasis());
+  r.ja.setZero();
+  r.jb.setZero();
+  // Pivot: v_a + w_a x r_a - v_b - w_b x r_b = 0.
+  r.ja.topLeftCorner<3, 3>().setIdentity();
+  r.ja.topRightCorner<3, 3>() = -skew(ra);
+  r.jb.topLeftCorner<3, 3>() = -Mat3d::Identity();
+  r.jb.topRightCorner<3, 3>() = skew(rb);
+  // Axes: (w_a - w_b) . x = (w_a - w_b) . y = 0; axial: (w_b - w_a) . z, the joint's speed.
+  for (int k = 0; k < 2; ++k) {
+    r.ja.block<1, 3>(3 + k, 3) = frame.col(k).transpose();
+    r.jb.block<1, 3>(3 + k, 3) = -frame.col(k).transpose();
+  }
+  r.ja.block<1, 3>(5, 3) = -frame.col(2).transpose();
+  r.jb.block<1, 3>(5, 3) = frame.col(2).transpose();
+  r.lambda.setZero();
+
+  // The axial row: motor, limit stop, or fixed at a bound.
+  using A = ExactJoint::Axial;
+  const double tau = e.motorOn ? e.maxImpulse : 0;
+  e.nearLower = e.limited && e.angle < e.lower + kLimitMargin;
+  e.nearUpper = e.limited && e.angle > e.upper - kLimitMargin;
+  e.lowVel = e.nearLower ? (e.lower - e.angle) / h * (e.angle < e.lower ? kLimitRecovery : 1.0) : -kInf;
+  e.highVel = e.nearUpper ? (e.upper - e.angle) / h * (e.angle > e.upper ? kLimitRecovery : 1.0) : kInf;
+  A s = e.state;
+  if (s == A::Lower && !e.nearLower) s = A::Motor;
+  if (s == A::Upper && !e.nearUpper) s = A::Motor;
+  if (s == A::Fixed && (e.fixedImpulse == 0) == e.motorOn) s = A::Motor;  // the motor was switched
+  if (s == A::Motor && !e.motorOn) s = A::Fixed, e.fixedImpulse = 0;
+  if (s == A::Motor && e.targetVel < e.lowVel) s = A::Lower;
+  if (s == A::Motor && e.targetVel > e.highVel) s = A::Upper;
+  if (s == A::Fixed && e.fixedImpulse != 0) e.fixedImpulse = std::copysign(tau, e.fixedImpulse);
+  if (s == A::Lower) e.rowTarget = e.lowVel, e.bound = !e.motorOn ? 0 : (e.targetVel > e.lowVel ? tau : -tau);
+  if (s == A::Upper) e.rowTarget = e.highVel, e.bound = !e.motorOn ? 0 : (e.targetVel < e.highVel ? -tau : tau);
+  if (s == A::Motor) e.rowTarget = e.targetVel;
+  e.state = s;
+  r.axialActive = s != A::Fixed;
+}
+
+void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstraints) {
+  // The group's exact joints and their dynamic bodies.
+  m_groupJoints.clear();
+  const int pool = m_tmpSolverBodyPool.size();
+  m_sidToBody.assign(size_t(pool), -1);
+  auto bodyOf = [&](btRigidBody* rb) {
+    if (rb->getInvMass() == 0) return -1;
+    const int sid = rb->getCompanionId();
+    if (sid < 0 || sid >= pool) return -1;
+    if (m_sidToBody[size_t(sid)] < 0) {
+      m_sidToBody[size_t(sid)] = int(m_bodies.size());
+      m_bodies.push_back({rb, sid, double(rb->getInvMass()), toEigen(rb->getInvInertiaTensorWorld())});
+    }
+    return m_sidToBody[size_t(sid)];
+  };
+  const int firstBody = int(m_bodies.size());
+  for (int i = 0; i < numConstraints; ++i) {
+    btTypedConstraint* c = constraints[i];
+    if (c->getUserConstraintType() != ExactLink::kType || !c->isEnabled()) continue;
+    const int j = static_cast<ExactLink*>(c)->joint();
+    Row& r = m_rows[size_t(j)];
+    r.na = bodyOf(joints[size_t(j)].a);
+    r.nb = bodyOf(joints[size_t(j)].b);
+    if (r.na < 0 && r.nb < 0) continue;
+    m_groupJoints.push_back(j);
+  }
+  const int nb = int(m_bodies.size()) - firstBody;
+  // Body -> joints adjacency (CSR).
+  m_adjStart.assign(size_t(nb) + 1, 0);
+  for (int j : m_groupJoints) {
+    const Row& r = m_rows[size_t(j)];
+    if (r.na >= 0) ++m_adjStart[size_t(r.na - firstBody) + 1];
+    if (r.nb >= 0) ++m_adjStart[size_t(r.nb - firstBody) + 1];
+  }
+  for (int b = 0; b < nb; ++b) m_adjStart[size_t(b) + 1] += m_adjStart[size_t(b)];
+  m_adj.resize(size_t(m_adjStart[size_t(nb)]));
+  {
+    std::vector<int>& fill = m_queue;
+    fill.assign(m_adjStart.begin(), m_adjStart.end() - 1);
+    for (int j : m_groupJoints) {
+      const Row& r = m_rows[size_t(j)];
+      if (r.na >= 0) m_adj[size_t(fill[size_t(r.na - firstBody)]++)] = j;
+      if (r.nb >= 0) m_adj[size_t(fill[size_t(r.nb - firstBody)]++)] = j;
+    }
+  }
+  m_bodyNode.assign(size_t(nb), -1);
+  if (m_seenJoint.size() < joints.size()) m_seenJoint.resize(joints.size());
+  for (int j : m_groupJoints) m_seenJoint[size_t(j)] = 0;
+
+  // One cluster per connected component: first collect it, then root it at its anchor (a joint
+  // to a static body) if it has one, else at its first body, and list nodes breadth first.
+  for (int start : m_groupJoints) {
+    if (m_seenJoint[size_t(start)]) continue;
+    m_component.clear();
+    m_component.push_back(start);
+    m_seenJoint[size_t(start)] = 1;
+    int root = -1;
+    for (size_t k = 0; k < m_component.size(); ++k) {
+      const int j = m_component[k];
+      const Row& r = m_rows[size_t(j)];
+      if (root < 0 && (r.na < 0 || r.nb < 0)) root = j;
+      for (int b : {r.na, r.nb}) {
+        if (b < 0) continue;
+        for (int q = m_adjStart[size_t(b - firstBody)]; q < m_adjStart[size_t(b - firstBody) + 1]; ++q) {
+          const int o = m_adj[size_t(q)];
+          if (!m_seenJoint[size_t(o)]) {
+            m_seenJoint[size_t(o)] = 1;
+            m_component.push_back(o);
+          }
+        }
+      }
+    }
+    Cluster c{int(m_nodes.size()), 0, true};
+    auto addNode = [&](int body, int joint, int parent, bool parentIsA) {
+      Node& n = m_nodes.emplace_back();
+      n.body = body;
+      n.joint = joint;
+      n.parent = parent;
+      n.parentIsA = parentIsA;
+      return int(m_nodes.size()) - 1;
+    };
+    if (root >= 0) {
+      const Row& r = m_rows[size_t(root)];
+      m_rows[size_t(root)].node = addNode(-1, root, -1, false);
+      (void)r;
+    } else {
+      const int b = m_rows[size_t(start)].na >= 0 ? m_rows[size_t(start)].na : m_rows[size_t(start)].nb;
+      m_bodyNode[size_t(b - firstBody)] = addNode(b, -1, -1, false);
+    }
+    // Breadth first over the tree; the ExactLinks given to the solver form a forest, but a
+    // joint seen twice (a loop the forest missed) is skipped rather than trusted.
+    for (int k = c.begin; k < int(m_nodes.size()); ++k) {
+      const int nodeJoint = m_nodes[size_t(k)].joint, nodeBody = m_nodes[size_t(k)].body;
+      if (nodeJoint >= 0) {
+        const Row& r = m_rows[size_t(nodeJoint)];
+        for (int side = 0; side < 2; ++side) {
+          const int b = side == 0 ? r.na : r.nb;
+          if (b < 0 || m_bodyNode[size_t(b - firstBody)] >= 0) continue;
+          m_bodyNode[size_t(b - firstBody)] = addNode(b, -1, k, side == 0);
+        }
+      } else {
+        const int b = nodeBody;
+        for (int q = m_adjStart[size_t(b - firstBody)]; q < m_adjStart[size_t(b - firstBody) + 1]; ++q) {
+          const int j = m_adj[size_t(q)];
+          Row& r = m_rows[size_t(j)];
+          if (r.node >= 0 && r.node >= c.begin && r.node < int(m_nodes.size()) && m_nodes[size_t(r.node)].joint == j)
+            continue;  // already placed
+          const int other = r.na == b ? r.nb : r.na;
+          if (other >= 0 && m_bodyNode[size_t(other - firstBody)] >= 0) continue;  // would close a loop
+          r.node = addNode(-1, j, k, r.na == b);
+        }
+      }
+    }
+    c.end = int(m_nodes.size());
+    m_clusters.push_back(c);
+  }
+}
+
+void ExactSolver::factor(Cluster& c) {
+  // Diagonal blocks and the coupling to the parent.
+  for (int k = c.begin; k < c.end; ++k) {
+    Node& n = m_nodes[size_t(k)];
+    if (n.joint >= 0) {
+      const Row& r = m_rows[size_t(n.joint)];
+      n.d = -kRegularisation * Mat6::Identity();
+      if (!r.axialActive) n.d(5, 5) = -1;
+      if (n.parent >= 0) {
+        n.hp = n.parentIsA ? r.ja : r.jb;  // H(joint, body) = J
+        if (!r.axialActive) n.hp.row(5).setZero();
+      }
+    } else {
+      const Body& b = m_bodies[size_t(n.body)];
+      n.d.setZero();
+      n.d.topLeftCorner<3, 3>() = Mat3d::Identity() / b.invMass;
+      n.d.bottomRightCorner<3, 3>() = b.invInertia.inverse();
+      if (n.parent >= 0) {
+        const Row& r = m_rows[size_t(m_nodes[size_t(n.parent)].joint)];
+        n.hp = (n.parentIsA ? r.ja : r.jb).transpose();  // H(body, joint) = J^T
+        if (!r.axialActive) n.hp.col(5).setZero();
+      }
+    }
+  }
+  // Leaves first: D_i = H_ii - sum over children H_ci^T D_c^-1 H_ci.
+  for (int k = c.end - 1; k >= c.begin; --k) {
+    Node& n = m_nodes[size_t(k)];
+    n.dinv = symmetricInverse(n.d);
+    if (n.parent >= 0) {
+      const Mat6 t = n.dinv * n.hp;
+      Mat6& pd = m_nodes[size_t(n.parent)].d;
+      pd.noalias() -= n.hp.transpose() * t;
+      pd = (0.5 * (pd + pd.transpose())).eval();  // keep it exactly symmetric
+    }
+  }
+  c.dirty = false;
+}
+
+/// Solves for the right-hand side already in each node's y (bodies: 0; joints: the rows'
+/// residual); leaves x: a body's velocity (or position) change, a joint's -lambda.
+void ExactSolver::solve(Cluster& c, bool) {
+  for (int k = c.end - 1; k >= c.begin; --k) {
+    Node& n = m_nodes[size_t(k)];
+    n.x.noalias() = n.dinv * n.y;
+    if (n.parent >= 0) m_nodes[size_t(n.parent)].y.noalias() -= n.hp.transpose() * n.x;
+  }
+  for (int k = c.begin; k < c.end; ++k) {
+    Node& n = m_nodes[size_t(k)];
+    if (n.parent >= 0) {
+      const Vec6 t = n.hp * m_nodes[size_t(n.parent)].x;
+      n.x.noalias() -= n.dinv * t;
+    }
+  }
+}
+
+void ExactSolver::exactIteration(bool clamp) {
+  using A = ExactJoint::Axial;
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
+    Cluster& c = m_clusters[size_t(ci)];
+    if (c.dirty) factor(c);
+    for (int k = c.begin; k < c.end; ++k) {
+      Node& n = m_nodes[size_t(k)];
+      if (n.joint < 0) {
+        n.y.setZero();
+        continue;
+      }
+      const Row& r = m_rows[size_t(n.joint)];
+      Vec6 jv = Vec6::Zero();
+      if (r.na >= 0) jv.noalias() += r.ja * bodyVelocity(r.na);
+      if (r.nb >= 0) jv.noalias() += r.jb * bodyVelocity(r.nb);
+      n.y = -jv;
+      const ExactJoint& e = joints[size_t(n.joint)];
+      n.y[5] = r.axialActive ? e.rowTarget - jv[5] : 0;
+    }
+    solve(c, false);
+    for (int k = c.begin; k < c.end; ++k) {
+      Node& n = m_nodes[size_t(k)];
+      if (n.body >= 0) {
+        addBodyVelocity(n.body, n.x);
+        continue;
+      }
+      Row& r = m_rows[size_t(n.joint)];
+      r.lambda -= n.x;
+      if (!r.axialActive || !clamp) continue;
+      // A bounded axial row that left its bounds is fixed at the bound from now on.
+      ExactJoint& e = joints[size_t(n.joint)];
+      const double l = r.lambda[5];
+      const double tau = e.motorOn ? e.maxImpulse : 0;
+      double fixAt = l;
+      if (e.state == A::Motor && std::abs(l) > tau) fixAt = std::copysign(tau, l);
+      if (e.state == A::Lower && l < e.bound) fixAt = e.bound;
+      if (e.state == A::Upper && l > e.bound) fixAt = e.bound;
+      if (fixAt != l) {
+        r.lambda[5] = l;
+        applyAxial(n.joint, fixAt - l);
+        e.state = A::Fixed;
+        e.fixedImpulse = fixAt;
+        r.axialActive = false;
+        c.dirty = true;
+      }
+    }
+  }
+}
+
+btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies,
+                                                   btPersistentManifold** manifolds, int numManifolds,
+                                                   btTypedConstraint** constraints, int numConstraints,
+                                                   const btContactSolverInfo& info, btIDebugDraw* debugDrawer) {
+  const btScalar r = btSequentialImpulseConstraintSolver::solveGroupCacheFriendlySetup(
+      bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer);
+  m_h = double(info.m_timeStep);
+  m_groupBegin = int(m_clusters.size());
+  if (m_rows.size() < joints.size()) m_rows.resize(joints.size());
+  buildClusters(constraints, numConstraints);
+  m_groupHasJoints = !m_groupJoints.empty();
+  for (int j : m_groupJoints) {
+    setupJoint(j, m_h);
+    const ExactJoint& e = joints[size_t(j)];
+    if (e.state == ExactJoint::Axial::Fixed) applyAxial(j, e.fixedImpulse);
+  }
+  return r;
+}
+
+btScalar ExactSolver::solveSingleIteration(int iteration, btCollisionObject** bodies, int numBodies,
+                                           btPersistentManifold** manifolds, int numManifolds,
+                                           btTypedConstraint** constraints, int numConstraints,
+                                           const btContactSolverInfo& info, btIDebugDraw* debugDrawer) {
+  const btScalar r = btSequentialImpulseConstraintSolver::solveSingleIteration(
+      iteration, bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer);
+  const int last = std::max(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
+  // Bounds apply at the last iteration only: before it the contacts have not settled, and a
+  // motor fixed at its rating on their account would be wrong for the whole substep.
+  if (m_groupHasJoints && (iteration >= last || (iteration + 1) % std::max(1, every) == 0))
+    exactIteration(iteration >= last);
+  // Never stop early on a small contact residual: the joints may still need their solve.
+  return m_groupHasJoints && iteration < last ? std::max(r, info.m_leastSquaresResidualThreshold * 2 + 1) : r;
+}
+
+void ExactSolver::finishJoints() {
+  using A = ExactJoint::Axial;
+  // A row fixed at its bound in the last solve left the structure unsolved: solve again
+  // (a row can only leave the active set, so this ends).
+  auto settle = [&] {
+    for (int pass = 0; pass < 4; ++pass) {
+      bool dirty = false;
+      for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) dirty |= m_clusters[size_t(ci)].dirty;
+      if (!dirty) break;
+      exactIteration(true);
+    }
+  };
+  // A row fixed at its rating whose joint now moves beyond the command (the load it met went
+  // away as the contacts settled, or the rating overshot it) takes its motor back; rows leave
+  // and come back for a few rounds at most.
+  constexpr int rounds = 3;
+  for (int round = 0;; ++round) {
+    settle();
+    bool reentered = false;
+    for (int j : m_groupJoints) {
+      ExactJoint& e = joints[size_t(j)];
+      Row& r = m_rows[size_t(j)];
+      if (e.state != A::Fixed || e.fixedImpulse == 0) continue;
+      double w = 0;
+      if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
+      if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
+      if ((e.fixedImpulse > 0 && w > e.targetVel) || (e.fixedImpulse < 0 && w < e.targetVel)) {
+        e.state = A::Motor;
+        e.rowTarget = e.targetVel;
+        r.axialActive = true;
+        reentered = true;
+      }
+    }
+    if (!reentered) break;
+    for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) m_clusters[size_t(ci)].dirty = true;
+    if (round + 1 >= rounds) {
+      // Still switching: the rows that came back hold their command this substep, beyond
+      // their rating if need be, rather than commit a bound the joint does not press against.
+      exactIteration(false);
+      break;
+    }
+    exactIteration(true);
+  }
+  for (int j : m_groupJoints) {
+    ExactJoint& e = joints[size_t(j)];
+    Row& r = m_rows[size_t(j)];
+    e.axialImpulse = r.lambda[5];
+    e.saturated = e.motorOn && e.state == A::Fixed && e.fixedImpulse != 0;
+    e.impulseA = r.ja.transpose() * r.lambda;
+    e.impulseB = r.jb.transpose() * r.lambda;
+    // The state the next substep starts from (complementarity of the fixed rows).
+    double w = 0;
+    if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
+    if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
+    if (e.state == A::Fixed) {
+      if (e.fixedImpulse > 0 && w > e.targetVel) e.state = A::Motor;
+      if (e.fixedImpulse < 0 && w < e.targetVel) e.state = A::Motor;
+      if (e.state == A::Fixed && w < e.lowVel) e.state = A::Lower;
+      if (e.state == A::Fixed && w > e.highVel) e.state = A::Upper;
+    }
+  }
+}
+
+btScalar ExactSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
+                                                    const btContactSolverInfo& info) {
+  if (m_groupHasJoints) finishJoints();
+  return btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyFinish(bodies, numBodies, info);
+}
+
+void ExactSolver::postStabilise() {
+  if (m_clusters.empty()) return;
+  // Position errors at the integrated poses, solved with the last factor of each cluster.
+  for (Cluster& c : m_clusters) {
+    if (c.dirty) factor(c);
+    for (int k = c.begin; k < c.end; ++k) {
+      Node& n = m_nodes[size_t(k)];
+      n.y.setZero();
+      if (n.joint < 0) continue;
+      const ExactJoint& e = joints[size_t(n.joint)];
+      const btTransform ta = e.a->getCenterOfMassTransform() * e.frameA;
+      const btTransform tb = e.b->getCenterOfMassTransform() * e.frameB;
+      const Mat3d fa = toEigen(ta.getBasis());
+      const Vec3d tilt = fa.col(2).cross(toEigen(tb.getBasis().getColumn(2)));
+      n.y.head<3>() = -(toEigen(ta.getOrigin()) - toEigen(tb.getOrigin()));
+      n.y[3] = fa.col(0).dot(tilt);
+      n.y[4] = fa.col(1).dot(tilt);
+      n.y[5] = 0;
+    }
+    solve(c, true);
+    for (int k = c.begin; k < c.end; ++k) {
+      const Node& n = m_nodes[size_t(k)];
+      if (n.body < 0) continue;
+      btRigidBody* rb = m_bodies[size_t(n.body)].rb;
+      btTransform t = rb->getCenterOfMassTransform();
+      t.setOrigin(t.getOrigin() + btVector3(btScalar(n.x[0]), btScalar(n.x[1]), btScalar(n.x[2])));
+      const Vec3d dr = n.x.tail<3>();
+      const double angle = dr.norm();
+      if (angle > 0) {
+        const Vec3d axis = dr / angle;
+        btQuaternion q(btVector3(btScalar(axis.x()), btScalar(axis.y()), btScalar(axis.z())), btScalar(angle));
+        t.setRotation((q * t.getRotation()).normalized());
+      }
+      rb->setCenterOfMassTransform(t);
+      rb->setInterpolationWorldTransform(t);
+    }
+  }
+}
+
+}  // namespace rm3d

@@ -1,0 +1,156 @@
+// The exact joint solver: Bullet's sequential impulses for contacts and friction, and a direct,
+// linear-time solve for the hinges of every connected cluster of bodies.
+//
+// Docked links are merged into one rigid body (physics_world.h), so a cluster of modules is a
+// tree of bodies joined by hinges (loops are closed by ordinary Bullet hinges, see
+// PhysicsWorld). For each tree the solver eliminates the sparse system
+//
+//     [ M  J^T ] [ dv ]   [ 0 ]
+//     [ J  -eI ] [ mu ] = [ r ]      (mu = -lambda, r = target - J v)
+//
+// in Baraff's order ("Linear-Time Dynamics using Lagrange Multipliers", SIGGRAPH 1996): a body
+// and a joint are both nodes of one tree, leaves first, with no fill-in, so a factor and a solve
+// cost time linear in the cluster's size. Each hinge has five structural rows (three for the
+// pivot, two keeping the axes parallel) and one axial row that carries the motor, or the limit
+// stop near a limit. The axial row is a box-bounded unknown (the motor's rated torque); it is in
+// the factor while its impulse is inside its bounds and leaves it, fixed at the bound, once it
+// reaches one (a saturated servo). Rows only leave within a step, so the active set cannot
+// cycle; between steps a fixed row comes back as soon as its joint moves the way the bound
+// resists (complementarity). Every iteration is one block Gauss-Seidel pass: Bullet's sweep
+// over the contact rows, then the exact solve of all hinge rows, so the last iteration always
+// leaves the hinges exact and the motors within their torque.
+//
+// After integration, the position error of the hinges (pivot gap, axis tilt) is projected out
+// with the same factor (post-stabilisation): no Baumgarte velocity, so no energy is added.
+#pragma once
+
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace rm3d {
+
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+/// One hinge as the exact solver sees it. PhysicsWorld writes the inputs before every substep
+/// and reads the outputs after it.
+struct ExactJoint {
+  // Inputs.
+  btRigidBody* a = nullptr;
+  btRigidBody* b = nullptr;
+  btTransform frameA, frameB;  ///< joint frames in each body's centre-of-mass frame; z is the axis
+  bool motorOn = false;
+  double targetVel = 0;   ///< rad/s, B relative to A about the axis
+  double maxImpulse = 0;  ///< N m s per substep (rated torque x substep)
+  bool limited = false;
+  double lower = 0, upper = 0;  ///< rad
+  double angle = 0;             ///< rad, unwrapped, B relative to A
+
+  // Outputs of the last substep.
+  double axialImpulse = 0;  ///< N m s on the axial row (motor and limit together)
+  bool saturated = false;   ///< the motor gave its full rating
+  Vec6 impulseA = Vec6::Zero(), impulseB = Vec6::Zero();  ///< on each body: force, torque about its centre of mass (N s, N m s)
+
+  // Solver state carried between substeps.
+  enum class Axial : uint8_t { Fixed, Motor, Lower, Upper };
+  Axial state = Axial::Motor;
+  double fixedImpulse = 0;  ///< when Fixed: the impulse the row is held at
+  double bound = 0;         ///< Lower: least impulse; Upper: largest impulse
+  double rowTarget = 0;     ///< axial target velocity this substep
+  double lowVel = 0, highVel = 0;
+  bool nearLower = false, nearUpper = false;
+};
+
+/// A zero-row constraint: puts both bodies in one island and solver group and keeps them from
+/// colliding, while the exact solver does the work.
+class ExactLink : public btTypedConstraint {
+ public:
+  static constexpr int kType = 0x5258;  // user constraint type tag
+  ExactLink(btRigidBody& a, btRigidBody& b, int joint);
+  int joint() const { return m_joint; }
+  void getInfo1(btConstraintInfo1* info) override;
+  void getInfo2(btConstraintInfo2* info) override;
+  void setParam(int, btScalar, int) override {}
+  btScalar getParam(int, int) const override { return 0; }
+
+ private:
+  int m_joint;
+};
+
+class ExactSolver : public btSequentialImpulseConstraintSolver {
+ public:
+  /// Indexed by joint id (the hinge index of PhysicsWorld); ExactLinks name them.
+  std::vector<ExactJoint> joints;
+  /// An exact solve after every `every`-th contact sweep, and always after the last.
+  int every = 1;
+
+  /// Forget the clusters of the previous substep (called before each one).
+  void beginSubstep();
+  /// Projects the hinges' position error out after integration.
+  void postStabilise();
+
+  btScalar solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds,
+                                        int numManifolds, btTypedConstraint** constraints, int numConstraints,
+                                        const btContactSolverInfo& info, btIDebugDraw* debugDrawer) override;
+  btScalar solveSingleIteration(int iteration, btCollisionObject** bodies, int numBodies,
+                                btPersistentManifold** manifolds, int numManifolds, btTypedConstraint** constraints,
+                                int numConstraints, const btContactSolverInfo& info,
+                                btIDebugDraw* debugDrawer) override;
+  btScalar solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
+                                         const btContactSolverInfo& info) override;
+
+ private:
+  struct Body {
+    btRigidBody* rb;
+    int sid;  // solver body index (valid during its group)
+    double invMass;
+    Eigen::Matrix3d invInertia;
+  };
+  struct Node {
+    int body = -1, joint = -1;  // exactly one is set
+    int parent = -1;            // node index, -1 for the root
+    bool parentIsA = false;     // joint node: its parent is body a; body node: it is the joint's a
+    Mat6 d, dinv;               // pivot block and its inverse
+    Mat6 hp;                    // H(node, parent)
+    Vec6 y, x;
+  };
+  struct Cluster {
+    int begin, end;  // nodes, in order root first
+    bool dirty;      // the active set changed since the last factor
+  };
+  struct Row {  // per joint, this substep
+    int node = -1, na = -1, nb = -1;  // body indices (into m_bodies) or -1 static
+    Mat6 ja, jb;                      // rows x body dofs (linear, angular), world frame
+    Vec6 lambda;
+    bool axialActive = false;
+  };
+
+  void buildClusters(btTypedConstraint** constraints, int numConstraints);
+  void setupJoint(int j, double h);
+  void factor(Cluster& c);
+  void solve(Cluster& c, bool positions);
+  void exactIteration(bool clamp);
+  void finishJoints();
+  Vec6 bodyVelocity(int b) const;
+  void addBodyVelocity(int b, const Vec6& dv);
+  void applyAxial(int j, double impulse);
+
+  double m_h = 0;
+  int m_groupBegin = 0;  // first cluster of the current group
+  bool m_groupHasJoints = false;
+  std::vector<Body> m_bodies;
+  std::vector<Node> m_nodes;
+  std::vector<Cluster> m_clusters;
+  std::vector<Row> m_rows;     // by joint id
+  std::vector<int> m_groupJoints;
+  std::vector<int> m_sidToBody;
+  std::vector<int> m_bodyNode;
+  std::vector<int> m_adjStart, m_adj, m_queue, m_component;
+  std::vector<char> m_seenJoint;
+};
+
+}  // namespace rm3d

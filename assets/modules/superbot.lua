@@ -24,7 +24,13 @@
 --             mass = 0.13,              -- required, kg, > 0
 --             color = {r, g, b[, a]},   -- optional, 0..1 (default light grey)
 --             friction = 1.0,           -- optional, >= 0 (default 1)
---             shapes = { shape, ... } } -- required, at least one
+--             shapes = { shape, ... },  -- required, at least one: what the link is made
+--                                       -- of; drawn, and its mass properties come from them
+--             collision = { shape, ... } } -- optional separate collision geometry (like
+--                                       -- URDF's <collision> beside <visual>): physics
+--                                       -- collides with these instead of `shapes`, while
+--                                       -- mass, centre of mass and inertia stay those of
+--                                       -- `shapes`; same shape format, without `mass`
 --
 --   shape = exactly one of
 --             box = {x, y, z}                 -- full side lengths
@@ -90,12 +96,17 @@
 -- roll against each other about x; each carries an outer U-bracket (an end plate and two
 -- D-shaped side plates, convex meshes made by assets/meshes/make_superbot_meshes.lua): the front
 -- bracket pitches about y at x = +0.043, the back one yaws about z at x = -0.043. The back
--- bracket is the front one turned by R = Rx(90 deg) * Rz(180 deg), computed below.
+-- bracket is the front one turned by R = Rx(90 deg) * Rz(180 deg), computed below. Each bracket
+-- collides as one convex hull (the D profile across the bracket's full width, which contains the
+-- end plate): against the ground or any convex body it touches where the three plates would,
+-- except inside the U, where the module's own inner half sits. One 38-point hull instead of three
+-- hulls of 100 points makes contacts about half as costly (README, Speed).
 -- Dock `up` references: +z for front, back, left and right; -x (towards the back of the
 -- module) for up and down.
 
 local kEndPlate = "assets/meshes/superbot_end_plate.obj"  -- from the project root, so variants
 local kSidePlate = "assets/meshes/superbot_side_plate.obj" -- elsewhere can require this file
+local kBracketHull = "assets/meshes/superbot_bracket_hull.obj"
 local kOuterColor = { 0.95, 0.55, 0.1 }  -- orange brackets
 local kInnerColor = { 0.25, 0.25, 0.28 } -- dark grey halves
 local kLimit = math.pi / 2
@@ -133,6 +144,7 @@ local frontBracket = {
   { mesh = kSidePlate, at = { 0.043, 0.046, 0 } },
   { mesh = kSidePlate, at = { 0.043, -0.046, 0 } },
 }
+local frontBracketCollision = { { mesh = kBracketHull, at = { 0.043, 0, 0 } } }
 local kBackTurn = quatMul(quatAxisAngle({ 1, 0, 0 }, math.pi / 2), quatAxisAngle({ 0, 0, 1 }, math.pi))
 
 local function joint(name, parent, child, pivot, axis)
@@ -149,13 +161,14 @@ return {
   name = "superbot",
   root = "front_inner",
   links = {
-    { name = "front_outer", mass = 0.13, color = kOuterColor, friction = 1.0, shapes = frontBracket },
+    { name = "front_outer", mass = 0.13, color = kOuterColor, friction = 1.0, shapes = frontBracket,
+      collision = frontBracketCollision },
     { name = "front_inner", mass = 0.23, color = kInnerColor, friction = 1.0,
       shapes = { { box = { 0.053, 0.063, 0.064 }, at = { 0.0265, 0, 0 } } } },
     { name = "back_inner", mass = 0.23, color = kInnerColor, friction = 1.0,
       shapes = { { box = { 0.053, 0.063, 0.064 }, at = { -0.0265, 0, 0 } } } },
     { name = "back_outer", mass = 0.13, color = kOuterColor, friction = 1.0,
-      shapes = turned(frontBracket, kBackTurn) },
+      shapes = turned(frontBracket, kBackTurn), collision = turned(frontBracketCollision, kBackTurn) },
   },
   joints = {
     joint("pitch", "front_inner", "front_outer", { 0.043, 0, 0 }, { 0, 1, 0 }),

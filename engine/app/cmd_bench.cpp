@@ -1,5 +1,7 @@
-// `rm3d bench`: named scale scenes, each stepped for a fixed number of steps; reports speed,
-// the split between behaviours, physics and the rest, and joint/dock fidelity.
+// `rm3d bench`: named scale scenes (the paper's scale table, section IV.G, and two of our own),
+// each stepped for a fixed number of steps at the world's default settings unless given; reports
+// speed and real-time factor beside the paper's, the split between behaviours, physics and the
+// rest, and joint/dock fidelity.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -19,14 +21,21 @@ namespace {
 struct Scene {
   const char* name;
   const char* what;
-  const char* script;  ///< world script; N, DT, SUBSTEPS and ITERATIONS come in as `args`
+  int modules;         ///< default module count (--modules overrides)
+  double paperFps;     ///< the paper's frames per second at dt 1/30 (section IV.G); 0: none
+  const char* script;  ///< world script; see kSettings for the `args` it gets
 };
 
-// The paper's scalability scenes (section IV.G), with one VM per module running a behaviour.
-const Scene kScenes[] = {
-    {"snake_1000", "N SuperBots docked in one chain, each VM running the travelling-wave gait",
-     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,
-           joint_iterations = args.joint_iterations, duration = 1e9}
+/// The paper ran every scene at dt 1/30, one frame per step, on a 2013 quad-core laptop.
+constexpr double kPaperDt = 1.0 / 30.0;
+
+// Settings come in as `args`: n, type, and dt, substeps, iterations, joint_iterations only when
+// given on the command line (absent, world.set leaves the world's default).
+#define RM3D_BENCH_SETTINGS                                                                  \
+  "world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,\n" \
+  "          joint_iterations = args.joint_iterations, duration = 1e9"
+
+const char* const kSnake = RM3D_BENCH_SETTINGS R"(}
 world.ground{}
 local prev
 for i = 1, args.n do
@@ -34,26 +43,45 @@ for i = 1, args.n do
                                      params = {index = i - 1}})
   if prev then world.connect(prev, "back", m, "front") end
   prev = m
-end)"},
-    {"superbots_1000", "N separate SuperBots, every motor alternating between two targets",
-     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,
-           joint_iterations = args.joint_iterations, duration = 1e9}
+end)";
+
+const char* const kSuperbots = RM3D_BENCH_SETTINGS R"(}
 world.ground{}
 local side = math.ceil(math.sqrt(args.n))
 for i = 0, args.n - 1 do
   world.spawn(args.type, {at = {(i % side) * 0.35, (i // side) * 0.30, 0.053}, behavior = "behaviors/alternate.lua"})
-end)"},
+end)";
+
+const char* const kAtrons = RM3D_BENCH_SETTINGS R"(}
+world.ground{}
+local side = math.ceil(math.sqrt(args.n))
+for i = 0, args.n - 1 do
+  world.spawn("atron", {at = {(i % side) * 0.16, (i // side) * 0.16, 0.056}, behavior = "behaviors/atron_wheel.lua",
+                        params = {speed = 1}})
+end)";
+
+// The paper's scalability scenes (section IV.G), with one VM per module running a behaviour,
+// and two of our own (run-time docking, message relay).
+const Scene kScenes[] = {
+    {"snake_150", "N SuperBots docked in one chain, each VM running the travelling-wave gait", 150, 30,
+     kSnake},
+    {"superbots_200", "N separate SuperBots, every motor alternating between two targets", 200, 30,
+     kSuperbots},
+    {"atrons_275", "N separate ATRONs, each spinning its equator with a velocity drive", 275, 30, kAtrons},
+    {"snake_1000", "N SuperBots docked in one chain, each VM running the travelling-wave gait", 1000, 3,
+     kSnake},
+    {"superbots_1000", "N separate SuperBots, every motor alternating between two targets", 1000, 4,
+     kSuperbots},
+    {"atrons_1500", "N separate ATRONs, each spinning its equator with a velocity drive", 1500, 3, kAtrons},
     {"docking_1000",
-     "N SuperBots in zero gravity packed 1 cm apart, every dock enabled, latching at run time",
-     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,
-           joint_iterations = args.joint_iterations, duration = 1e9, gravity = {0, 0, 0}}
+     "N SuperBots in zero gravity packed 1 cm apart, every dock enabled, latching at run time", 1000, 0,
+     RM3D_BENCH_SETTINGS R"(, gravity = {0, 0, 0}}
 local side = math.ceil(math.sqrt(args.n))
 for i = 0, args.n - 1 do
   world.spawn(args.type, {at = {-(i % side) * 0.20, (i // side) * 0.114, 0}})
 end)"},
     {"relay_1000", "N SuperBots in one chain on the ground relaying a message per step from head to tail",
-     R"(world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,
-           joint_iterations = args.joint_iterations, duration = 1e9}
+     1000, 0, RM3D_BENCH_SETTINGS R"(}
 world.ground{}
 local prev
 for i = 1, args.n do
@@ -63,10 +91,14 @@ for i = 1, args.n do
 end)"},
 };
 
+#undef RM3D_BENCH_SETTINGS
+
 struct Result {
   std::string name;
   int modules = 0;
   double dt = 0;
+  WorldSettings settings;  ///< what the world ran at
+  double paperFps = 0, paperRealtime = 0;
   long long steps = 0;
   double stepsPerSecond = 0, realtime = 0;
   double msBehaviours = 0, msPhysics = 0, msOther = 0;
@@ -75,18 +107,22 @@ struct Result {
   size_t messages = 0;
 };
 
-bool runScene(const Scene& s, double dt, const BenchArgs& a, const std::string& root, Result& out) {
+bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Result& out) {
   RunOptions o;
   o.projectRoot = root;
   o.threads = a.threads;
   o.echoLog = false;
-  const int n = a.modules.value_or(1000);
-  o.params = {{"n", std::to_string(n)},
-              {"dt", std::to_string(dt)},
-              {"substeps", std::to_string(a.substeps.value_or(1))},
-              {"iterations", std::to_string(a.iterations.value_or(10))},
-              {"joint_iterations", std::to_string(a.jointIterations.value_or(0))},
-              {"type", a.type}};
+  o.params = {{"n", std::to_string(a.modules.value_or(s.modules))}, {"type", a.type}};
+  // Only what was given: the rest stays at the world's defaults (WorldSettings).
+  auto number = [](double x) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    return std::string(buf);
+  };
+  if (a.dt) o.params["dt"] = number(*a.dt);
+  if (a.substeps) o.params["substeps"] = std::to_string(*a.substeps);
+  if (a.iterations) o.params["iterations"] = std::to_string(*a.iterations);
+  if (a.jointIterations) o.params["joint_iterations"] = std::to_string(*a.jointIterations);
   World w(o);
   try {
     w.loadString(s.script, std::string("bench/") + s.name + ".lua");
@@ -118,10 +154,13 @@ bool runScene(const Scene& s, double dt, const BenchArgs& a, const std::string& 
   worst.trackingRmsDeg = w.quality().trackingRmsDeg;
   out.name = s.name;
   out.modules = int(w.modules().size());
-  out.dt = dt;
+  out.settings = w.settings();
+  out.dt = w.settings().dt;
+  out.paperFps = s.paperFps;
+  out.paperRealtime = s.paperFps * kPaperDt;
   out.steps = a.steps;
   out.stepsPerSecond = double(a.steps) / wall;
-  out.realtime = out.stepsPerSecond * dt;
+  out.realtime = out.stepsPerSecond * out.dt;
   out.msBehaviours = beh / double(a.steps);
   out.msPhysics = phys / double(a.steps);
   out.msOther = other / double(a.steps);
@@ -158,44 +197,80 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       scenes.push_back(found);
     }
   }
-  std::vector<double> dts = a.dt ? std::vector<double>{*a.dt} : std::vector<double>{1.0 / 30.0, 1.0 / 60.0};
-  std::printf("%-16s %7s %8s %9s %7s %8s %8s %8s | %8s %8s %8s %8s %9s | %6s %9s\n", "scene", "modules", "dt",
-              "steps/s", "RTF", "ms beh", "ms phys", "ms other", "hinge mm", "hinge deg", "dock mm",
-              "dock deg", "track deg", "conns", "messages");
+  // The settings every scene runs at: the world's defaults, except what was given.
+  const WorldSettings defaults;
+  const double dt = a.dt.value_or(defaults.dt);
+  const int substeps = a.substeps.value_or(defaults.substeps);
+  const int iterations = a.iterations.value_or(defaults.solverIterations);
+  const int jointIterations = a.jointIterations.value_or(defaults.jointIterations);
+  auto given = [](bool g) { return g ? "given" : "world default"; };
+  std::printf(
+      "settings: dt %.5f s (%s), substeps %d (%s), solver iterations %d (%s), joint iterations %d%s (%s)\n",
+      dt, given(a.dt.has_value()), substeps, given(a.substeps.has_value()), iterations,
+      given(a.iterations.has_value()), jointIterations, jointIterations == 0 ? " (as solver)" : "",
+      given(a.jointIterations.has_value()));
+  std::printf(
+      "paper: ReMod3D (section IV.G), dt 1/30, one step per frame, a 2013 quad-core laptop; RTF = simulated "
+      "s per wall s\n");
+  std::printf("%-15s %7s %9s %7s %9s %7s %8s %8s %8s | %8s %9s %8s %8s %9s | %6s %9s\n", "scene", "modules",
+              "steps/s", "RTF", "paper fps", "paper RTF", "ms beh", "ms phys", "ms other", "hinge mm",
+              "hinge deg", "dock mm", "dock deg", "track deg", "conns", "messages");
   std::printf("%s\n", "  (last two columns: connections at the end, messages sent)");
-  nlohmann::json out = {{"threads", a.threads},
-                        {"iterations", a.iterations.value_or(10)},
-                        {"substeps", a.substeps.value_or(1)},
-                        {"joint_iterations", a.jointIterations.value_or(0)},
-                        {"module_type", a.type},
-                        {"scenes", nlohmann::json::array()}};
-  for (const Scene* s : scenes)
-    for (double dt : dts) {
-      Result r;
-      if (!runScene(*s, dt, a, root, r)) return 2;
-      std::printf(
-          "%-16s %7d %8.5f %9.1f %7.2f %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f | %6d %9zu\n",
-          r.name.c_str(), r.modules, r.dt, r.stepsPerSecond, r.realtime, r.msBehaviours, r.msPhysics,
-          r.msOther, r.quality.hingeGapMm, r.quality.hingeAngleDeg, r.quality.dockGapMm,
-          r.quality.dockAngleDeg, r.quality.trackingRmsDeg, r.connections, r.messages);
-      std::fflush(stdout);
-      out["scenes"].push_back(
-          {{"name", r.name},
-           {"modules", r.modules},
-           {"dt", r.dt},
-           {"steps", r.steps},
-           {"steps_per_second", r.stepsPerSecond},
-           {"realtime_factor", r.realtime},
-           {"ms", {{"behaviours", r.msBehaviours}, {"physics", r.msPhysics}, {"other", r.msOther}}},
-           {"quality",
-            {{"hinge_gap_mm", r.quality.hingeGapMm},
-             {"hinge_angle_deg", r.quality.hingeAngleDeg},
-             {"dock_gap_mm", r.quality.dockGapMm},
-             {"dock_angle_deg", r.quality.dockAngleDeg},
-             {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
-           {"connections", r.connections},
-           {"messages_sent", r.messages}});
+  nlohmann::json out = {
+      {"threads", a.threads},
+      {"dt", dt},
+      {"iterations", iterations},
+      {"substeps", substeps},
+      {"joint_iterations", jointIterations},
+      {"settings_given",
+       {{"dt", a.dt.has_value()},
+        {"substeps", a.substeps.has_value()},
+        {"iterations", a.iterations.has_value()},
+        {"joint_iterations", a.jointIterations.has_value()}}},
+      {"module_type", a.type},
+      {"paper", {{"dt", kPaperDt}, {"machine", "2013 quad-core laptop (ReMod3D, section IV.G)"}}},
+      {"scenes", nlohmann::json::array()}};
+  for (const Scene* s : scenes) {
+    Result r;
+    if (!runScene(*s, a, root, r)) return 2;
+    char paperFps[16] = "-", paperRtf[16] = "-";
+    if (r.paperFps > 0) {
+      std::snprintf(paperFps, sizeof paperFps, "%.0f", r.paperFps);
+      std::snprintf(paperRtf, sizeof paperRtf, "%.2f", r.paperRealtime);
     }
+    std::printf(
+        "%-15s %7d %9.1f %7.2f %9s %9s %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f | %6d %9zu\n",
+        r.name.c_str(), r.modules, r.stepsPerSecond, r.realtime, paperFps, paperRtf, r.msBehaviours,
+        r.msPhysics, r.msOther, r.quality.hingeGapMm, r.quality.hingeAngleDeg, r.quality.dockGapMm,
+        r.quality.dockAngleDeg, r.quality.trackingRmsDeg, r.connections, r.messages);
+    std::fflush(stdout);
+    nlohmann::json paper = nullptr;
+    if (r.paperFps > 0)
+      paper = {{"frames_per_second", r.paperFps}, {"dt", kPaperDt}, {"realtime_factor", r.paperRealtime}};
+    out["scenes"].push_back(
+        {{"name", r.name},
+         {"modules", r.modules},
+         {"dt", r.dt},
+         {"settings",
+          {{"dt", r.settings.dt},
+           {"substeps", r.settings.substeps},
+           {"solver_iterations", r.settings.solverIterations},
+           {"joint_iterations", r.settings.jointIterations},
+           {"erp", r.settings.erp}}},
+         {"steps", r.steps},
+         {"steps_per_second", r.stepsPerSecond},
+         {"realtime_factor", r.realtime},
+         {"paper", paper},
+         {"ms", {{"behaviours", r.msBehaviours}, {"physics", r.msPhysics}, {"other", r.msOther}}},
+         {"quality",
+          {{"hinge_gap_mm", r.quality.hingeGapMm},
+           {"hinge_angle_deg", r.quality.hingeAngleDeg},
+           {"dock_gap_mm", r.quality.dockGapMm},
+           {"dock_angle_deg", r.quality.dockAngleDeg},
+           {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
+         {"connections", r.connections},
+         {"messages_sent", r.messages}});
+  }
   if (!a.json.empty()) {
     std::ofstream f(a.json);
     f << out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";

@@ -117,19 +117,21 @@ int run(int argc, char** argv) {
   testCmd->add_option("--watchdog", test.watchdog, watchdogHelp)->check(kWatchdogSeconds);
 
   rm3d::BenchArgs bench;
-  CLI::App* benchCmd = app.add_subcommand("bench", "scale benchmarks (snake_1000, superbots_1000)");
+  CLI::App* benchCmd = app.add_subcommand(
+      "bench", "scale benchmarks: the paper's scale table (snake_150 ... atrons_1500) and more");
   benchCmd->add_option("scenes", bench.scenes, "scene names (default: all)");
-  benchCmd->add_option("--dt", bench.dt, "control step, s (default: 1/30 and 1/60)")
+  benchCmd->add_option("--dt", bench.dt, "control step, s (default: the world's)")
       ->check(
           numberCheck("a positive number of seconds", [](double v) { return v > 0 && std::isfinite(v); }));
   auto* benchSteps =
       benchCmd->add_option("--steps", bench.steps, "measured steps per scene")->check(positiveWhole("steps"));
   benchCmd->add_option("--threads", bench.threads, "behaviour worker threads")->check(kThreads);
-  benchCmd->add_option("--modules", bench.modules, "modules per scene (default 1000)")
+  benchCmd
+      ->add_option("--modules", bench.modules, "modules per scene (default: the scene's, as its name says)")
       ->check(positiveWhole("modules"));
-  benchCmd->add_option("--iterations", bench.iterations, "solver iterations (default 10, as the reference)")
+  benchCmd->add_option("--iterations", bench.iterations, "solver iterations (default: the world's)")
       ->check(positiveWhole("iterations"));
-  benchCmd->add_option("--substeps", bench.substeps, "physics substeps per step (default 1)")
+  benchCmd->add_option("--substeps", bench.substeps, "physics substeps per step (default: the world's)")
       ->check(positiveWhole("substeps"));
   benchCmd
       ->add_option("--joint-iterations", bench.jointIterations,
@@ -137,7 +139,7 @@ int run(int argc, char** argv) {
       ->check(numberCheck(
           "a whole number of iterations, 0 or more", [](double v) { return v >= 0 && v <= 1e9; }, true));
   benchCmd->add_option("--type", bench.type,
-                       "module type (default superbot; superbot_box: brackets as boxes)");
+                       "SuperBot scenes' module type (default superbot; superbot_box: brackets as boxes)");
   benchCmd->add_option("--json", bench.json, "write results as JSON");
   benchCmd->add_flag(
       "--converged", bench.converged,

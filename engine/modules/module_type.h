@@ -14,9 +14,15 @@ namespace rm3d {
 struct LinkDef {
   std::string name;
   double mass = 0.1;
-  std::vector<ShapeDef> shapes;
+  std::vector<ShapeDef> shapes;  ///< what the link is made of: drawn, and its mass properties
+  /// Separate collision geometry (the `collision` list of a module-type file), carrying the mass
+  /// properties of `shapes` (massFrom); empty: `shapes` collide.
+  std::vector<ShapeDef> collision;
   std::array<float, 4> color{0.8f, 0.8f, 0.8f, 1.0f};
   double friction = 1.0;
+
+  /// What physics builds the link from.
+  const std::vector<ShapeDef>& collisionShapes() const { return collision.empty() ? shapes : collision; }
 };
 
 struct JointDef {

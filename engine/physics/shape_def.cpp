@@ -2,6 +2,7 @@
 // properties (hulls integrate their triangles as signed tetrahedra).
 #include "physics/shape_def.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rm3d {
@@ -50,6 +51,7 @@ MassProps hullMassProps(const ShapeDef& s) {
 }  // namespace
 
 MassProps shapeMassProps(const ShapeDef& s) {
+  if (s.massProps) return *s.massProps;
   MassProps mp;
   switch (s.kind) {
     case ShapeKind::Box: {
@@ -78,6 +80,66 @@ MassProps shapeMassProps(const ShapeDef& s) {
       return hullMassProps(s);
   }
   return mp;
+}
+
+// The same sums as PhysicsWorld::addPart, which builds a part's body from its shapes.
+MassProps compoundMassProps(const std::vector<ShapeDef>& shapes, double mass) {
+  std::vector<MassProps> props;
+  double fixedMass = 0, freeVolume = 0;
+  for (const ShapeDef& s : shapes) {
+    props.push_back(shapeMassProps(s));
+    if (s.mass >= 0)
+      fixedMass += s.mass;
+    else
+      freeVolume += props.back().volume;
+  }
+  std::vector<double> masses;
+  double total = 0;
+  MassProps out;
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const double mi = shapes[i].mass >= 0
+                          ? shapes[i].mass
+                          : (freeVolume > 0 ? (mass - fixedMass) * props[i].volume / freeVolume : 0);
+    masses.push_back(std::max(mi, 0.0));
+    total += masses.back();
+    out.volume += props[i].volume;
+  }
+  if (mass <= 0 || total <= 0) return out;
+  Vec3 com = Vec3::Zero();
+  for (size_t i = 0; i < shapes.size(); ++i) com += masses[i] * (shapes[i].pose * props[i].com);
+  com /= total;
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const double density = props[i].volume > 0 ? masses[i] / props[i].volume : 0;
+    const Eigen::Matrix3d r = shapes[i].pose.rot.toRotationMatrix();
+    const Vec3 d = shapes[i].pose * props[i].com - com;
+    inertia += density * r * props[i].inertia * r.transpose() +
+               masses[i] * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+  }
+  out.com = com;
+  out.inertia = inertia * (mass / total);
+  return out;
+}
+
+std::vector<ShapeDef> massFrom(const std::vector<ShapeDef>& visual, std::vector<ShapeDef> collision,
+                               double mass) {
+  if (collision.empty() || mass <= 0) return collision;
+  const MassProps whole = compoundMassProps(visual, mass);
+  for (ShapeDef& s : collision) {
+    s.mass = 0;
+    s.massProps.reset();
+  }
+  // The first shape holds the whole mass at unit volume (density = mass), its centre of mass and
+  // inertia expressed in the shape's own frame.
+  ShapeDef& first = collision.front();
+  const Eigen::Matrix3d r = first.pose.rot.toRotationMatrix();
+  MassProps carried;
+  carried.volume = 1;
+  carried.com = first.pose.inverse() * whole.com;
+  carried.inertia = r.transpose() * whole.inertia * r / mass;
+  first.mass = mass;
+  first.massProps = carried;
+  return collision;
 }
 
 }  // namespace rm3d

@@ -365,7 +365,7 @@ class TypeReader {
   // ---- module-type parts ----
 
   LinkDef readLink(const LuaValue& v, const std::string& where) {
-    checkRecord(v, where, {"name", "mass", "color", "friction", "shapes"});
+    checkRecord(v, where, {"name", "mass", "color", "friction", "shapes", "collision"});
     LinkDef link;
     link.name = toName(require(v, where, "name"), childPath(where, "name"));
     link.mass = toPositive(require(v, where, "mass"), childPath(where, "mass"));
@@ -395,6 +395,28 @@ class TypeReader {
     if (fixedMass > link.mass * (1 + 1e-9))
       fail(ws, "shape masses add up to " + formatNumber(fixedMass) + " kg, more than the link's mass " +
                    formatNumber(link.mass) + " kg");
+    if (const LuaValue* c = find(v, "collision")) {
+      // Contact geometry only: the mass properties stay those of `shapes`.
+      const std::string wc = childPath(where, "collision");
+      if (c->type != LUA_TTABLE || find(*c, "box") || find(*c, "sphere") || find(*c, "cylinder") ||
+          find(*c, "mesh"))
+        fail(wc, "expected a list of shapes { { box = {x, y, z} }, ... } (like shapes), got " + describe(*c));
+      const auto cs = toList(*c, wc);
+      if (cs.empty())
+        fail(wc, "expected at least one shape (leave collision out to collide with the shapes)");
+      if (cs.size() > kMaxShapesPerLink)
+        fail(wc, "a link has at most " + std::to_string(kMaxShapesPerLink) + " collision shapes (got " +
+                     std::to_string(cs.size()) + ")");
+      std::vector<ShapeDef> collision;
+      for (size_t i = 0; i < cs.size(); ++i) {
+        const std::string wi = indexPath(wc, i + 1);
+        if (cs[i]->type == LUA_TTABLE && find(*cs[i], "mass"))
+          fail(childPath(wi, "mass"),
+               "collision shapes carry no mass (the link's mass properties come from its shapes)");
+        collision.push_back(readShape(*cs[i], wi));
+      }
+      link.collision = massFrom(link.shapes, std::move(collision), link.mass);
+    }
     return link;
   }
 

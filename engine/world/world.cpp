@@ -226,7 +226,7 @@ int World::spawn(const SpawnDef& def) {
   for (size_t l = 0; l < type.links.size(); ++l) {
     const LinkDef& link = type.links[l];
     PartDesc d;
-    d.shapes = link.shapes;
+    d.shapes = link.collisionShapes();
     d.mass = def.fixed && int(l) == type.rootLink ? 0.0 : link.mass;  // mass 0: static
     d.pose = def.pose;  // every link frame is the module frame at zero joint angles
     d.friction = link.friction;

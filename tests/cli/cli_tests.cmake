@@ -62,6 +62,44 @@ expect_run("gravity 1e30" 2 "huge_gravity.lua:1: world.set: gravity must be at m
 expect_run("--seconds nan" 2 "--seconds nan: expected simulated seconds" run ${OUT}/huge_gravity.lua --seconds nan)
 expect_run("--seconds 1e300" 2 "--seconds 1e\\+300: expected simulated seconds" run ${OUT}/huge_gravity.lua --seconds 1e300)
 expect_run("unknown bench scene" 2 "unknown scene 'nope'" bench nope)
+# Bench scenes run at the world's defaults unless told, and say so; each of the paper's scenes
+# carries its figure. Structure only: no timings are asserted.
+expect_run("bench at the defaults" 0 "settings: dt 0.01667 s \\(world default\\), substeps 4 \\(world default\\)"
+           bench atrons_275 snake_150 docking_1000 --modules 3 --steps 2 --json ${OUT}/bench.json)
+file(READ ${OUT}/bench.json bench)
+string(JSON bench_substeps GET "${bench}" substeps)
+string(JSON bench_given GET "${bench}" settings_given substeps)
+string(JSON bench_n LENGTH "${bench}" scenes)
+string(JSON bench_name GET "${bench}" scenes 0 name)
+string(JSON bench_mods GET "${bench}" scenes 0 modules)
+string(JSON bench_dt GET "${bench}" scenes 0 settings dt)
+string(JSON bench_iters GET "${bench}" scenes 0 settings solver_iterations)
+string(JSON bench_paper_fps GET "${bench}" scenes 0 paper frames_per_second)
+string(JSON bench_paper_rtf GET "${bench}" scenes 0 paper realtime_factor)
+string(JSON bench_paper_none TYPE "${bench}" scenes 2 paper)
+foreach(field steps_per_second realtime_factor ms quality connections messages_sent)
+  string(JSON t ERROR_VARIABLE e TYPE "${bench}" scenes 1 ${field})
+  if(e)
+    message(SEND_ERROR "bench JSON scene lacks '${field}'")
+  endif()
+endforeach()
+if(NOT bench_substeps EQUAL 4 OR NOT bench_given STREQUAL "OFF" OR NOT bench_n EQUAL 3
+   OR NOT bench_name STREQUAL "atrons_275" OR NOT bench_mods EQUAL 3 OR NOT bench_iters EQUAL 30
+   OR NOT bench_dt MATCHES "^0\\.01666" OR NOT bench_paper_fps MATCHES "^30(\\.0*)?$" OR NOT bench_paper_rtf MATCHES "^1(\\.0*)?$"
+   OR NOT bench_paper_none STREQUAL "NULL")
+  message(SEND_ERROR "bench JSON: substeps ${bench_substeps} (given ${bench_given}), ${bench_n} scenes, "
+                     "first ${bench_name} with ${bench_mods} modules at dt ${bench_dt}, ${bench_iters} "
+                     "iterations, paper ${bench_paper_fps} fps RTF ${bench_paper_rtf}; docking paper ${bench_paper_none}")
+endif()
+expect_run("bench with given settings" 0 "settings: dt 0.03333 s \\(given\\), substeps 1 \\(given\\), solver iterations 10 \\(given\\)"
+           bench superbots_200 --modules 2 --steps 2 --dt 0.0333333 --substeps 1 --iterations 10 --json ${OUT}/bench2.json)
+file(READ ${OUT}/bench2.json bench2)
+string(JSON bench2_sub GET "${bench2}" scenes 0 settings substeps)
+string(JSON bench2_it GET "${bench2}" scenes 0 settings solver_iterations)
+string(JSON bench2_paper GET "${bench2}" scenes 0 paper frames_per_second)
+if(NOT bench2_sub EQUAL 1 OR NOT bench2_it EQUAL 10 OR NOT bench2_paper MATCHES "^30(\\.0*)?$")
+  message(SEND_ERROR "bench JSON with given settings: substeps ${bench2_sub}, iterations ${bench2_it}, paper ${bench2_paper}")
+endif()
 expect_run("test folder" 0 "^.*2 passed, 0 failed" test ${SRC}/tests/worlds/servo_45.lua ${SRC}/tests/worlds/joint_limits.lua --junit ${OUT}/junit.xml)
 expect_run("test with a failing world" 1 "0 passed, 1 failed" test ${OUT}/failing.lua)
 file(READ ${OUT}/junit.xml junit)

@@ -406,3 +406,60 @@ TEST_CASE("bad module-type files throw InputError naming the file and the place"
     CHECK_MESSAGE(msg.rfind("assets/modules/rel.lua: links[1].shapes[1]: unknown key 'sise'", 0) == 0, msg);
   }
 }
+
+TEST_CASE("SuperBot brackets collide as one hull each, with the mass properties of their plates") {
+  const rm3d::ModuleTypeDef t = rm3d::loadModuleType(kRoot + "/assets/modules/superbot.lua", kRoot);
+  for (const char* name : {"front_outer", "back_outer"}) {
+    CAPTURE(name);
+    const rm3d::LinkDef& l = t.links[size_t(t.findLink(name))];
+    CHECK(l.shapes.size() == 3);  // drawn: end plate and two side plates
+    REQUIRE(l.collision.size() == 1);
+    CHECK(l.collision[0].kind == rm3d::ShapeKind::Hull);
+    CHECK(&l.collisionShapes() == &l.collision);
+    CHECK(l.collision[0].points.size() < l.shapes[0].points.size() + l.shapes[1].points.size());
+    // Physics builds the part from the collision shapes: same mass, centre of mass and inertia.
+    const rm3d::MassProps visual = rm3d::compoundMassProps(l.shapes, l.mass);
+    const rm3d::MassProps collision = rm3d::compoundMassProps(l.collision, l.mass);
+    CHECK((visual.com - collision.com).norm() < 1e-12);
+    CHECK((visual.inertia - collision.inertia).norm() < 1e-12 * visual.inertia.norm());
+    CHECK(visual.inertia.norm() > 1e-6);
+  }
+  for (const char* name : {"front_inner", "back_inner"}) {
+    const rm3d::LinkDef& l = t.links[size_t(t.findLink(name))];
+    CHECK(l.collision.empty());
+    CHECK(&l.collisionShapes() == &l.shapes);
+  }
+  // The bracket hull holds every point of the plates (or contacts would be lost).
+  const rm3d::LinkDef& fo = t.links[size_t(t.findLink("front_outer"))];
+  Vec3 lo = Vec3::Constant(1e9), hi = Vec3::Constant(-1e9), clo = lo, chi = hi;
+  for (const rm3d::ShapeDef& s : fo.shapes)
+    for (const Vec3& p : s.points) {
+      lo = lo.cwiseMin(s.pose * p);
+      hi = hi.cwiseMax(s.pose * p);
+    }
+  for (const Vec3& p : fo.collision[0].points) {
+    clo = clo.cwiseMin(fo.collision[0].pose * p);
+    chi = chi.cwiseMax(fo.collision[0].pose * p);
+  }
+  CHECK((lo - clo).norm() < 1e-6);  // the OBJ files keep 6 decimals
+  CHECK((hi - chi).norm() < 1e-6);
+}
+
+TEST_CASE("bad collision lists name the file and the place") {
+  TempDir dir;
+  auto withCollision = [&](const std::string& file, const std::string& collision) {
+    return loadError(dir.write(file,
+                               "return { name = 't', links = { { name = 'a', mass = 1, shapes = { { box = "
+                               "{0.1, 0.1, 0.1} } }, collision = " +
+                                   collision + " } } }"));
+  };
+  std::string msg = withCollision("c1.lua", "{ box = {0.1, 0.1, 0.1} }");
+  CHECK_MESSAGE(contains(msg, "c1.lua: links[1].collision: expected a list of shapes"), msg);
+  msg = withCollision("c2.lua", "{}");
+  CHECK_MESSAGE(contains(msg, "c2.lua: links[1].collision: expected at least one shape"), msg);
+  msg = withCollision("c3.lua", "{ { sphere = 0.1, mass = 1 } }");
+  CHECK_MESSAGE(contains(msg, "c3.lua: links[1].collision[1].mass: collision shapes carry no mass"), msg);
+  msg = withCollision("c4.lua", "{ { sphere = 0.1 }, { sphere = -1 } }");
+  CHECK_MESSAGE(contains(msg, "c4.lua: links[1].collision[2].sphere: must be greater than 0"), msg);
+  CHECK(withCollision("ok.lua", "{ { sphere = 0.1 } }") == "");
+}

@@ -95,8 +95,10 @@ Outcome run(int threads, int steps) {
   return out;
 }
 
-// The golden hash of the state after kSteps steps (same for every thread count).
-constexpr uint64_t kGolden = 0x0297420daf8b3afdull;
+// The golden hash of the state after kSteps steps (same for every thread count). Changed when
+// SuperBot brackets began colliding as one hull each (contact geometry; with the plates it was
+// 0x0297420daf8b3afd, unchanged by separate collision shapes as such).
+constexpr uint64_t kGolden = 0x849a41bec6295c58ull;
 constexpr int kSteps = 90;
 
 }  // namespace

@@ -69,6 +69,49 @@ TEST_CASE("a module rests on the ground at its dock height") {
   CHECK(std::abs(p.pos.x()) < 0.01);
 }
 
+TEST_CASE("a SuperBot colliding with its bracket hulls rests where one with the plates does") {
+  const char* kBoth = R"(
+world.ground{}
+world.spawn("superbot", {at = {0, 0, 0.053}})
+world.spawn("tests/modules/superbot_plates.lua", {at = {0.5, 0, 0.053}})
+)";
+  auto w = makeWorld(kBoth);
+  stepFor(*w, 1.0);
+  const Pose hull = w->modulePose(0), plates = w->modulePose(1);
+  // On the back bracket's side plate (outer face z = -0.052, plus the 1 mm hull margin), tipped
+  // forward onto the front bracket (its centre of mass is at the plate's edge).
+  CHECK(std::abs(hull.pos.z() - plates.pos.z()) < 0.001);
+  CHECK(hull.rot.angularDistance(plates.rot) < 0.005);
+  CHECK(std::abs(hull.pos.z() - 0.052) < 0.003);
+  MESSAGE("rest height: hulls " << hull.pos.z() << " m, plates " << plates.pos.z() << " m; tilt "
+                                << hull.rot.angularDistance(plates.rot) << " rad apart");
+}
+
+TEST_CASE("separate collision shapes keep masses and inertias: free-floating dynamics are unchanged") {
+  // No ground and no gravity, so no contacts: only mass properties and joints shape the motion.
+  auto run = [](const char* type) {
+    const std::string script =
+        std::string("world.set{gravity = {0, 0, 0}}\nworld.spawn('") + type + "', {at = {0, 0, 1}})\n";
+    auto w = makeWorld(script);
+    Module& m = w->mutableModule(0);
+    m.commands[size_t(m.type->findJoint("pitch"))] = {JointMode::Servo, 1.0};
+    m.commands[size_t(m.type->findJoint("yaw"))] = {JointMode::Velocity, -2.0};
+    m.commands[size_t(m.type->findJoint("roll"))] = {JointMode::Servo, -0.7};
+    stepFor(*w, 1.0);
+    std::vector<Pose> poses;
+    for (size_t l = 0; l < m.type->links.size(); ++l) poses.push_back(w->linkPose(0, int(l)));
+    return poses;
+  };
+  const std::vector<Pose> a = run("superbot"), b = run("tests/modules/superbot_plates.lua");
+  REQUIRE(a.size() == b.size());
+  for (size_t l = 0; l < a.size(); ++l) {
+    CAPTURE(l);
+    CHECK((a[l].pos - b[l].pos).norm() < 1e-6);
+    CHECK(a[l].rot.angularDistance(b[l].rot) < 1e-5);
+  }
+  CHECK((a[0].pos - Vec3(0, 0, 1)).norm() > 1e-4);  // it did move
+}
+
 TEST_CASE("spawning an unknown type or a missing behaviour is bad input with file:line") {
   CHECK_THROWS_WITH_AS(makeWorld("world.spawn('superbat')"),
                        doctest::Contains("test_world.lua:1: world.spawn: unknown module type 'superbat'"),

@@ -46,6 +46,7 @@ struct BenchArgs {
   std::optional<int> modules;
   std::optional<int> iterations;
   std::optional<int> substeps;
+  std::optional<std::string> solver;  ///< "pgs" or "exact"
   std::optional<int> jointIterations;
   std::string type = "superbot";
   std::string json;

@@ -31,8 +31,9 @@ constexpr double kPaperDt = 1.0 / 30.0;
 
 // Settings come in as `args`: n, type, and dt, substeps, iterations, joint_iterations only when
 // given on the command line (absent, world.set leaves the world's default).
-#define RM3D_BENCH_SETTINGS                                                                  \
-  "world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations,\n" \
+#define RM3D_BENCH_SETTINGS                                                                      \
+  "world.set{solver = args.solver, dt = args.dt, substeps = args.substeps, solver_iterations = " \
+  "args.iterations,\n"                                                                           \
   "          joint_iterations = args.joint_iterations, duration = 1e9"
 
 const char* const kSnake = RM3D_BENCH_SETTINGS R"(}
@@ -121,6 +122,7 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
   };
   if (a.dt) o.params["dt"] = number(*a.dt);
   if (a.substeps) o.params["substeps"] = std::to_string(*a.substeps);
+  if (a.solver) o.params["solver"] = *a.solver;
   if (a.iterations) o.params["iterations"] = std::to_string(*a.iterations);
   if (a.jointIterations) o.params["joint_iterations"] = std::to_string(*a.jointIterations);
   World w(o);

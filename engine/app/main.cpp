@@ -133,6 +133,8 @@ int run(int argc, char** argv) {
       ->check(positiveWhole("iterations"));
   benchCmd->add_option("--substeps", bench.substeps, "physics substeps per step (default: the world's)")
       ->check(positiveWhole("substeps"));
+  benchCmd->add_option("--solver", bench.solver, "joint solver: pgs or exact (default: the world's)")
+      ->check(CLI::IsMember({"pgs", "exact"}));
   benchCmd
       ->add_option("--joint-iterations", bench.jointIterations,
                    "solver iterations for hinge rows (default: as --iterations)")

@@ -166,7 +166,8 @@ void ExactSolver::setupJoint(int j, double h) {
   if (s == A::Motor && e.targetVel > e.highVel) s = A::Upper;
   if (s == A::Fixed && e.fixedImpulse != 0) e.fixedImpulse = std::copysign(tau, e.fixedImpulse);
   if (s == A::Lower) e.rowTarget = e.lowVel, e.bound = !e.motorOn ? 0 : (e.targetVel > e.lowVel ? tau : -tau);
-  if (s == A::Upper) e.rowTarget = e.highVel, e.bound = !e.motorOn ? 0 : (e.targetVel < e.highVel ? -tau : tau);
+  if (s == A::Upper)
+    e.rowTarget = e.highVel, e.bound = !e.motorOn ? 0 : (e.targetVel < e.highVel ? -tau : tau);
   if (s == A::Motor) e.rowTarget = e.targetVel;
   e.state = s;
   r.axialActive = s != A::Fixed;
@@ -277,7 +278,8 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
         for (int q = m_adjStart[size_t(b - firstBody)]; q < m_adjStart[size_t(b - firstBody) + 1]; ++q) {
           const int j = m_adj[size_t(q)];
           Row& r = m_rows[size_t(j)];
-          if (r.node >= 0 && r.node >= c.begin && r.node < int(m_nodes.size()) && m_nodes[size_t(r.node)].joint == j)
+          if (r.node >= 0 && r.node >= c.begin && r.node < int(m_nodes.size()) &&
+              m_nodes[size_t(r.node)].joint == j)
             continue;  // already placed
           const int other = r.na == b ? r.nb : r.na;
           if (other >= 0 && m_bodyNode[size_t(other - firstBody)] >= 0) continue;  // would close a loop
@@ -397,7 +399,8 @@ void ExactSolver::exactIteration(bool clamp) {
 btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies,
                                                    btPersistentManifold** manifolds, int numManifolds,
                                                    btTypedConstraint** constraints, int numConstraints,
-                                                   const btContactSolverInfo& info, btIDebugDraw* debugDrawer) {
+                                                   const btContactSolverInfo& info,
+                                                   btIDebugDraw* debugDrawer) {
   const btScalar r = btSequentialImpulseConstraintSolver::solveGroupCacheFriendlySetup(
       bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer);
   m_h = double(info.m_timeStep);
@@ -527,7 +530,8 @@ void ExactSolver::postStabilise() {
       const double angle = dr.norm();
       if (angle > 0) {
         const Vec3d axis = dr / angle;
-        btQuaternion q(btVector3(btScalar(axis.x()), btScalar(axis.y()), btScalar(axis.z())), btScalar(angle));
+        btQuaternion q(btVector3(btScalar(axis.x()), btScalar(axis.y()), btScalar(axis.z())),
+                       btScalar(angle));
         t.setRotation((q * t.getRotation()).normalized());
       }
       rb->setCenterOfMassTransform(t);

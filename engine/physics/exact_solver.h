@@ -53,7 +53,8 @@ struct ExactJoint {
   // Outputs of the last substep.
   double axialImpulse = 0;  ///< N m s on the axial row (motor and limit together)
   bool saturated = false;   ///< the motor gave its full rating
-  Vec6 impulseA = Vec6::Zero(), impulseB = Vec6::Zero();  ///< on each body: force, torque about its centre of mass (N s, N m s)
+  Vec6 impulseA = Vec6::Zero(),
+       impulseB = Vec6::Zero();  ///< on each body: force, torque about its centre of mass (N s, N m s)
 
   // Solver state carried between substeps.
   enum class Axial : uint8_t { Fixed, Motor, Lower, Upper };
@@ -93,13 +94,14 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// Projects the hinges' position error out after integration.
   void postStabilise();
 
-  btScalar solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds,
-                                        int numManifolds, btTypedConstraint** constraints, int numConstraints,
+  btScalar solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies,
+                                        btPersistentManifold** manifolds, int numManifolds,
+                                        btTypedConstraint** constraints, int numConstraints,
                                         const btContactSolverInfo& info, btIDebugDraw* debugDrawer) override;
   btScalar solveSingleIteration(int iteration, btCollisionObject** bodies, int numBodies,
-                                btPersistentManifold** manifolds, int numManifolds, btTypedConstraint** constraints,
-                                int numConstraints, const btContactSolverInfo& info,
-                                btIDebugDraw* debugDrawer) override;
+                                btPersistentManifold** manifolds, int numManifolds,
+                                btTypedConstraint** constraints, int numConstraints,
+                                const btContactSolverInfo& info, btIDebugDraw* debugDrawer) override;
   btScalar solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
                                          const btContactSolverInfo& info) override;
 
@@ -122,7 +124,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     int begin, end;  // nodes, in order root first
     bool dirty;      // the active set changed since the last factor
   };
-  struct Row {  // per joint, this substep
+  struct Row {                        // per joint, this substep
     int node = -1, na = -1, nb = -1;  // body indices (into m_bodies) or -1 static
     Mat6 ja, jb;                      // rows x body dofs (linear, angular), world frame
     Vec6 lambda;
@@ -145,7 +147,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<Body> m_bodies;
   std::vector<Node> m_nodes;
   std::vector<Cluster> m_clusters;
-  std::vector<Row> m_rows;     // by joint id
+  std::vector<Row> m_rows;  // by joint id
   std::vector<int> m_groupJoints;
   std::vector<int> m_sidToBody;
   std::vector<int> m_bodyNode;

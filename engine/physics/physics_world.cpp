@@ -151,7 +151,9 @@ struct PhysicsWorld::Impl {
   btCollisionDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
   ExactSolver solver;
-  bool forestDirty = true;  // hinges or bodies changed: which hinges are tree and which close loops
+  bool forestDirty = true;
+  int stepSubsteps = 1;  // substeps of the step being taken  // hinges or bodies changed: which hinges are
+                         // tree and which close loops
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
   OwnerFilter filter;
   std::vector<Part> parts;
@@ -330,10 +332,10 @@ struct PhysicsWorld::Impl {
     // right-handed rotations of B about the axis, so limits, angles and speeds change sign here.
     if (h.d.limited) h.c->setLimit(btScalar(-h.d.upper), btScalar(-h.d.lower));
     if (settings.jointIterations > 0) h.c->setOverrideNumSolverIterations(settings.jointIterations);
-    if (tracking) {
-      if (!h.feedback) h.feedback = std::make_unique<btJointFeedback>();
-      h.c->setJointFeedback(h.feedback.get());
-    }
+    // Reactions are always kept: they give the motor's torque (and, with load tracking, the
+    // dock loads).
+    if (!h.feedback) h.feedback = std::make_unique<btJointFeedback>();
+    h.c->setJointFeedback(h.feedback.get());
     world.addConstraint(h.c, true);
   }
 
@@ -469,6 +471,21 @@ struct PhysicsWorld::Impl {
     }
     if (!h.c) return h.rawLast;
     return -h.c->getHingeAngle();
+  }
+
+  /// Bullet's hinge: the reaction on B about the pivot, along the axis, is what the motor and
+  /// the limit stop applied (the pivot rows pass through the pivot, the other angular rows are
+  /// perpendicular to the axis).
+  void addPgsTorque(Hinge& h) {
+    const btRigidBody& rb = h.c->getRigidBodyB();
+    const btJointFeedback& fb = *h.feedback;
+    const Vec3 pivot = partPose(h.d.partB) * h.d.frameB.pos;
+    const Vec3 axis = partPose(h.d.partA).rot * h.axisA;
+    const Vec3 about = fromBt(fb.m_appliedTorqueBodyB) +
+                       (fromBt(rb.getCenterOfMassPosition()) - pivot).cross(fromBt(fb.m_appliedForceBodyB));
+    const double tau = about.dot(axis);
+    h.torque += tau / std::max(1, stepSubsteps);
+    if (h.mode != MotorMode::Off && std::abs(tau) >= 0.99 * h.d.maxTorque) h.saturated = true;
   }
 
   void updateAngle(Hinge& h) {
@@ -612,6 +629,7 @@ int PhysicsWorld::addHinge(const HingeDesc& desc) {
   Impl::Hinge& h = m->hinges.back();
   h.d = desc;
   h.axisA = desc.frameA.rot * Vec3::UnitZ();
+  h.tree = m->settings.solver == SolverKind::Exact;
   m->parts[desc.partA].hinges.push_back(id);
   m->parts[desc.partB].hinges.push_back(id);
   m->makeHinge(h);
@@ -730,10 +748,6 @@ void PhysicsWorld::addTorque(int part, const Vec3& torque) {
 void PhysicsWorld::setLoadTracking(bool on) {
   if (m->tracking == on) return;
   m->tracking = on;
-  for (Impl::Hinge& h : m->hinges) {
-    if (on && !h.feedback) h.feedback = std::make_unique<btJointFeedback>();
-    if (h.c) h.c->setJointFeedback(on ? h.feedback.get() : nullptr);
-  }
 }
 
 Wrench PhysicsWorld::internalLoad(const std::vector<int>& parts, const Vec3& point) const {
@@ -834,6 +848,7 @@ void PhysicsWorld::step(double dt, int substeps) {
   const int n = std::max(1, substeps);
   const double h = dt / n;
   m->refreshForest();
+  m->stepSubsteps = n;
   const bool exact = m->settings.solver == SolverKind::Exact;
   for (Impl::Hinge& hg : m->hinges) {
     hg.torque = 0;
@@ -858,7 +873,10 @@ void PhysicsWorld::step(double dt, int substeps) {
         hg.saturated = hg.saturated || e.saturated;
       }
     }
-    for (Impl::Hinge& hg : m->hinges) m->updateAngle(hg);
+    for (Impl::Hinge& hg : m->hinges) {
+      if (hg.c && hg.feedback) m->addPgsTorque(hg);
+      m->updateAngle(hg);
+    }
     if (m->tracking) m->accumulateLoads(h, s == 0);
   }
   if (m->contactTracking) {

@@ -21,7 +21,7 @@ namespace rm3d {
 enum class SolverKind { Exact, Pgs };
 
 struct PhysicsSettings {
-  SolverKind solver = SolverKind::Exact;
+  SolverKind solver = SolverKind::Pgs;
   Vec3 gravity = Vec3(0, 0, -9.81);
   int solverIterations = 10;  ///< sequential-impulse iterations per substep
   int jointIterations = 0;    ///< per-hinge override (0: use solverIterations)

@@ -63,6 +63,15 @@ int moduleJointAngle(lua_State* L) {
   return 1;
 }
 
+/// m:joint_torque(name) -> N m its motor applied over the last step, saturated (at its rating)
+int moduleJointTorque(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const int j = checkJointName(L, 2, m);
+  lua_pushnumber(L, world(L).jointTorque(m, j));
+  lua_pushboolean(L, world(L).jointSaturated(m, j));
+  return 2;
+}
+
 /// m:joint_angles() -> {name = radians, ...}
 int moduleJointAngles(lua_State* L) {
   const int m = checkModule(L, 1);
@@ -277,6 +286,7 @@ void openModuleHandle(lua_State* L) {
                                            {"link_position", moduleLinkPosition},
                                            {"joint_angle", moduleJointAngle},
                                            {"joint_angles", moduleJointAngles},
+                                           {"joint_torque", moduleJointTorque},
                                            {"dock_state", moduleDockState},
                                            {"dock_position", moduleDockPosition},
                                            {"dock_normal", moduleDockNormal},

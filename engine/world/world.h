@@ -55,10 +55,10 @@ struct RunOptions {
 
 /// world.set{...}: fixed before the first step.
 struct WorldSettings {
-  SolverKind solver = SolverKind::Exact;
+  SolverKind solver = SolverKind::Pgs;
   double dt = 1.0 / 60.0;
-  int substeps = 1;
-  int solverIterations = 10;
+  int substeps = 4;
+  int solverIterations = 30;
   int jointIterations = 0;
   double erp = 0.8;
   Vec3 gravity = Vec3(0, 0, -9.81);

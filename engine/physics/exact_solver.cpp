@@ -220,7 +220,10 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
   }
   m_bodyNode.assign(size_t(nb), -1);
   if (m_seenJoint.size() < joints.size()) m_seenJoint.resize(joints.size());
-  for (int j : m_groupJoints) m_seenJoint[size_t(j)] = 0;
+  for (int j : m_groupJoints) {
+    m_seenJoint[size_t(j)] = 0;
+    m_rows[size_t(j)].node = -1;
+  }
 
   // One cluster per connected component: first collect it, then root it at its anchor (a joint
   // to a static body) if it has one, else at its first body, and list nodes breadth first.
@@ -255,9 +258,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
       return int(m_nodes.size()) - 1;
     };
     if (root >= 0) {
-      const Row& r = m_rows[size_t(root)];
       m_rows[size_t(root)].node = addNode(-1, root, -1, false);
-      (void)r;
     } else {
       const int b = m_rows[size_t(start)].na >= 0 ? m_rows[size_t(start)].na : m_rows[size_t(start)].nb;
       m_bodyNode[size_t(b - firstBody)] = addNode(b, -1, -1, false);
@@ -278,9 +279,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
         for (int q = m_adjStart[size_t(b - firstBody)]; q < m_adjStart[size_t(b - firstBody) + 1]; ++q) {
           const int j = m_adj[size_t(q)];
           Row& r = m_rows[size_t(j)];
-          if (r.node >= 0 && r.node >= c.begin && r.node < int(m_nodes.size()) &&
-              m_nodes[size_t(r.node)].joint == j)
-            continue;  // already placed
+          if (r.node >= 0) continue;  // already placed (the body's parent joint)
           const int other = r.na == b ? r.nb : r.na;
           if (other >= 0 && m_bodyNode[size_t(other - firstBody)] >= 0) continue;  // would close a loop
           r.node = addNode(-1, j, k, r.na == b);
@@ -332,7 +331,7 @@ void ExactSolver::factor(Cluster& c) {
 
 /// Solves for the right-hand side already in each node's y (bodies: 0; joints: the rows'
 /// residual); leaves x: a body's velocity (or position) change, a joint's -lambda.
-void ExactSolver::solve(Cluster& c, bool) {
+void ExactSolver::solve(Cluster& c) {
   for (int k = c.end - 1; k >= c.begin; --k) {
     Node& n = m_nodes[size_t(k)];
     n.x.noalias() = n.dinv * n.y;
@@ -366,7 +365,7 @@ void ExactSolver::exactIteration(bool clamp) {
       const ExactJoint& e = joints[size_t(n.joint)];
       n.y[5] = r.axialActive ? e.rowTarget - jv[5] : 0;
     }
-    solve(c, false);
+    solve(c);
     for (int k = c.begin; k < c.end; ++k) {
       Node& n = m_nodes[size_t(k)];
       if (n.body >= 0) {
@@ -519,7 +518,7 @@ void ExactSolver::postStabilise() {
       n.y[4] = fa.col(1).dot(tilt);
       n.y[5] = 0;
     }
-    solve(c, true);
+    solve(c);
     for (int k = c.begin; k < c.end; ++k) {
       const Node& n = m_nodes[size_t(k)];
       if (n.body < 0) continue;

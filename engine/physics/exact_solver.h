@@ -134,7 +134,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void buildClusters(btTypedConstraint** constraints, int numConstraints);
   void setupJoint(int j, double h);
   void factor(Cluster& c);
-  void solve(Cluster& c, bool positions);
+  void solve(Cluster& c);
   void exactIteration(bool clamp);
   void finishJoints();
   Vec6 bodyVelocity(int b) const;

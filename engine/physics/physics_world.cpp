@@ -582,38 +582,10 @@ int PhysicsWorld::addPart(const PartDesc& desc) {
   p.owner = desc.owner;
 
   // Mass properties: each shape gets its given mass, the rest is shared by volume.
-  std::vector<MassProps> props;
-  double fixedMass = 0, freeVolume = 0;
-  for (const ShapeDef& s : desc.shapes) {
-    props.push_back(shapeMassProps(s));
-    if (s.mass >= 0)
-      fixedMass += s.mass;
-    else
-      freeVolume += props.back().volume;
-  }
-  std::vector<double> masses;
-  double total = 0;
-  for (size_t i = 0; i < desc.shapes.size(); ++i) {
-    double mi = desc.shapes[i].mass >= 0
-                    ? desc.shapes[i].mass
-                    : (freeVolume > 0 ? (desc.mass - fixedMass) * props[i].volume / freeVolume : 0);
-    masses.push_back(std::max(mi, 0.0));
-    total += masses.back();
-  }
-  if (desc.mass > 0 && total > 0) {
-    Vec3 com = Vec3::Zero();
-    for (size_t i = 0; i < desc.shapes.size(); ++i) com += masses[i] * (desc.shapes[i].pose * props[i].com);
-    com /= total;
-    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
-    for (size_t i = 0; i < desc.shapes.size(); ++i) {
-      const double density = props[i].volume > 0 ? masses[i] / props[i].volume : 0;
-      const Eigen::Matrix3d r = desc.shapes[i].pose.rot.toRotationMatrix();
-      const Vec3 d = desc.shapes[i].pose * props[i].com - com;
-      inertia += density * r * props[i].inertia * r.transpose() +
-                 masses[i] * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
-    }
-    p.com = com;
-    p.inertia = inertia * (desc.mass / total);
+  if (desc.mass > 0) {
+    const MassProps mp = compoundMassProps(desc.shapes, desc.mass);
+    p.com = mp.com;
+    p.inertia = mp.inertia;
   }
   for (const ShapeDef& s : desc.shapes) {
     p.shapes.push_back(makeShape(s));

@@ -1,0 +1,1 @@
+world.set{solver = 3} --!

@@ -346,51 +346,63 @@ void ExactSolver::solve(Cluster& c) {
   }
 }
 
+void ExactSolver::forEachCluster(int begin, const std::function<void(int)>& fn) {
+  const int n = int(m_clusters.size()) - begin;
+  if (forEach && n > 1) {
+    forEach(n, [&](int i) { fn(begin + i); });
+  } else {
+    for (int i = 0; i < n; ++i) fn(begin + i);
+  }
+}
+
 void ExactSolver::exactIteration(bool clamp) {
+  forEachCluster(m_groupBegin, [&](int ci) { clusterIteration(m_clusters[size_t(ci)], clamp); });
+}
+
+/// One exact solve of a cluster's rows. It reads and writes only the cluster's own bodies,
+/// joints and nodes, so clusters may run in parallel.
+void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
   using A = ExactJoint::Axial;
-  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
-    Cluster& c = m_clusters[size_t(ci)];
-    if (c.dirty) factor(c);
-    for (int k = c.begin; k < c.end; ++k) {
-      Node& n = m_nodes[size_t(k)];
-      if (n.joint < 0) {
-        n.y.setZero();
-        continue;
-      }
-      const Row& r = m_rows[size_t(n.joint)];
-      Vec6 jv = Vec6::Zero();
-      if (r.na >= 0) jv.noalias() += r.ja * bodyVelocity(r.na);
-      if (r.nb >= 0) jv.noalias() += r.jb * bodyVelocity(r.nb);
-      n.y = -jv;
-      const ExactJoint& e = joints[size_t(n.joint)];
-      n.y[5] = r.axialActive ? e.rowTarget - jv[5] : 0;
+  if (c.dirty) factor(c);
+  for (int k = c.begin; k < c.end; ++k) {
+    Node& n = m_nodes[size_t(k)];
+    if (n.joint < 0) {
+      n.y.setZero();
+      continue;
     }
-    solve(c);
-    for (int k = c.begin; k < c.end; ++k) {
-      Node& n = m_nodes[size_t(k)];
-      if (n.body >= 0) {
-        addBodyVelocity(n.body, n.x);
-        continue;
-      }
-      Row& r = m_rows[size_t(n.joint)];
-      r.lambda -= n.x;
-      if (!r.axialActive || !clamp) continue;
-      // A bounded axial row that left its bounds is fixed at the bound from now on.
-      ExactJoint& e = joints[size_t(n.joint)];
-      const double l = r.lambda[5];
-      const double tau = e.motorOn ? e.maxImpulse : 0;
-      double fixAt = l;
-      if (e.state == A::Motor && std::abs(l) > tau) fixAt = std::copysign(tau, l);
-      if (e.state == A::Lower && l < e.bound) fixAt = e.bound;
-      if (e.state == A::Upper && l > e.bound) fixAt = e.bound;
-      if (fixAt != l) {
-        r.lambda[5] = l;
-        applyAxial(n.joint, fixAt - l);
-        e.state = A::Fixed;
-        e.fixedImpulse = fixAt;
-        r.axialActive = false;
-        c.dirty = true;
-      }
+    const Row& r = m_rows[size_t(n.joint)];
+    Vec6 jv = Vec6::Zero();
+    if (r.na >= 0) jv.noalias() += r.ja * bodyVelocity(r.na);
+    if (r.nb >= 0) jv.noalias() += r.jb * bodyVelocity(r.nb);
+    n.y = -jv;
+    const ExactJoint& e = joints[size_t(n.joint)];
+    n.y[5] = r.axialActive ? e.rowTarget - jv[5] : 0;
+  }
+  solve(c);
+  for (int k = c.begin; k < c.end; ++k) {
+    Node& n = m_nodes[size_t(k)];
+    if (n.body >= 0) {
+      addBodyVelocity(n.body, n.x);
+      continue;
+    }
+    Row& r = m_rows[size_t(n.joint)];
+    r.lambda -= n.x;
+    if (!r.axialActive || !clamp) continue;
+    // A bounded axial row that left its bounds is fixed at the bound from now on.
+    ExactJoint& e = joints[size_t(n.joint)];
+    const double l = r.lambda[5];
+    const double tau = e.motorOn ? e.maxImpulse : 0;
+    double fixAt = l;
+    if (e.state == A::Motor && std::abs(l) > tau) fixAt = std::copysign(tau, l);
+    if (e.state == A::Lower && l < e.bound) fixAt = e.bound;
+    if (e.state == A::Upper && l > e.bound) fixAt = e.bound;
+    if (fixAt != l) {
+      r.lambda[5] = l;
+      applyAxial(n.joint, fixAt - l);
+      e.state = A::Fixed;
+      e.fixedImpulse = fixAt;
+      r.axialActive = false;
+      c.dirty = true;
     }
   }
 }
@@ -501,41 +513,42 @@ btScalar ExactSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodies, 
 
 void ExactSolver::postStabilise() {
   if (m_clusters.empty()) return;
-  // Position errors at the integrated poses, solved with the last factor of each cluster.
-  for (Cluster& c : m_clusters) {
-    if (c.dirty) factor(c);
-    for (int k = c.begin; k < c.end; ++k) {
-      Node& n = m_nodes[size_t(k)];
-      n.y.setZero();
-      if (n.joint < 0) continue;
-      const ExactJoint& e = joints[size_t(n.joint)];
-      const btTransform ta = e.a->getCenterOfMassTransform() * e.frameA;
-      const btTransform tb = e.b->getCenterOfMassTransform() * e.frameB;
-      const Mat3d fa = toEigen(ta.getBasis());
-      const Vec3d tilt = fa.col(2).cross(toEigen(tb.getBasis().getColumn(2)));
-      n.y.head<3>() = -(toEigen(ta.getOrigin()) - toEigen(tb.getOrigin()));
-      n.y[3] = fa.col(0).dot(tilt);
-      n.y[4] = fa.col(1).dot(tilt);
-      n.y[5] = 0;
+  forEachCluster(0, [&](int ci) { stabiliseCluster(m_clusters[size_t(ci)]); });
+}
+
+/// Position errors at the integrated poses, solved with the cluster's last factor.
+void ExactSolver::stabiliseCluster(Cluster& c) {
+  if (c.dirty) factor(c);
+  for (int k = c.begin; k < c.end; ++k) {
+    Node& n = m_nodes[size_t(k)];
+    n.y.setZero();
+    if (n.joint < 0) continue;
+    const ExactJoint& e = joints[size_t(n.joint)];
+    const btTransform ta = e.a->getCenterOfMassTransform() * e.frameA;
+    const btTransform tb = e.b->getCenterOfMassTransform() * e.frameB;
+    const Mat3d fa = toEigen(ta.getBasis());
+    const Vec3d tilt = fa.col(2).cross(toEigen(tb.getBasis().getColumn(2)));
+    n.y.head<3>() = -(toEigen(ta.getOrigin()) - toEigen(tb.getOrigin()));
+    n.y[3] = fa.col(0).dot(tilt);
+    n.y[4] = fa.col(1).dot(tilt);
+    n.y[5] = 0;
+  }
+  solve(c);
+  for (int k = c.begin; k < c.end; ++k) {
+    const Node& n = m_nodes[size_t(k)];
+    if (n.body < 0) continue;
+    btRigidBody* rb = m_bodies[size_t(n.body)].rb;
+    btTransform t = rb->getCenterOfMassTransform();
+    t.setOrigin(t.getOrigin() + btVector3(btScalar(n.x[0]), btScalar(n.x[1]), btScalar(n.x[2])));
+    const Vec3d dr = n.x.tail<3>();
+    const double angle = dr.norm();
+    if (angle > 0) {
+      const Vec3d axis = dr / angle;
+      btQuaternion q(btVector3(btScalar(axis.x()), btScalar(axis.y()), btScalar(axis.z())), btScalar(angle));
+      t.setRotation((q * t.getRotation()).normalized());
     }
-    solve(c);
-    for (int k = c.begin; k < c.end; ++k) {
-      const Node& n = m_nodes[size_t(k)];
-      if (n.body < 0) continue;
-      btRigidBody* rb = m_bodies[size_t(n.body)].rb;
-      btTransform t = rb->getCenterOfMassTransform();
-      t.setOrigin(t.getOrigin() + btVector3(btScalar(n.x[0]), btScalar(n.x[1]), btScalar(n.x[2])));
-      const Vec3d dr = n.x.tail<3>();
-      const double angle = dr.norm();
-      if (angle > 0) {
-        const Vec3d axis = dr / angle;
-        btQuaternion q(btVector3(btScalar(axis.x()), btScalar(axis.y()), btScalar(axis.z())),
-                       btScalar(angle));
-        t.setRotation((q * t.getRotation()).normalized());
-      }
-      rb->setCenterOfMassTransform(t);
-      rb->setInterpolationWorldTransform(t);
-    }
+    rb->setCenterOfMassTransform(t);
+    rb->setInterpolationWorldTransform(t);
   }
 }
 

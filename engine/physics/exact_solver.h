@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace rm3d {
@@ -88,6 +89,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<ExactJoint> joints;
   /// An exact solve after every `every`-th contact sweep, and always after the last.
   int every = 1;
+  /// Runs fn(i) for i in [0, n), in parallel if it can; null: in order on this thread.
+  std::function<void(int, const std::function<void(int)>&)> forEach;
 
   /// Forget the clusters of the previous substep (called before each one).
   void beginSubstep();
@@ -136,6 +139,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void factor(Cluster& c);
   void solve(Cluster& c);
   void exactIteration(bool clamp);
+  void clusterIteration(Cluster& c, bool clamp);
+  void stabiliseCluster(Cluster& c);
+  void forEachCluster(int begin, const std::function<void(int)>& fn);
   void finishJoints();
   Vec6 bodyVelocity(int b) const;
   void addBodyVelocity(int b, const Vec6& dv);

@@ -717,6 +717,10 @@ void PhysicsWorld::addTorque(int part, const Vec3& torque) {
   m->forces.push_back({part, Vec3::Zero(), Vec3::Zero(), torque});
 }
 
+void PhysicsWorld::setParallel(ForEach forEach) {
+  m->solver.forEach = std::move(forEach);
+}
+
 void PhysicsWorld::setLoadTracking(bool on) {
   if (m->tracking == on) return;
   m->tracking = on;

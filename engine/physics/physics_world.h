@@ -7,6 +7,7 @@
 // torque and speed).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -97,6 +98,10 @@ class PhysicsWorld {
   void addTorque(int part, const Vec3& torque);
   /// Turns on what internalLoad needs: hinge reaction feedback and per-part contact forces.
   void setLoadTracking(bool on);
+  /// Runs fn(i) for i in [0, n), possibly in parallel; the exact solver spreads independent
+  /// clusters over it (each touches only its own bodies, so results do not depend on it).
+  using ForEach = std::function<void(int n, const std::function<void(int)>& fn)>;
+  void setParallel(ForEach forEach);
   /// The force and torque (about `point`) that the rest of their rigid body exerted on the given
   /// parts, averaged over the last step(), from Newton-Euler on those parts: their change of
   /// momentum over the step minus the impulses of gravity, contacts and hinge reactions on them.

@@ -116,6 +116,9 @@ void World::ensurePhysics() {
   ps.jointIterations = m_settings.jointIterations;
   ps.erp = m_settings.erp;
   m_physics = std::make_unique<PhysicsWorld>(ps);
+  if (m_pool->threads() > 1)
+    m_physics->setParallel(
+        [pool = m_pool.get()](int n, const std::function<void(int)>& fn) { pool->run(n, fn); });
 }
 
 void World::addGround(double friction, double restitution) {

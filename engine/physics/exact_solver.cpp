@@ -291,6 +291,191 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
   }
 }
 
+/// One side of a contact row: its solver body, Jacobian, and (if it is one of ours) body and group.
+ExactSolver::RowSide ExactSolver::rowSide(btSolverConstraint& c, int side) {
+  RowSide r;
+  const int sid = side == 0 ? c.m_solverBodyIdA : c.m_solverBodyIdB;
+  r.body = &m_tmpSolverBodyPool[sid];
+  r.n = side == 0 ? &c.m_contactNormal1 : &c.m_contactNormal2;
+  r.rc = side == 0 ? &c.m_relpos1CrossNormal : &c.m_relpos2CrossNormal;
+  r.ac = side == 0 ? &c.m_angularComponentA : &c.m_angularComponentB;
+  r.index = sid < int(m_sidToBody.size()) ? m_sidToBody[size_t(sid)] : -1;
+  r.group = r.index >= 0 ? m_bodyGroup[size_t(r.index)] : -1;
+  return r;
+}
+
+/// Rigid groups of this solver group's bodies (hinges whose motors hold them), their mass
+/// properties, and each contact row's velocity error and effective mass as the sweep sees it.
+void ExactSolver::buildGroups(int firstBody) {
+  using A = ExactJoint::Axial;
+  const int nb = int(m_bodies.size()) - firstBody;
+  m_groupParent.resize(size_t(nb));
+  for (int i = 0; i < nb; ++i) m_groupParent[size_t(i)] = i;
+  auto find = [&](int i) {
+    while (m_groupParent[size_t(i)] != i)
+      i = m_groupParent[size_t(i)] = m_groupParent[size_t(m_groupParent[size_t(i)])];
+    return i;
+  };
+  for (int j : m_groupJoints) {
+    const ExactJoint& e = joints[size_t(j)];
+    const Row& r = m_rows[size_t(j)];
+    if (r.na < 0 || r.nb < 0 || !e.motorOn || e.state == A::Fixed) continue;
+    const int a = find(r.na - firstBody), b = find(r.nb - firstBody);
+    if (a != b) m_groupParent[size_t(std::max(a, b))] = std::min(a, b);
+  }
+  m_groups.clear();
+  m_bodyGroup.assign(m_bodies.size(), -1);
+  m_bodyOffset.resize(m_bodies.size());
+  m_bodyImpulse.assign(m_bodies.size(), Vec6::Zero());
+  // A group's root is its smallest body: groups are numbered in body order.
+  std::vector<int>& rootGroup = m_queue;
+  rootGroup.assign(size_t(nb), -1);
+  for (int i = 0; i < nb; ++i) {
+    const int root = find(i);
+    if (root != i && rootGroup[size_t(root)] < 0) {
+      rootGroup[size_t(root)] = int(m_groups.size());
+      m_groups.push_back({0, Vec3d::Zero(), Mat3d::Zero(), Vec3d::Zero(), Vec3d::Zero()});
+    }
+  }
+  for (int i = 0; i < nb; ++i) {
+    const int g = rootGroup[size_t(find(i))];
+    m_bodyGroup[size_t(firstBody + i)] = g;
+    if (g < 0) continue;
+    const Body& b = m_bodies[size_t(firstBody + i)];
+    const double m = 1.0 / b.invMass;
+    m_groups[size_t(g)].invMass += m;  // the mass, until inverted below
+    m_groups[size_t(g)].com += m * toEigen(b.rb->getCenterOfMassPosition());
+  }
+  for (Group& g : m_groups) g.com /= g.invMass;
+  for (int i = 0; i < nb; ++i) {
+    const int g = m_bodyGroup[size_t(firstBody + i)];
+    if (g < 0) continue;
+    const Body& b = m_bodies[size_t(firstBody + i)];
+    const Vec3d d = toEigen(b.rb->getCenterOfMassPosition()) - m_groups[size_t(g)].com;
+    m_bodyOffset[size_t(firstBody + i)] = d;
+    m_groups[size_t(g)].invInertia +=
+        b.invInertia.inverse() + (d.squaredNorm() * Mat3d::Identity() - d * d.transpose()) / b.invMass;
+  }
+  for (Group& g : m_groups) {
+    g.invMass = 1.0 / g.invMass;
+    g.invInertia = g.invInertia.inverse().eval();
+  }
+
+  // Rows: the velocity error and cfm behind Bullet's right-hand side, and 1 / (effective mass)
+  // with a group's inertia in place of its body's.
+  const int nc = m_tmpSolverContactConstraintPool.size(),
+            nf = m_tmpSolverContactFrictionConstraintPool.size();
+  m_rowExtra.resize(size_t(3 * (nc + nf)));
+  for (int i = 0; i < nc + nf; ++i) {
+    btSolverConstraint& c =
+        i < nc ? m_tmpSolverContactConstraintPool[i] : m_tmpSolverContactFrictionConstraintPool[i - nc];
+    double* x = &m_rowExtra[size_t(3 * i)];
+    const double jd = c.m_jacDiagABInv;
+    if (jd == 0) {
+      x[0] = x[1] = x[2] = 0;
+      continue;
+    }
+    double w = 0;
+    for (int side = 0; side < 2; ++side) {
+      const RowSide r = rowSide(c, side);
+      if (!r.body->m_originalBody) continue;
+      if (r.group < 0) {
+        w += double(r.body->m_originalBody->getInvMass()) * double(r.n->length2()) + double(r.ac->dot(*r.rc));
+      } else {
+        const Group& gr = m_groups[size_t(r.group)];
+        const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
+        w += gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg);
+      }
+    }
+    x[0] = double(c.m_rhs) / jd;
+    x[1] = double(c.m_cfm) / jd;
+    x[2] = 1.0 / (w + x[1]);
+  }
+}
+
+/// One row of the contact sweep, as Bullet's, except that a body in a rigid group moves with its
+/// group: its velocity includes the group's pending twist and an impulse goes to that twist.
+double ExactSolver::sweepRow(btSolverConstraint& c, double lo, double hi, const double* x) {
+  double vel = 0;
+  const RowSide sides[2] = {rowSide(c, 0), rowSide(c, 1)};
+  for (const RowSide& r : sides) {
+    if (!r.body->m_originalBody) continue;
+    vel += double(r.n->dot(r.body->m_deltaLinearVelocity) + r.rc->dot(r.body->m_deltaAngularVelocity));
+    if (r.group >= 0) {
+      const Group& gr = m_groups[size_t(r.group)];
+      vel +=
+          toEigen(*r.n).dot(gr.dv + gr.dw.cross(m_bodyOffset[size_t(r.index)])) + toEigen(*r.rc).dot(gr.dw);
+    }
+  }
+  const double lambda = c.m_appliedImpulse;
+  const double next = std::clamp(lambda + x[2] * (x[0] - x[1] * lambda - vel), lo, hi);
+  const double delta = next - lambda;
+  c.m_appliedImpulse = btScalar(next);
+  if (delta == 0) return 0;
+  for (const RowSide& r : sides) {
+    if (!r.body->m_originalBody) continue;
+    if (r.group < 0) {
+      r.body->internalApplyImpulse(*r.n * r.body->internalGetInvMass(), *r.ac, btScalar(delta));
+      continue;
+    }
+    Group& gr = m_groups[size_t(r.group)];
+    const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
+    gr.dv += gr.invMass * toEigen(*r.n) * delta;
+    gr.dw += gr.invInertia * rg * delta;
+    Vec6& p = m_bodyImpulse[size_t(r.index)];
+    p.head<3>() += toEigen(*r.n) * delta;
+    p.tail<3>() += toEigen(*r.rc) * delta;
+  }
+  return delta * delta;
+}
+
+/// Bullet's contact, friction and rolling-friction sweep, with rigid groups.
+btScalar ExactSolver::contactSweep() {
+  double residual = 0;
+  const int nc = m_tmpSolverContactConstraintPool.size(),
+            nf = m_tmpSolverContactFrictionConstraintPool.size();
+  for (int j = 0; j < nc; ++j) {
+    const int i = m_orderTmpConstraintPool[j];
+    btSolverConstraint& c = m_tmpSolverContactConstraintPool[i];
+    const double* x = &m_rowExtra[size_t(3 * i)];
+    if (x[2] != 0) residual = std::max(residual, sweepRow(c, c.m_lowerLimit, c.m_upperLimit, x));
+  }
+  for (int j = 0; j < nf; ++j) {
+    const int i = m_orderFrictionConstraintPool[j];
+    btSolverConstraint& c = m_tmpSolverContactFrictionConstraintPool[i];
+    const double total = m_tmpSolverContactConstraintPool[c.m_frictionIndex].m_appliedImpulse;
+    const double* x = &m_rowExtra[size_t(3 * (nc + i))];
+    if (total > 0 && x[2] != 0)
+      residual = std::max(residual, sweepRow(c, -c.m_friction * total, c.m_friction * total, x));
+  }
+  for (int j = 0; j < m_tmpSolverContactRollingFrictionConstraintPool.size(); ++j) {
+    btSolverConstraint& c = m_tmpSolverContactRollingFrictionConstraintPool[j];
+    const btScalar total = m_tmpSolverContactConstraintPool[c.m_frictionIndex].m_appliedImpulse;
+    if (total <= 0) continue;
+    const btScalar bound = std::min(c.m_friction * total, c.m_friction);
+    c.m_lowerLimit = -bound;
+    c.m_upperLimit = bound;
+    const btScalar r = resolveSingleConstraintRowGeneric(m_tmpSolverBodyPool[c.m_solverBodyIdA],
+                                                         m_tmpSolverBodyPool[c.m_solverBodyIdB], c);
+    residual = std::max(residual, double(r) * double(r));
+  }
+  // The twists only predicted how the groups move within the sweep: each grouped body now takes
+  // the impulses that reached it, and the exact solve passes them through its hinges (so joint
+  // impulses, torques and loads carry them).
+  for (size_t b = size_t(m_groupFirstBody); b < m_bodyGroup.size(); ++b) {
+    if (m_bodyGroup[b] < 0) continue;
+    Vec6& p = m_bodyImpulse[b];
+    const Body& body = m_bodies[b];
+    Vec6 dv;
+    dv.head<3>() = body.invMass * p.head<3>();
+    dv.tail<3>() = body.invInertia * p.tail<3>();
+    addBodyVelocity(int(b), dv);
+    p.setZero();
+  }
+  for (Group& g : m_groups) g.dv.setZero(), g.dw.setZero();
+  return btScalar(residual);
+}
+
 void ExactSolver::factor(Cluster& c) {
   // Diagonal blocks and the coupling to the parent.
   for (int k = c.begin; k < c.end; ++k) {
@@ -417,6 +602,7 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   m_h = double(info.m_timeStep);
   m_groupBegin = int(m_clusters.size());
   if (m_rows.size() < joints.size()) m_rows.resize(joints.size());
+  m_groupFirstBody = int(m_bodies.size());
   buildClusters(constraints, numConstraints);
   m_groupHasJoints = !m_groupJoints.empty();
   for (int j : m_groupJoints) {
@@ -424,6 +610,7 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
     const ExactJoint& e = joints[size_t(j)];
     if (e.state == ExactJoint::Axial::Fixed) applyAxial(j, e.fixedImpulse);
   }
+  if (m_groupHasJoints) buildGroups(m_groupFirstBody);
   return r;
 }
 
@@ -431,8 +618,21 @@ btScalar ExactSolver::solveSingleIteration(int iteration, btCollisionObject** bo
                                            btPersistentManifold** manifolds, int numManifolds,
                                            btTypedConstraint** constraints, int numConstraints,
                                            const btContactSolverInfo& info, btIDebugDraw* debugDrawer) {
-  const btScalar r = btSequentialImpulseConstraintSolver::solveSingleIteration(
-      iteration, bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer);
+  if (!m_groupHasJoints)
+    return btSequentialImpulseConstraintSolver::solveSingleIteration(iteration, bodies, numBodies, manifolds,
+                                                                     numManifolds, constraints,
+                                                                     numConstraints, info, debugDrawer);
+  // Bullet's own constraint rows (loop-closing hinges), as its sweep does them, then the contacts
+  // with rigid groups.
+  btScalar r = 0;
+  for (int j = 0; j < m_tmpSolverNonContactConstraintPool.size(); ++j) {
+    btSolverConstraint& c = m_tmpSolverNonContactConstraintPool[m_orderNonContactConstraintPool[j]];
+    if (iteration >= c.m_overrideNumSolverIterations) continue;
+    const btScalar res = resolveSingleConstraintRowGeneric(m_tmpSolverBodyPool[c.m_solverBodyIdA],
+                                                           m_tmpSolverBodyPool[c.m_solverBodyIdB], c);
+    r = std::max(r, res * res);
+  }
+  r = std::max(r, contactSweep());
   const int last = std::max(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
   // Bounds apply at the last iteration only: before it the contacts have not settled, and a
   // motor fixed at its rating on their account would be wrong for the whole substep.

@@ -20,6 +20,11 @@
 // over the contact rows, then the exact solve of all hinge rows, so the last iteration always
 // leaves the hinges exact and the motors within their torque.
 //
+// Contacts and friction stay Bullet's rows, swept by this solver: a body joined to others by
+// hinges whose motors hold them moves, within the sweep, with its rigid group (the group's mass
+// and inertia take the impulse), and after the sweep each impulse goes to the body it hit for the
+// exact solve to pass on through the hinges.
+//
 // After integration, the position error of the hinges (pivot gap, axis tilt) is projected out
 // with the same factor (post-stabilisation): no Baumgarte velocity, so no energy is added.
 #pragma once
@@ -139,6 +144,15 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void factor(Cluster& c);
   void solve(Cluster& c);
   void exactIteration(bool clamp);
+  struct RowSide {
+    btSolverBody* body;
+    const btVector3 *n, *rc, *ac;
+    int index, group;  // into m_bodies and m_groups, -1: not ours / not grouped
+  };
+  RowSide rowSide(btSolverConstraint& c, int side);
+  void buildGroups(int firstBody);
+  double sweepRow(btSolverConstraint& c, double lo, double hi, const double* extra);
+  btScalar contactSweep();
   void clusterIteration(Cluster& c, bool clamp);
   void stabiliseCluster(Cluster& c);
   void forEachCluster(int begin, const std::function<void(int)>& fn);
@@ -155,6 +169,21 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<Cluster> m_clusters;
   std::vector<Row> m_rows;  // by joint id
   std::vector<int> m_groupJoints;
+  /// Rigid groups: bodies joined by hinges whose motors hold them (the structure moves as one
+  /// under a contact impulse). The contact sweep applies impulses to a group's twist.
+  struct Group {
+    double invMass;
+    Eigen::Vector3d com;
+    Eigen::Matrix3d invInertia;
+    Eigen::Vector3d dv, dw;  // twist change not yet passed to the bodies
+  };
+  std::vector<Group> m_groups;                // this solver group's
+  std::vector<int> m_bodyGroup;               // by body (index into m_groups, -1: alone)
+  std::vector<Eigen::Vector3d> m_bodyOffset;  // body centre of mass minus its group's
+  std::vector<Vec6> m_bodyImpulse;            // contact impulse on a grouped body this sweep
+  std::vector<int> m_groupParent;             // union-find
+  std::vector<double> m_rowExtra;             // per contact then friction row: velocity error, cfm, 1 / mass
+  int m_groupFirstBody = 0;
   std::vector<int> m_sidToBody;
   std::vector<int> m_bodyNode;
   std::vector<int> m_adjStart, m_adj, m_queue, m_component;

@@ -92,7 +92,8 @@ std::string runGnuplot(const std::string& script) {
   const char* argv[] = {"gnuplot", script.c_str(), nullptr};
   pid_t pid = 0;
   const int e = posix_spawnp(&pid, "gnuplot", nullptr, nullptr, const_cast<char* const*>(argv), environ);
-  if (e == ENOENT) return "gnuplot is not installed (apt-get install gnuplot-nox; .ci/install-deps installs it)";
+  if (e == ENOENT)
+    return "gnuplot is not installed (apt-get install gnuplot-nox; .ci/install-deps installs it)";
   if (e != 0) return std::string("cannot start gnuplot (") + std::strerror(e) + ")";
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {

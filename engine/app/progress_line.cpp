@@ -10,7 +10,7 @@
 namespace rm3d {
 
 namespace {
-constexpr double kQuietSeconds = 3;     ///< wall time before the line appears
+constexpr double kQuietSeconds = 3;      ///< wall time before the line appears
 constexpr double kRedrawSeconds = 0.25;  ///< between redraws
 }  // namespace
 
@@ -18,7 +18,8 @@ ProgressLine::ProgressLine(double endTime)
     : m_enabled(::isatty(STDERR_FILENO) == 1),
       m_endTime(endTime),
       m_start(Clock::now()),
-      m_next(m_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kQuietSeconds))) {}
+      m_next(m_start +
+             std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kQuietSeconds))) {}
 
 void ProgressLine::update(const World& w) {
   if (!m_enabled) return;
@@ -31,9 +32,11 @@ void ProgressLine::update(const World& w) {
   if (m_endTime > 0 && rtf > 0) {
     const double left = (m_endTime - w.time()) / rtf;
     std::snprintf(line, sizeof line, "t=%.2f of %.2f s (%.0f%%), step %lld, %.2fx real time, %.0f s left",
-                  w.time(), m_endTime, 100 * w.time() / m_endTime, (long long)w.steps(), rtf, left > 0 ? left : 0);
+                  w.time(), m_endTime, 100 * w.time() / m_endTime, (long long)w.steps(), rtf,
+                  left > 0 ? left : 0);
   } else {
-    std::snprintf(line, sizeof line, "t=%.2f s, step %lld, %.2fx real time", w.time(), (long long)w.steps(), rtf);
+    std::snprintf(line, sizeof line, "t=%.2f s, step %lld, %.2fx real time", w.time(), (long long)w.steps(),
+                  rtf);
   }
   // Erase the line, write it, and leave the cursor at its start: a log line printed next
   // overwrites it instead of being glued to its end.

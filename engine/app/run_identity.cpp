@@ -17,10 +17,18 @@ void addRunIdentity(nlohmann::json& summary, const std::vector<std::string>& com
   for (const auto& [key, text] : params) {
     const ParamValue v = parseParamValue(text);
     switch (v.kind) {
-      case ParamValue::Kind::Integer: p[key] = v.integer; break;
-      case ParamValue::Kind::Number: p[key] = std::isfinite(v.number) ? nlohmann::json(v.number) : nlohmann::json(text); break;
-      case ParamValue::Kind::Boolean: p[key] = v.boolean; break;
-      case ParamValue::Kind::String: p[key] = text; break;
+      case ParamValue::Kind::Integer:
+        p[key] = v.integer;
+        break;
+      case ParamValue::Kind::Number:
+        p[key] = std::isfinite(v.number) ? nlohmann::json(v.number) : nlohmann::json(text);
+        break;
+      case ParamValue::Kind::Boolean:
+        p[key] = v.boolean;
+        break;
+      case ParamValue::Kind::String:
+        p[key] = text;
+        break;
     }
   }
   summary["params"] = p;

@@ -46,7 +46,8 @@ std::string csvCell(const std::string& text) {
   std::string t = text;
   for (char& c : t)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
-  const bool quote = t.find_first_of(",\"") != std::string::npos || (!t.empty() && (t.front() == ' ' || t.back() == ' '));
+  const bool quote =
+      t.find_first_of(",\"") != std::string::npos || (!t.empty() && (t.front() == ' ' || t.back() == ' '));
   if (!quote) return t;
   std::string q = "\"";
   for (char c : t) {
@@ -127,7 +128,8 @@ void TraceWriter::writeRows(World& w, bool modules) {
       if (!m_moduleLayout[i]) m_moduleLayout[i] = &layout(m.type);
       const TypeLayout& l = *m_moduleLayout[i];
       std::vector<int>& series = m_moduleSeries[i];
-      for (size_t s = series.size(); s < m.traces.names.size(); ++s) series.push_back(column("trace." + m.traces.names[s]));
+      for (size_t s = series.size(); s < m.traces.names.size(); ++s)
+        series.push_back(column("trace." + m.traces.names[s]));
       m_kind.assign(m_columns.size(), Cell::Empty);  // no allocation once the width is reached
       m_value.resize(m_columns.size());
       const Pose p = w.modulePose(int(i));
@@ -174,10 +176,17 @@ void TraceWriter::writeRow(const std::string& who, TraceSeries& series, std::vec
     m_buffer += ',';
     const double v = m_value[size_t(c)];
     switch (m_kind[size_t(c)]) {
-      case Cell::Empty: break;
-      case Cell::Real: appendReal(m_buffer, v + 0.0); break;  // + 0.0: -0 is written 0
-      case Cell::Exact: appendExact(m_buffer, v); break;
-      case Cell::Integer: appendInteger(m_buffer, (long long)v); break;
+      case Cell::Empty:
+        break;
+      case Cell::Real:
+        appendReal(m_buffer, v + 0.0);
+        break;  // + 0.0: -0 is written 0
+      case Cell::Exact:
+        appendExact(m_buffer, v);
+        break;
+      case Cell::Integer:
+        appendInteger(m_buffer, (long long)v);
+        break;
     }
   }
   m_buffer += '\n';

@@ -34,8 +34,8 @@ std::vector<float> plotted(const std::deque<float>& values, float& lo, float& hi
 
 /// One plot box of one or two lines on a common scale (the second, e.g. a target, drawn over
 /// the first with a transparent frame), with a caption of the latest values.
-void plotBox(const char* id, const std::string& caption, const std::deque<float>& a, const std::deque<float>* b,
-             float height) {
+void plotBox(const char* id, const std::string& caption, const std::deque<float>& a,
+             const std::deque<float>* b, float height) {
   float lo = std::numeric_limits<float>::max(), hi = -lo;
   const std::vector<float> va = plotted(a, lo, hi);
   const std::vector<float> vb = b ? plotted(*b, lo, hi) : std::vector<float>();
@@ -110,13 +110,15 @@ void LivePlots::draw() const {
     ImGui::TextDisabled("(no steps yet)");
     return;
   }
-  ImGui::TextDisabled("last %.1f s; angle (blue) against target (orange), rad", m_times.back() - m_times.front());
+  ImGui::TextDisabled("last %.1f s; angle (blue) against target (orange), rad",
+                      m_times.back() - m_times.front());
   for (size_t j = 0; j + 2 < m_joints.size(); j += 3) {
     const std::string name = m_joints[j].label.substr(0, m_joints[j].label.size() - 6);  // drop " angle"
     ImGui::PushID(int(j));
-    plotBox("##angle",
-            name + ": " + latest("%+.3f", m_joints[j].values) + " -> " + latest("%+.3f", m_joints[j + 1].values),
-            m_joints[j].values, &m_joints[j + 1].values, 48);
+    plotBox(
+        "##angle",
+        name + ": " + latest("%+.3f", m_joints[j].values) + " -> " + latest("%+.3f", m_joints[j + 1].values),
+        m_joints[j].values, &m_joints[j + 1].values, 48);
     plotBox("##torque", name + " torque " + latest("%+.3f", m_joints[j + 2].values) + " N m",
             m_joints[j + 2].values, nullptr, 32);
     ImGui::PopID();

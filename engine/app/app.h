@@ -24,8 +24,11 @@ struct RunArgs {
   int every = 0;       ///< steps between frames (0: 30 per second)
   std::string graph;   ///< connection graph at the end (.dot: Graphviz, else JSON)
   bool quiet = false;
-  bool watch = false;   ///< real time, reload edits
-  double watchdog = 5;  ///< --watchdog S (RunOptions::watchdogSeconds)
+  bool watch = false;                    ///< real time, reload edits
+  double watchdog = 5;                   ///< --watchdog S (RunOptions::watchdogSeconds)
+  std::string trace;                     ///< --trace FILE.csv (world/trace_writer.h)
+  int traceEvery = 0;                    ///< --trace-every N (0: not given, every step)
+  std::vector<std::string> commandLine;  ///< argv as given, for the summary
 };
 
 struct TestArgs {
@@ -53,6 +56,16 @@ struct BenchArgs {
   bool converged = false;  ///< --converged: the converged reference (bench_converged.cpp)
 };
 
+struct PlotArgs {
+  std::string file;                  ///< CSV with a header row (a --trace file)
+  std::vector<std::string> y;        ///< columns to plot
+  std::string x;                     ///< default: time (else the first column)
+  std::vector<std::string> modules;  ///< --module NAME|ID (default: all)
+  std::string out;                   ///< .png or .svg (default: FILE with .png)
+  std::string title, ylabel;
+  std::string size;  ///< WxH
+};
+
 /// Exit codes (run_world.h, ExitCode; README "Exit codes"): 0 ok; 1 failed expectations, a fault
 /// under --strict (any unexpected fault under `rm3d test`); 2 bad input or an output that could
 /// not be written; 3 the watchdog stopped a hung run; 130 / 143 interrupted by SIGINT / SIGTERM
@@ -60,6 +73,8 @@ struct BenchArgs {
 int runCommand(const RunArgs& a, const std::string& root);
 int testCommand(const TestArgs& a, const std::string& root);
 int benchCommand(const BenchArgs& a, const std::string& root);
+/// `rm3d plot`: line plots of a CSV trace through gnuplot (app/cmd_plot.cpp).
+int plotCommand(const PlotArgs& a);
 /// `rm3d bench --converged`: the 10-module snake at the world's defaults against a converged run
 /// (20 substeps x 100 iterations); exit code 1 when a difference exceeds its threshold.
 int convergedCommand(const BenchArgs& a, const std::string& root);

@@ -11,6 +11,8 @@
 #include <thread>
 
 #include "app/app.h"
+#include "app/progress_line.h"
+#include "app/run_identity.h"
 #include "app/run_world.h"
 #include "app/video_pipe.h"
 #include "app/world_session.h"
@@ -18,6 +20,7 @@
 #include "render/offscreen_renderer.h"
 #include "render/world_snapshot.h"
 #include "script/world_script.h"
+#include "world/trace_writer.h"
 
 namespace fs = std::filesystem;
 
@@ -157,6 +160,22 @@ int runCommand(const RunArgs& a, const std::string& root) {
       return 2;
     }
   }
+  // --trace: rows go to FILE.part while the run lasts (world/trace_writer.h).
+  TraceWriter trace;
+  if (a.traceEvery > 0 && a.trace.empty()) {
+    std::fprintf(stderr, "rm3d run: --trace-every %d needs --trace FILE.csv\n", a.traceEvery);
+    return 2;
+  }
+  if (!a.trace.empty() && a.watch) {
+    std::fprintf(stderr,
+                 "rm3d run: --trace does not work with --watch (a rebuilt world starts its clock again)\n");
+    return 2;
+  }
+  if (!a.trace.empty() &&
+      (!prepareOutputFile("--trace", a.trace, err) || !trace.open(a.trace, a.traceEvery, err))) {
+    std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
+    return 2;
+  }
   int width = 1280, height = 720;
   if (!a.size.empty() && (std::sscanf(a.size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 ||
                           height < 16 || width > 8192 || height > 8192)) {
@@ -209,9 +228,35 @@ int runCommand(const RunArgs& a, const std::string& root) {
       ++frameNo;
     };
   }
-  WorldRun r = runWorldFile(a.world, o, a.steps, a.seconds, onStep);
+  // The end time the progress line counts towards: --seconds, --steps or the world's duration.
+  std::unique_ptr<ProgressLine> progress;
+  const StepHook everyStep = [&](World& w) {
+    if (trace.isOpen()) trace.sample(w);
+    if (onStep) onStep(w);
+    if (!progress)
+      progress = std::make_unique<ProgressLine>(a.seconds ? *a.seconds
+                                                : a.steps ? double(*a.steps) * w.settings().dt
+                                                          : w.settings().duration);
+    progress->update(w);
+  };
+  const StepHook atStart = [&](World& w) {
+    if (trace.isOpen()) trace.sample(w);
+  };
+  WorldRun r = runWorldFile(a.world, o, a.steps, a.seconds, everyStep, atStart);
+  progress.reset();  // erases the line
   int code = r.exitCode;
   std::vector<std::string> outputErrors;
+  if (trace.isOpen() && !r.loadError.empty()) trace.discard();
+  if (trace.isOpen()) {
+    std::string terr;
+    if (trace.finish(*r.world, terr)) {
+      std::printf("wrote %lld rows x %zu columns to %s\n", (long long)trace.rows(), trace.columns(),
+                  a.trace.c_str());
+    } else {
+      std::fprintf(stderr, "rm3d run: %s\n", terr.c_str());
+      outputErrors.push_back(terr);
+    }
+  }
   if (video.isOpen() && !video.close(videoError))
     std::fprintf(stderr, "rm3d run: %s\n", videoError.c_str());
   else if (video.isOpen() || videoFrames > 0)
@@ -277,6 +322,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
     nlohmann::json j =
         r.loadError.empty() ? w.summary(r.wallSeconds) : nlohmann::json{{"error", r.loadError}};
     if (!r.runError.empty()) j["error"] = r.runError;
+    addRunIdentity(j, a.commandLine, o.params);
     j["interrupted"] = r.signal != 0;
     if (r.signal) {
       j["signal"] = signalName(r.signal);

@@ -22,6 +22,7 @@
 #include <set>
 
 #include "app/app.h"
+#include "app/live_plots.h"
 #include "app/run_world.h"
 #include "app/world_session.h"
 #include "core/error.h"
@@ -521,6 +522,8 @@ class Viewer {
       }
       ImGui::EndTable();
     }
+    m_plots.sample(w, m_selected);
+    if (ImGui::CollapsingHeader("Plots", ImGuiTreeNodeFlags_DefaultOpen)) m_plots.draw();
     const std::string percepts = w.describePercepts(m_selected);
     if (!percepts.empty() && ImGui::CollapsingHeader("Percepts", ImGuiTreeNodeFlags_DefaultOpen))
       ImGui::TextWrapped("%s", percepts.c_str());
@@ -555,6 +558,7 @@ class Viewer {
   double m_owed = 0;                                   // simulated seconds the clock is ahead of the world
   std::deque<std::pair<double, double>> m_rtfSamples;  // (wall s, sim s) over the last second
   int m_selected = -1;                                 // module index
+  LivePlots m_plots;                                   // the selected module's recent joints and series
   bool m_follow = false;
   int m_followModule = -1;
   std::string m_notice;

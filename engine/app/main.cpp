@@ -104,6 +104,12 @@ int run(int argc, char** argv) {
                    "run in real time and reload behaviours, lua/ and the world as they are saved");
   const char* watchdogHelp = "stop a run that hangs this many seconds of wall time (exit code 3)";
   runCmd->add_option("--watchdog", run.watchdog, watchdogHelp)->check(kWatchdogSeconds);
+  runCmd->add_option(
+      "--trace", run.trace,
+      "write a time series as CSV: a row per module per traced step (README: Traces and plots)");
+  runCmd->add_option("--trace-every", run.traceEvery, "steps between traced rows for --trace (default 1)")
+      ->check(positiveWhole("steps"));
+  run.commandLine.assign(argv, argv + argc);
 
   rm3d::TestArgs test;
   CLI::App* testCmd =
@@ -167,11 +173,24 @@ int run(int argc, char** argv) {
   // Hidden: opens the inspector on a module at start (tests, README pictures).
   viewCmd->add_option("--select", view.select, "module id to select at start")->group("");
 
+  rm3d::PlotArgs plot;
+  CLI::App* plotCmd =
+      app.add_subcommand("plot", "plot columns of a --trace CSV as PNG or SVG (through gnuplot)");
+  plotCmd->add_option("file", plot.file, "CSV file with a header row (rm3d run --trace)")->required();
+  plotCmd->add_option("--y", plot.y, "columns to plot (repeat, or a,b,c)")->required()->delimiter(',');
+  plotCmd->add_option("--x", plot.x, "column along x (default: time)");
+  plotCmd->add_option("--module", plot.modules,
+                      "only this module, by name or id (repeat for more; default: all)");
+  plotCmd->add_option("--out", plot.out, "FILE.png or FILE.svg (default: the CSV's name with .png)");
+  plotCmd->add_option("--title", plot.title, "title above the plot");
+  plotCmd->add_option("--ylabel", plot.ylabel, "label of the y axis (default: the column, when one)");
+  plotCmd->add_option("--size", plot.size, "picture size WxH (default 1000x600)");
+
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];
-    if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view") {
+    if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view" && cmd != "plot") {
       std::fprintf(stderr,
-                   "rm3d: unknown command '%s' (expected run, test, bench or view; see rm3d --help)\n",
+                   "rm3d: unknown command '%s' (expected run, test, bench, view or plot; see rm3d --help)\n",
                    cmd.c_str());
       return 2;
     }
@@ -200,6 +219,7 @@ int run(int argc, char** argv) {
     return bench.converged ? rm3d::convergedCommand(bench, r) : rm3d::benchCommand(bench, r);
   }
   if (*viewCmd) return rm3d::viewCommand(view, r);
+  if (*plotCmd) return rm3d::plotCommand(plot);
   return 2;
 }
 

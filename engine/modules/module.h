@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "core/trace_series.h"
 #include "core/types.h"
 #include "messaging/value.h"
 #include "modules/module_type.h"
@@ -76,6 +77,7 @@ struct Module {
   std::vector<std::string> log;            ///< lines written this step, flushed in id order
   std::deque<std::string> recentLog;       ///< with keepHistory: the last 20 lines ("t: text")
   std::deque<std::string> recentMessages;  ///< with keepHistory: the last 20 messages read
+  TraceSeries traces;                      ///< module.trace(name, value) series
 };
 /// A link's pose in the world.
 inline Pose linkPose(const PhysicsWorld& physics, const Module& m, int link) {

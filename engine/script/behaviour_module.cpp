@@ -12,6 +12,7 @@
 #include "script/lua_options.h"
 #include "script/lua_value.h"
 #include "script/sensor_reading.h"
+#include "script/trace_binding.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -161,6 +162,12 @@ int moduleHasSensor(lua_State* L) {
   return 2;
 }
 
+/// module.trace(name, value): records a series for `rm3d run --trace` (column trace.<name> of the
+/// module's rows) and the viewer; name: letters, digits, _ . -; value: a finite number
+int moduleTrace(lua_State* L) {
+  return recordSeries(L, self(L).traces, "module.trace", "one behaviour");
+}
+
 void setFunctions(lua_State* L, const luaL_Reg* fns) {
   luaL_setfuncs(L, fns, 0);
 }
@@ -219,6 +226,8 @@ void openModuleApi(lua_State* L, BehaviourContext& ctx) {
   static const luaL_Reg moduleFns[] = {
       {"joints", moduleJoints}, {"docks", moduleDocks}, {"receive", moduleReceive}, {nullptr, nullptr}};
   setFunctions(L, moduleFns);
+  pushSeriesClosure(L, moduleTrace);
+  lua_setfield(L, -2, "trace");
   // Sensor names -> codes, looked up in a Lua table (interned strings), not parsed per read.
   lua_newtable(L);
   {

@@ -9,9 +9,11 @@
 #include <string_view>
 
 #include "core/error.h"
+#include "core/param_value.h"
 #include "docking/dock_frame.h"
 #include "script/lua_options.h"
 #include "script/lua_value.h"
+#include "script/trace_binding.h"
 #include "script/world_bindings.h"
 #include "script/world_script.h"
 #include "world/world.h"
@@ -452,6 +454,27 @@ int worldOnEnd(lua_State* L) {
   return 0;
 }
 
+/// world.trace(name, value): records a series for `rm3d run --trace` (column trace.<name> of the
+/// world's rows) and the viewer; name: letters, digits, _ . -; value: a finite number
+int worldTrace(lua_State* L) {
+  return recordSeries(L, world(L).worldTraces(), "world.trace", "the world script");
+}
+
+/// world.metric(name, value): a named result, under "metrics" in the --json summary (a later
+/// call with the same name replaces the value)
+int worldMetric(lua_State* L) {
+  const char* name = checkSeriesName(L, 1, "world.metric");
+  const double v = checkSeriesValue(L, 2, "world.metric");
+  World& w = world(L);
+  if (w.metrics().size() >= World::kMaxMetrics && !w.metrics().count(name))
+    return luaL_error(L, "world.metric: too many metrics (at most %d); '%s' is one more",
+                      int(World::kMaxMetrics), name);
+  return callWorld(L, "world.metric", [&] {
+    w.setMetric(name, v);
+    return 0;
+  });
+}
+
 /// world.stop(): end the run after this step
 int worldStop(lua_State* L) {
   world(L).requestStop();
@@ -509,18 +532,20 @@ void pushArgs(lua_State* L, const std::map<std::string, std::string>& params) {
   lua_newtable(L);
   for (const auto& [k, v] : params) {
     // Numbers and booleans arrive typed, so `args.n or 10` works as expected.
-    char* end = nullptr;
-    const long long i = std::strtoll(v.c_str(), &end, 10);
-    if (!v.empty() && *end == '\0') {
-      lua_pushinteger(L, i);
-    } else {
-      const double d = std::strtod(v.c_str(), &end);
-      if (!v.empty() && *end == '\0')
-        lua_pushnumber(L, d);
-      else if (v == "true" || v == "false")
-        lua_pushboolean(L, v == "true");
-      else
+    const ParamValue p = parseParamValue(v);
+    switch (p.kind) {
+      case ParamValue::Kind::Integer:
+        lua_pushinteger(L, p.integer);
+        break;
+      case ParamValue::Kind::Number:
+        lua_pushnumber(L, p.number);
+        break;
+      case ParamValue::Kind::Boolean:
+        lua_pushboolean(L, p.boolean);
+        break;
+      case ParamValue::Kind::String:
         lua_pushstring(L, v.c_str());
+        break;
     }
     lua_setfield(L, -2, k.c_str());
   }
@@ -558,8 +583,11 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"stop", worldStop},
                                  {"time", worldTime},
                                  {"dt", worldDt},
+                                 {"metric", worldMetric},
                                  {nullptr, nullptr}};
   luaL_newlib(L, fns);
+  pushSeriesClosure(L, worldTrace);
+  lua_setfield(L, -2, "trace");
   lua_setglobal(L, "world");
   lua_pushcfunction(L, expectFn);
   lua_setglobal(L, "expect");

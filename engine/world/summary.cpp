@@ -79,6 +79,9 @@ nlohmann::json World::summary(double wallSeconds) const {
   json failures = json::array();
   for (const Failure& f : m_failures) failures.push_back({{"time", f.time}, {"message", f.message}});
   j["failures"] = failures;
+  json metrics = json::object();
+  for (const auto& [name, value] : m_metrics) metrics[name] = value;
+  j["metrics"] = metrics;
   j["faults"] = faultCount();
   const std::string& error = m_scriptError.empty() ? m_divergence : m_scriptError;
   j["error"] = error.empty() ? json(nullptr) : json(error);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "core/trace_series.h"
 #include "core/types.h"
 #include "docking/docking.h"
 #include "messaging/mailbox.h"
@@ -196,6 +197,13 @@ class World {
   using MessageStats = rm3d::MessageStats;
   MessageStats messageStats() const { return m_router.stats(m_mailboxes); }
   void addFailure(const std::string& message);
+  /// world.trace(name, value) series (a module's are Module::traces).
+  TraceSeries& worldTraces() { return m_traces; }
+  const TraceSeries& worldTraces() const { return m_traces; }
+  /// world.metric(name, value): named results, under "metrics" in the summary.
+  static constexpr size_t kMaxMetrics = 10000;
+  void setMetric(const std::string& name, double value) { m_metrics[name] = value; }
+  const std::map<std::string, double>& metrics() const { return m_metrics; }
   void requestStop() { m_stopRequested = true; }
   /// Resolves a path from a world script: the world's folder first, then the project root.
   std::string resolvePath(const std::string& path) const;
@@ -265,6 +273,8 @@ class World {
   Router m_router;
   Docking m_docking;
   std::vector<Failure> m_failures;
+  TraceSeries m_traces;
+  std::map<std::string, double> m_metrics;
   std::vector<Obstacle> m_obstacles;
   CameraDef m_camera;
   // Dock proximity (dock sensors): free docks sorted by x. Built before the behaviour phase once

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # SIGINT and SIGTERM end a run after the current step: world.on_end runs, the JSON summary is
-# written (and parses) with "interrupted": true, and the exit code is 130 / 143. `rm3d test`
+# written (and parses) with "interrupted": true, and so is the --trace CSV (into folders made for
+# them), with the series world.on_end recorded; the exit code is 130 / 143. `rm3d test`
 # stops at the world being run and exits 130. Usage: signal_test.sh RM3D SRC OUT CMAKE
 set -u
 set -m  # background jobs in their own process group, with SIGINT not ignored
@@ -11,7 +12,7 @@ cat > "$dir/long.lua" <<'LUA'
 world.set{duration = 100000}
 world.ground{}
 world.spawn('superbot', {at = {0, 0, 0.1}})
-world.on_end(function(t) log('on_end ran at ' .. t) end)
+world.on_end(function(t) log('on_end ran at ' .. t); world.trace('ended_at', t) end)
 LUA
 # Reads FILE, fails unless it parses with interrupted = true, signal = SIG and stop_time > 0.
 cat > "$dir/check.cmake" <<'CM'
@@ -30,7 +31,8 @@ CM
 fail=0
 for pair in INT:130 TERM:143; do
   sig=${pair%%:*} want=${pair##*:}
-  "$rm3d" run "$dir/long.lua" --json "$dir/$sig.json" > "$dir/$sig.log" 2>&1 &
+  "$rm3d" run "$dir/long.lua" --json "$dir/json/$sig.json" --trace "$dir/trace/$sig.csv" --trace-every 30 \
+    > "$dir/$sig.log" 2>&1 &
   pid=$!
   sleep 2
   kill -$sig $pid
@@ -40,8 +42,16 @@ for pair in INT:130 TERM:143; do
   [ $rc -eq $want ] || { echo "FAIL: SIG$sig: exit code $rc, expected $want"; fail=1; }
   grep -q "interrupted (SIG$sig) at t=" "$dir/$sig.log" || { echo "FAIL: SIG$sig: no 'interrupted' line"; fail=1; }
   grep -q "on_end ran at" "$dir/$sig.log" || { echo "FAIL: SIG$sig: world.on_end did not run"; fail=1; }
-  if [ -f "$dir/$sig.json" ]; then
-    "$cmake" -DFILE="$dir/$sig.json" -DSIG="SIG$sig" -DCODE=$want -P "$dir/check.cmake" || { echo "FAIL: SIG$sig: summary"; fail=1; }
+  csv="$dir/trace/$sig.csv"
+  if [ -f "$csv" ] && [ ! -e "$csv.part" ]; then
+    head -1 "$csv" | grep -q "^time,step,module_id,module,type," || { echo "FAIL: SIG$sig: trace header"; fail=1; }
+    [ "$(grep -c ',1,superbot_1,superbot,' "$csv")" -ge 2 ] || { echo "FAIL: SIG$sig: fewer than 2 module rows"; fail=1; }
+    grep -q ',0,world,' "$csv" || { echo "FAIL: SIG$sig: no world row with on_end's series"; fail=1; }
+  else
+    echo "FAIL: SIG$sig: no trace (or its part file left)"; fail=1
+  fi
+  if [ -f "$dir/json/$sig.json" ]; then
+    "$cmake" -DFILE="$dir/json/$sig.json" -DSIG="SIG$sig" -DCODE=$want -P "$dir/check.cmake" || { echo "FAIL: SIG$sig: summary"; fail=1; }
   else
     echo "FAIL: SIG$sig: no JSON summary"; fail=1
   fi

@@ -1,0 +1,36 @@
+// A `--param key=value` value as scripts and summaries see it: whole numbers and numbers arrive
+// as numbers, `true`/`false` as booleans, anything else as the string given.
+#pragma once
+
+#include <cstdlib>
+#include <string>
+
+namespace rm3d {
+
+struct ParamValue {
+  enum class Kind { Integer, Number, Boolean, String } kind = Kind::String;
+  long long integer = 0;
+  double number = 0;
+  bool boolean = false;
+};
+
+inline ParamValue parseParamValue(const std::string& v) {
+  ParamValue p;
+  if (v.empty()) return p;
+  char* end = nullptr;
+  p.integer = std::strtoll(v.c_str(), &end, 10);
+  if (*end == '\0') {
+    p.kind = ParamValue::Kind::Integer;
+    return p;
+  }
+  p.number = std::strtod(v.c_str(), &end);
+  if (*end == '\0') {
+    p.kind = ParamValue::Kind::Number;
+  } else if (v == "true" || v == "false") {
+    p.kind = ParamValue::Kind::Boolean;
+    p.boolean = v == "true";
+  }
+  return p;
+}
+
+}  // namespace rm3d

@@ -1,0 +1,3 @@
+function step(dt)
+  module.trace(nil, 1)
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  module.trace("x", nil)
+end

@@ -1,0 +1,2 @@
+world.set{duration = 0.1}
+world.trace(1, 2)

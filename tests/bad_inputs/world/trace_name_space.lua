@@ -1,0 +1,2 @@
+world.set{duration = 0.1}
+world.trace("a b", 2)

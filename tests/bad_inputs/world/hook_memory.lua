@@ -1,3 +1,3 @@
 world.set{duration = 0.3}
 local t = {}
-world.on_step(function() for i = 1, 1e6 do t[#t + 1] = string.rep('y', 64) .. i end end) --!
+world.on_step(function() for i = 1, 1e6 do t[#t + 1] = string.rep('y', 4096) .. i end end) --!

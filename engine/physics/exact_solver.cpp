@@ -334,7 +334,7 @@ void ExactSolver::buildGroups(int firstBody) {
     const int root = find(i);
     if (root != i && rootGroup[size_t(root)] < 0) {
       rootGroup[size_t(root)] = int(m_groups.size());
-      m_groups.push_back({0, Vec3d::Zero(), Mat3d::Zero(), Vec3d::Zero(), Vec3d::Zero()});
+      m_groups.push_back({0, Vec3d::Zero(), Mat3d::Zero(), Vec3d::Zero(), Vec3d::Zero(), 0});
     }
   }
   for (int i = 0; i < nb; ++i) {
@@ -366,6 +366,10 @@ void ExactSolver::buildGroups(int firstBody) {
   const int nc = m_tmpSolverContactConstraintPool.size(),
             nf = m_tmpSolverContactFrictionConstraintPool.size();
   m_rowExtra.resize(size_t(3 * (nc + nf)));
+  for (int i = 0; i < nc; ++i)
+    for (int side = 0; side < 2; ++side)
+      if (const RowSide r = rowSide(m_tmpSolverContactConstraintPool[i], side); r.group >= 0)
+        ++m_groups[size_t(r.group)].contacts;
   for (int i = 0; i < nc + nf; ++i) {
     btSolverConstraint& c =
         i < nc ? m_tmpSolverContactConstraintPool[i] : m_tmpSolverContactFrictionConstraintPool[i - nc];
@@ -384,7 +388,9 @@ void ExactSolver::buildGroups(int firstBody) {
       } else {
         const Group& gr = m_groups[size_t(r.group)];
         const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
-        w += gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg);
+        // Split among the group's contacts, so that they share its weight instead of the first
+        // one swept carrying it all.
+        w += (gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg)) * std::max(1, gr.contacts);
       }
     }
     x[0] = double(c.m_rhs) / jd;

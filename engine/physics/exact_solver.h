@@ -176,6 +176,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Eigen::Vector3d com;
     Eigen::Matrix3d invInertia;
     Eigen::Vector3d dv, dw;  // twist change not yet passed to the bodies
+    int contacts;            // contact points on the group's bodies (mass splitting)
   };
   std::vector<Group> m_groups;                // this solver group's
   std::vector<int> m_bodyGroup;               // by body (index into m_groups, -1: alone)

@@ -1,6 +1,8 @@
 // The --trace writer: rows at the traced steps, columns added as they appear with earlier rows
 // padded to the final width, series taken once ("latest since the last row"), the world's row
 // only when one of its series was recorded, and names quoted for CSV.
+#include "world/trace_writer.h"
+
 #include <doctest/doctest.h>
 #include <unistd.h>
 
@@ -10,7 +12,6 @@
 #include <vector>
 
 #include "test_world.h"
-#include "world/trace_writer.h"
 
 using namespace rm3d;
 using rm3d::test::makeWorld;
@@ -68,7 +69,8 @@ TEST_CASE("trace: traced steps, late columns padded, series taken once, world ro
   const auto rows = readCsv(path);
   REQUIRE(rows.size() == 6);  // header; module rows at steps 0, 2, 4 and the last, 5; one world row
   const auto& header = rows[0];
-  const int late = columnOf(header, "trace.late"), step = columnOf(header, "step"), id = columnOf(header, "module_id");
+  const int late = columnOf(header, "trace.late"), step = columnOf(header, "step"),
+            id = columnOf(header, "module_id");
   REQUIRE(late == int(header.size()) - 1);  // appeared last, at step 3
   for (const auto& r : rows) CHECK(r.size() == header.size());
   std::vector<std::string> steps;

@@ -26,6 +26,22 @@ struct RunArgs {
   bool quiet = false;
   bool watch = false;   ///< real time, reload edits
   double watchdog = 5;  ///< --watchdog S (RunOptions::watchdogSeconds)
+  // Record, replay, fork (app/run_capture.h, app/fork.h) and the camera of pictures.
+  std::string record;             ///< --record FILE
+  std::string fork;               ///< --fork FILE (with --at T)
+  std::optional<double> at;       ///< --at T
+  std::string eye, target, fov;   ///< --eye X,Y,Z --target X,Y,Z --fov DEG
+  std::vector<std::string> argv;  ///< the command line, stored in recordings
+};
+
+/// `rm3d replay FILE`: a recording drawn again, offscreen or in a window (app/cmd_replay.cpp).
+struct ReplayArgs {
+  std::string file;
+  std::string png, video, frames, size, json;
+  int every = 0;             ///< steps between frames (0: 30 per second)
+  std::optional<double> at;  ///< --at T: the frame for --png / --json (default: the last)
+  std::string eye, target, fov;
+  bool view = false;  ///< --view: a window with a time slider
 };
 
 struct TestArgs {
@@ -59,6 +75,7 @@ struct BenchArgs {
 /// (the summary is still written). When several apply, the highest wins.
 int runCommand(const RunArgs& a, const std::string& root);
 int testCommand(const TestArgs& a, const std::string& root);
+int replayCommand(const ReplayArgs& a);
 int benchCommand(const BenchArgs& a, const std::string& root);
 /// `rm3d bench --converged`: the 10-module snake at the world's defaults against a converged run
 /// (20 substeps x 100 iterations); exit code 1 when a difference exceeds its threshold.

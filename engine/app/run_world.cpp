@@ -119,7 +119,7 @@ bool sourceCallsExpect(const std::string& file) {
 }
 
 WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::optional<long long> steps,
-                      std::optional<double> seconds, const StepHook& onStep) {
+                      std::optional<double> seconds, const StepHook& onStep, const StepHook& onStart) {
   WorldRun r;
   const auto t0 = std::chrono::steady_clock::now();
   r.world = std::make_unique<World>(options);
@@ -142,6 +142,7 @@ WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::o
   if (steps) limit = *steps;
   if (seconds) limit = std::llround(*seconds / w.settings().dt);
   try {
+    if (onStart) onStart(w);
     while (limit >= 0 ? (w.steps() < limit && !w.stopped()) : !w.finished()) {
       if ((r.signal = interruptSignal()) != 0) break;
       w.step();

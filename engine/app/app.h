@@ -41,7 +41,9 @@ struct ReplayArgs {
   int every = 0;             ///< steps between frames (0: 30 per second)
   std::optional<double> at;  ///< --at T: the frame for --png / --json (default: the last)
   std::string eye, target, fov;
-  bool view = false;  ///< --view: a window with a time slider
+  bool view = false;       ///< --view: a window with a time slider
+  int viewFrames = 0;      ///< hidden --view-frames N: draw N frames, save --screenshot, exit (tests)
+  std::string screenshot;  ///< hidden --screenshot FILE
 };
 
 struct TestArgs {

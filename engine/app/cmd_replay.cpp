@@ -1,5 +1,7 @@
 // `rm3d replay FILE`: draws a recording again without stepping physics, through the same
 // buildSnapshot/sceneCamera as the live run (render/scene_state.h), so the frames match it.
+#include "app/cmd_replay.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -7,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include "app/app.h"
-#include "app/cmd_replay.h"
 #include "app/run_capture.h"
 #include "app/run_world.h"
 #include "app/video_pipe.h"
@@ -82,7 +83,7 @@ int replayCommand(const ReplayArgs& a) {
   const double end = double(rec.frameCount() - 1) * layout.dt;
   std::printf("%s: %lld frames, %.2f s, %zu modules, recorded from %s\n", a.file.c_str(),
               (long long)rec.frameCount(), end, layout.modules.size(), rec.meta().worldFile.c_str());
-  if (a.view) return replayViewer(rec, camera, 0, "");
+  if (a.view) return replayViewer(rec, camera, a.viewFrames, a.screenshot);
 
   SceneState start, st;
   if (!rec.frame(0, start, nullptr, err)) {

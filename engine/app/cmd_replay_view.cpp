@@ -87,10 +87,11 @@ struct ReplayWindow {
   void panel() {
     ImGui::SetNextWindowPos(ImVec2(8, 8));
     ImGui::SetNextWindowBgAlpha(0.7f);
-    ImGui::Begin("replay", nullptr,
-                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
-    ImGui::Text("t = %.3f s   step %lld   %zu modules   %d faults   (recorded; nothing is simulated)", now.time,
-                (long long)now.steps, layout.modules.size(), now.faults);
+    ImGui::Begin(
+        "replay", nullptr,
+        ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
+    ImGui::Text("t = %.3f s   step %lld   %zu modules   %d faults   (recorded; nothing is simulated)",
+                now.time, (long long)now.steps, layout.modules.size(), now.faults);
     if (ImGui::Button(playing ? "Pause" : "Play")) {
       if (!playing && frame == rec.frameCount() - 1) frame = 0;
       playing = !playing;

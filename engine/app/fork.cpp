@@ -94,12 +94,13 @@ bool forkNow(World& w, ForkPlan& plan, std::vector<std::string>& report) {
     for (size_t i = 0; i < now.joints.size(); ++i)
       differ += std::memcmp(&now.joints[i], &recorded.joints[i], sizeof(double)) != 0;
     same = differ == 0 && now.docks == recorded.docks && now.steps == recorded.steps;
-    std::snprintf(line, sizeof line,
-                  same ? "fork: re-simulated %lld steps to t=%.4f s with the recorded sources; the state matches "
-                         "the recording bit for bit"
-                       : "fork: re-simulated %lld steps to t=%.4f s, but %zu link poses or joint angles differ "
-                         "from the recording (a run that is not deterministic?)",
-                  (long long)w.steps(), w.time(), differ);
+    std::snprintf(
+        line, sizeof line,
+        same ? "fork: re-simulated %lld steps to t=%.4f s with the recorded sources; the state matches "
+               "the recording bit for bit"
+             : "fork: re-simulated %lld steps to t=%.4f s, but %zu link poses or joint angles differ "
+               "from the recording (a run that is not deterministic?)",
+        (long long)w.steps(), w.time(), differ);
     report.push_back(line);
   }
   // From here on, the files as they are now.
@@ -116,9 +117,11 @@ bool forkNow(World& w, ForkPlan& plan, std::vector<std::string>& report) {
     if (it == plan.recorded.end() || !readTextFile(file, disk) || it->second == disk) continue;
     std::vector<std::string> errors;
     const int n = w.reloadFile(file, errors);
-    for (const std::string& e : errors) report.push_back("fork: reload rejected, the recorded code runs on: " + e);
+    for (const std::string& e : errors)
+      report.push_back("fork: reload rejected, the recorded code runs on: " + e);
     if (n > 0) {
-      std::snprintf(line, sizeof line, "fork: reloaded %s into %d modules at t=%.4f s", file.c_str(), n, w.time());
+      std::snprintf(line, sizeof line, "fork: reloaded %s into %d modules at t=%.4f s", file.c_str(), n,
+                    w.time());
       report.push_back(line);
     }
   }

@@ -18,8 +18,8 @@ struct ForkPlan {
   Recording recording;
   int64_t step = 0;  ///< the fork happens after this many steps
   double at = 0;
-  std::string worldFile;                          ///< absolute: WORLD as given now
-  std::map<std::string, std::string> recorded;    ///< current path -> recorded text
+  std::string worldFile;                        ///< absolute: WORLD as given now
+  std::map<std::string, std::string> recorded;  ///< current path -> recorded text
   bool done = false;
 };
 

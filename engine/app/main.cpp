@@ -135,6 +135,11 @@ int run(int argc, char** argv) {
   replayCmd->add_option("--target", replay.target, targetHelp);
   replayCmd->add_option("--fov", replay.fov, fovHelp);
   replayCmd->add_flag("--view", replay.view, "show it in a window with a time slider and play/pause");
+  // Hidden: with --view, draw N frames, save the window as PNG and exit (tests).
+  replayCmd->add_option("--view-frames", replay.viewFrames, "frames to draw")
+      ->group("")
+      ->check(positiveWhole("frames"));
+  replayCmd->add_option("--screenshot", replay.screenshot, "PNG of the last window frame")->group("");
 
   rm3d::TestArgs test;
   CLI::App* testCmd =

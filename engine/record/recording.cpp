@@ -303,9 +303,13 @@ bool RecordingWriter::open(const std::string& path, const RecordingMeta& meta, c
       std::fwrite(&reserved, 4, 1, m_file) != 1)
     m_failed = true;
   m_bytes = 16;
-  nlohmann::json j{{"world_file", meta.worldFile}, {"project_root", meta.projectRoot},
-                   {"seed", meta.seed},            {"seed_given", meta.seedGiven}, {"params", meta.params},
-                   {"dt", meta.dt},                {"arguments", meta.arguments},
+  nlohmann::json j{{"world_file", meta.worldFile},
+                   {"project_root", meta.projectRoot},
+                   {"seed", meta.seed},
+                   {"seed_given", meta.seedGiven},
+                   {"params", meta.params},
+                   {"dt", meta.dt},
+                   {"arguments", meta.arguments},
                    {"version", meta.version}};
   const std::string text = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   chunk(kMeta, std::vector<uint8_t>(text.begin(), text.end()));
@@ -354,7 +358,8 @@ void RecordingWriter::frame(const SceneState& s, const FrameEvents& events) {
   ++m_frames;
 }
 
-bool RecordingWriter::finish(const std::vector<std::pair<std::string, std::string>>& sources, std::string& err) {
+bool RecordingWriter::finish(const std::vector<std::pair<std::string, std::string>>& sources,
+                             std::string& err) {
   if (!m_file) return true;
   std::vector<uint8_t> raw;
   Out o{raw};
@@ -401,7 +406,8 @@ bool Recording::load(const std::string& path, std::string& err) {
   uint32_t version = 0, reserved = 0;
   const size_t got = std::fread(magic, 1, 8, f);
   if (got < 8 || std::memcmp(magic, kMagic, 8) != 0) {
-    err = path + ": not an RM3D recording (expected a file written by `rm3d run --record`, starting with RM3DREC)";
+    err = path +
+          ": not an RM3D recording (expected a file written by `rm3d run --record`, starting with RM3DREC)";
     return false;
   }
   if (std::fread(&version, 4, 1, f) != 1 || std::fread(&reserved, 4, 1, f) != 1) {
@@ -423,13 +429,14 @@ bool Recording::load(const std::string& path, std::string& err) {
     if (n == 0 && std::feof(f)) break;
     if (n != 4 || std::fread(&crc, 4, 1, f) != 1 || std::fread(&rawSize, 8, 1, f) != 1 ||
         std::fread(&packedSize, 8, 1, f) != 1) {
-      err = path + ": truncated recording (the file ends inside a chunk header at byte " + std::to_string(offset) +
-            "; expected " + (haveEnd ? "nothing more" : "more frames and the END_ chunk a finished run writes") +
-            ")";
+      err = path + ": truncated recording (the file ends inside a chunk header at byte " +
+            std::to_string(offset) + "; expected " +
+            (haveEnd ? "nothing more" : "more frames and the END_ chunk a finished run writes") + ")";
       return false;
     }
     if (rawSize > kMaxChunk || packedSize > kMaxChunk || packedSize > compressBound(uLong(rawSize)) + 64) {
-      err = path + ": damaged recording (a chunk at byte " + std::to_string(offset) + " has impossible sizes)";
+      err =
+          path + ": damaged recording (a chunk at byte " + std::to_string(offset) + " has impossible sizes)";
       return false;
     }
     Packed p;
@@ -510,8 +517,8 @@ bool Recording::load(const std::string& path, std::string& err) {
     return false;
   }
   if (endFrames != int64_t(m_frames.size()) || m_frames.empty()) {
-    err = path + ": damaged recording (the END_ chunk counts " + std::to_string(endFrames) + " frames, the file has " +
-          std::to_string(m_frames.size()) + ")";
+    err = path + ": damaged recording (the END_ chunk counts " + std::to_string(endFrames) +
+          " frames, the file has " + std::to_string(m_frames.size()) + ")";
     return false;
   }
   return true;

@@ -195,7 +195,8 @@ SceneLayout sceneLayout(const World& w) {
     item.owner = int(b);
     item.mesh = table.meshFor(o.shape, item.scale);
     item.local = o.shape.pose;
-    item.color = o.mass > 0 ? std::array<float, 4>{0.35f, 0.55f, 0.85f, 1} : std::array<float, 4>{0.6f, 0.6f, 0.62f, 1};
+    item.color = o.mass > 0 ? std::array<float, 4>{0.35f, 0.55f, 0.85f, 1}
+                            : std::array<float, 4>{0.6f, 0.6f, 0.62f, 1};
     lay.items.push_back(item);
     lay.bodyRadius.push_back(shapeRadius(o.shape));
   }
@@ -221,7 +222,8 @@ void captureState(const World& w, const SceneLayout& lay, SceneState& out) {
     for (size_t j = 0; j < info.joints.size(); ++j)
       out.joints[size_t(info.firstJoint) + j] = w.jointAngle(int(i), int(j));
     for (size_t d = 0; d < info.docks.size(); ++d)
-      out.docks[size_t(info.firstDock) + d] = uint8_t((m.docks[d].enabled ? 1 : 0) | (m.docks[d].engaged ? 2 : 0));
+      out.docks[size_t(info.firstDock) + d] =
+          uint8_t((m.docks[d].enabled ? 1 : 0) | (m.docks[d].engaged ? 2 : 0));
     out.faulted[i] = m.fault.empty() ? 0 : 1;
   }
   out.rangeHits.resize(lay.ranges.size());
@@ -229,7 +231,8 @@ void captureState(const World& w, const SceneLayout& lay, SceneState& out) {
     const SceneLayout::Range& s = lay.ranges[r];
     const Pose lp = w.linkPose(s.module, s.link);
     const Vec3 dir = lp.rot * s.dir, from = lp * s.pos;
-    out.rangeHits[r] = w.physicsConst().rayCast(from + dir * s.minRange, dir, s.maxRange - s.minRange, s.module);
+    out.rangeHits[r] =
+        w.physicsConst().rayCast(from + dir * s.minRange, dir, s.maxRange - s.minRange, s.module);
   }
   out.bodies.resize(w.obstacles().size());
   for (size_t b = 0; b < w.obstacles().size(); ++b) out.bodies[b] = w.obstaclePose(w.obstacles()[b].part);
@@ -269,13 +272,14 @@ Snapshot buildSnapshot(const SceneLayout& lay, const SceneState& st) {
     RenderLine line;
     line.a = f3(from);
     line.b = f3(from + dir * (hit >= 0 ? hit + s.minRange : s.maxRange));
-    line.color = hit >= 0 ? std::array<float, 4>{0.95f, 0.2f, 0.15f, 1} : std::array<float, 4>{0.95f, 0.85f, 0.1f, 1};
+    line.color =
+        hit >= 0 ? std::array<float, 4>{0.95f, 0.2f, 0.15f, 1} : std::array<float, 4>{0.95f, 0.85f, 0.1f, 1};
     snap.lines.push_back(line);
   }
   snap.ground = lay.ground;
   char line[160];
-  std::snprintf(line, sizeof line, "t = %.2f s   step %lld   %zu modules   %d faults", st.time, (long long)st.steps,
-                lay.modules.size(), st.faults);
+  std::snprintf(line, sizeof line, "t = %.2f s   step %lld   %zu modules   %d faults", st.time,
+                (long long)st.steps, lay.modules.size(), st.faults);
   snap.overlay.push_back(line);
   return snap;
 }

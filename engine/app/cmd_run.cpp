@@ -299,11 +299,11 @@ int runCommand(const RunArgs& a, const std::string& root) {
       std::fprintf(stderr, "rm3d run: %s\n", rerr.c_str());
       outputErrors.push_back(rerr);
     } else {
-      std::printf(
-          "recorded %lld frames (%.1f KiB, %.2f KiB per step) to %s\n", (long long)capture.writer().frames(),
-          double(capture.writer().bytes()) / 1024,
-          double(capture.writer().bytes()) / 1024 / double(std::max<int64_t>(1, capture.writer().frames())),
-          a.record.c_str());
+      const double frames = double(std::max<int64_t>(1, capture.writer().frames()));
+      std::printf("recorded %lld frames (%.1f KiB, %.2f KiB and %.3f ms per step) to %s\n",
+                  (long long)capture.writer().frames(), double(capture.writer().bytes()) / 1024,
+                  double(capture.writer().bytes()) / 1024 / frames, capture.recordSeconds() * 1000 / frames,
+                  a.record.c_str());
     }
   }
   if (!a.fork.empty() && r.loadError.empty() && !fork.done)

@@ -1,5 +1,6 @@
 #include "app/run_capture.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -67,6 +68,7 @@ void RunCapture::start(const World& w) {
 
 void RunCapture::step(const World& w) {
   if (!m_started) return;
+  const auto t0 = std::chrono::steady_clock::now();
   captureState(w, m_layout, m_now);
   if (!m_writer.isOpen()) return;
   m_events.docks.clear();
@@ -80,6 +82,7 @@ void RunCapture::step(const World& w) {
     if (!fault.empty()) m_events.faults.emplace_back(int(i), fault);
   }
   m_writer.frame(m_now, m_events);
+  m_recordSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 bool RunCapture::finish(const std::vector<std::pair<std::string, std::string>>& sources, std::string& err) {

@@ -43,6 +43,8 @@ class RunCapture {
   /// The first --record problem, or empty.
   const std::string& error() const { return m_error; }
   const RecordingWriter& writer() const { return m_writer; }
+  /// Wall seconds spent recording (capturing, packing and writing frames).
+  double recordSeconds() const { return m_recordSeconds; }
 
  private:
   std::string m_record;
@@ -56,6 +58,7 @@ class RunCapture {
   size_t m_eventsSeen = 0;
   std::vector<std::string> m_faults;  // last fault text seen per module
   std::string m_error;
+  double m_recordSeconds = 0;
 };
 
 }  // namespace rm3d

@@ -93,6 +93,22 @@ struct In {
   }
 };
 
+/// Byte planes: byte k of every 8-byte lane together. The XOR of two close doubles is zero in its
+/// high bytes, so the planes of high bytes pack to almost nothing (the tail past the last whole
+/// lane stays in place).
+void shuffle(const uint8_t* in, uint8_t* out, size_t n) {
+  const size_t lanes = n / 8;
+  for (size_t i = 0; i < lanes; ++i)
+    for (size_t k = 0; k < 8; ++k) out[k * lanes + i] = in[i * 8 + k];
+  for (size_t i = lanes * 8; i < n; ++i) out[i] = in[i];
+}
+void unshuffle(const uint8_t* in, uint8_t* out, size_t n) {
+  const size_t lanes = n / 8;
+  for (size_t i = 0; i < lanes; ++i)
+    for (size_t k = 0; k < 8; ++k) out[i * 8 + k] = in[k * lanes + i];
+  for (size_t i = lanes * 8; i < n; ++i) out[i] = in[i];
+}
+
 size_t stateBytes(const SceneLayout& l) {
   return size_t(l.linkCount) * 56 + size_t(l.jointCount) * 8 + size_t(l.dockCount) + l.modules.size() +
          l.ranges.size() * 8 + l.bodyRadius.size() * 56;
@@ -350,9 +366,10 @@ void RecordingWriter::frame(const SceneState& s, const FrameEvents& events) {
     o.str(text);
   }
   const size_t at = m_raw.size();
-  m_raw.insert(m_raw.end(), m_cur.begin(), m_cur.end());
+  m_raw.resize(at + m_cur.size());
   if (!key && m_prev.size() == m_cur.size())
-    for (size_t i = 0; i < m_cur.size(); ++i) m_raw[at + i] ^= m_prev[i];
+    for (size_t i = 0; i < m_cur.size(); ++i) m_prev[i] ^= m_cur[i];  // m_prev is replaced below
+  shuffle(key ? m_cur.data() : m_prev.data(), m_raw.data() + at, m_cur.size());
   m_prev.swap(m_cur);
   chunk(kFrame, m_raw);
   ++m_frames;
@@ -573,11 +590,13 @@ bool Recording::frame(int64_t i, SceneState& out, FrameEvents* events, std::stri
       m_cached = -1;
       return false;
     }
-    if (key) {
-      m_cachedState.assign(raw.begin() + long(in.at), raw.end());
-    } else {
-      for (size_t b = 0; b < bytes; ++b) m_cachedState[b] ^= raw[in.at + b];
-    }
+    std::vector<uint8_t>& plain = m_scratch;
+    plain.resize(bytes);
+    unshuffle(raw.data() + in.at, plain.data(), bytes);
+    if (key)
+      m_cachedState = plain;
+    else
+      for (size_t b = 0; b < bytes; ++b) m_cachedState[b] ^= plain[b];
     m_cached = f;
   }
   In state{m_cachedState.data(), m_cachedState.size()};

@@ -10,7 +10,8 @@
 // text the run read: world script, module types, behaviours, required modules) and END_ (frame
 // count). A frame is its clock, the new dock events and faults of that step, and the state
 // arrays (poses as doubles, so a replay rebuilds bit-identical snapshots); every 64th frame is
-// whole, the others are XORed with the frame before (unchanged values pack to almost nothing).
+// whole, the others are XORed with the frame before; the state bytes are then regrouped in
+// byte planes of 8-byte lanes (the high bytes of an XOR of close doubles are zeros and pack well).
 #pragma once
 
 #include <cstdint>
@@ -107,7 +108,7 @@ class Recording {
   std::vector<Packed> m_frames;
   // Decoding cache: the last frame decoded (sequential playback decodes one frame per call).
   mutable int64_t m_cached = -1;
-  mutable std::vector<uint8_t> m_cachedState;
+  mutable std::vector<uint8_t> m_cachedState, m_scratch;
 };
 
 }  // namespace rm3d

@@ -29,6 +29,23 @@ struct RunArgs {
   std::string trace;                     ///< --trace FILE.csv (world/trace_writer.h)
   int traceEvery = 0;                    ///< --trace-every N (0: not given, every step)
   std::vector<std::string> commandLine;  ///< argv as given, for the summary
+  // Record, replay, fork (app/run_capture.h, app/fork.h) and the camera of pictures.
+  std::string record;             ///< --record FILE
+  std::string fork;               ///< --fork FILE (with --at T)
+  std::optional<double> at;       ///< --at T
+  std::string eye, target, fov;   ///< --eye X,Y,Z --target X,Y,Z --fov DEG
+};
+
+/// `rm3d replay FILE`: a recording drawn again, offscreen or in a window (app/cmd_replay.cpp).
+struct ReplayArgs {
+  std::string file;
+  std::string png, video, frames, size, json;
+  int every = 0;             ///< steps between frames (0: 30 per second)
+  std::optional<double> at;  ///< --at T: the frame for --png / --json (default: the last)
+  std::string eye, target, fov;
+  bool view = false;       ///< --view: a window with a time slider
+  int viewFrames = 0;      ///< hidden --view-frames N: draw N frames, save --screenshot, exit (tests)
+  std::string screenshot;  ///< hidden --screenshot FILE
 };
 
 struct TestArgs {
@@ -72,6 +89,7 @@ struct PlotArgs {
 /// (the summary is still written). When several apply, the highest wins.
 int runCommand(const RunArgs& a, const std::string& root);
 int testCommand(const TestArgs& a, const std::string& root);
+int replayCommand(const ReplayArgs& a);
 int benchCommand(const BenchArgs& a, const std::string& root);
 /// `rm3d plot`: line plots of a CSV trace through gnuplot (app/cmd_plot.cpp).
 int plotCommand(const PlotArgs& a);

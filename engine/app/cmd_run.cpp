@@ -13,10 +13,13 @@
 #include "app/app.h"
 #include "app/progress_line.h"
 #include "app/run_identity.h"
+#include "app/fork.h"
+#include "app/run_capture.h"
 #include "app/run_world.h"
 #include "app/video_pipe.h"
 #include "app/world_session.h"
 #include "core/error.h"
+#include "core/source_files.h"
 #include "render/offscreen_renderer.h"
 #include "render/world_snapshot.h"
 #include "script/world_script.h"
@@ -120,6 +123,35 @@ int watchLoop(const RunArgs& a, const RunOptions& o) {
   return ok && session.worldError().empty() ? 0 : 2;
 }
 
+/// --record, --fork/--at and the camera flags: what can be checked before a run.
+bool checkCaptureArgs(const RunArgs& a, const CameraArgs& camera, std::string& err) {
+  SceneLayout::CameraDef probe;
+  if (!applyCameraArgs(camera, probe, err)) return false;
+  if (a.fork.empty() != !a.at.has_value()) {
+    err = a.fork.empty() ? "--at T needs --fork FILE (the recording to fork from)"
+                         : "--fork FILE needs --at T (the time to fork at, in simulated seconds)";
+    return false;
+  }
+  if (!a.fork.empty() && (a.seed || !a.params.empty())) {
+    err = "--fork re-simulates with the recorded seed and params; drop --seed and --param";
+    return false;
+  }
+  if ((!a.fork.empty() || !a.record.empty()) && a.watch) {
+    err = std::string(a.record.empty() ? "--fork" : "--record") + " cannot be combined with --watch";
+    return false;
+  }
+  if (!a.fork.empty() && a.seconds && *a.seconds < *a.at) {
+    err = "--seconds must reach the fork time --at";
+    return false;
+  }
+  if (!a.record.empty() && !prepareOutputFile("--record", a.record, err)) return false;
+  if (!a.record.empty() && !a.fork.empty() && SourceFiles::key(a.record) == SourceFiles::key(a.fork)) {
+    err = "--record " + a.record + ": is the recording --fork reads; write the new one elsewhere";
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 int runCommand(const RunArgs& a, const std::string& root) {
@@ -182,6 +214,41 @@ int runCommand(const RunArgs& a, const std::string& root) {
     std::fprintf(stderr, "rm3d run: --size %s: expected WIDTHxHEIGHT, e.g. 1280x720\n", a.size.c_str());
     return 2;
   }
+  // Record, fork, camera (app/run_capture.h, app/fork.h): checked before the run.
+  const CameraArgs cameraArgs{a.eye, a.target, a.fov};
+  if (!checkCaptureArgs(a, cameraArgs, err)) {
+    std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
+    return 2;
+  }
+  ForkPlan fork;
+  if (!a.fork.empty() && !prepareFork(a.fork, *a.at, a.world, o, fork, err)) {
+    std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
+    return 2;
+  }
+  if (!a.record.empty() && !o.sources) o.sources = std::make_shared<SourceFiles>();
+  RecordingMeta meta{SourceFiles::key(a.world),
+                     SourceFiles::key(root),
+                     a.seed.value_or(1),
+                     a.seed.has_value(),
+                     o.params,
+                     0,
+                     a.commandLine,
+                     ""};
+  RunCapture capture(a.record, meta, cameraArgs);
+  const bool capturing = !a.record.empty() || !a.frames.empty() || !a.video.empty();
+  bool forkMatched = true;
+  auto forkIfDue = [&](World& w) {
+    if (a.fork.empty() || fork.done || w.steps() < fork.step) return;
+    std::vector<std::string> report;
+    forkMatched = forkNow(w, fork, report);
+    for (const std::string& line : report) std::printf("%s\n", line.c_str());
+    std::fflush(stdout);
+  };
+  const StepHook onStart = [&](World& w) {
+    capture.start(w);
+    if (!capture.error().empty()) std::fprintf(stderr, "rm3d run: %s\n", capture.error().c_str());
+    forkIfDue(w);
+  };
   installInterruptHandlers();
   if (a.watch) return watchLoop(a, o);
   // Pictures while running: PNG frames and/or a video piped to ffmpeg, every `every` steps.
@@ -199,6 +266,8 @@ int runCommand(const RunArgs& a, const std::string& root) {
       return 2;
     }
     onStep = [&, every = a.every](World& w) {
+      capture.step(w);
+      forkIfDue(w);
       const int n = every > 0 ? every : std::max(1, int(std::lround(1.0 / (30.0 * w.settings().dt))));
       if (w.steps() % n != 0) return;
       if (!a.video.empty() && !video.isOpen() && videoError.empty()) {
@@ -206,7 +275,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
         if (!video.open(a.video, width, height, fps, videoError))
           std::fprintf(stderr, "rm3d run: %s\n", videoError.c_str());
       }
-      renderer->draw(buildSnapshot(w), worldCamera(w));
+      renderer->draw(capture.snapshot(), capture.camera());
       if (video.isOpen() && !video.failed()) {
         if (video.write(renderer->rgba().data(), renderer->rgba().size()))
           ++videoFrames;
@@ -228,6 +297,13 @@ int runCommand(const RunArgs& a, const std::string& root) {
       ++frameNo;
     };
   }
+  if (!onStep && capturing)
+    onStep = [&](World& w) {
+      capture.step(w);
+      forkIfDue(w);
+    };
+  else if (!onStep && !a.fork.empty())
+    onStep = forkIfDue;
   // The end time the progress line counts towards: --seconds, --steps or the world's duration.
   std::unique_ptr<ProgressLine> progress;
   const StepHook everyStep = [&](World& w) {
@@ -240,6 +316,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
     progress->update(w);
   };
   const StepHook atStart = [&](World& w) {
+    onStart(w);
     if (trace.isOpen()) trace.sample(w);
   };
   WorldRun r = runWorldFile(a.world, o, a.steps, a.seconds, everyStep, atStart);
@@ -262,6 +339,24 @@ int runCommand(const RunArgs& a, const std::string& root) {
   else if (video.isOpen() || videoFrames > 0)
     std::printf("wrote %lld frames to %s\n", videoFrames, a.video.c_str());
   if (!videoError.empty()) outputErrors.push_back(videoError);
+  if (!a.record.empty() && capture.started()) {
+    std::string rerr;
+    if (!capture.finish(o.sources->taken(), rerr)) {
+      std::fprintf(stderr, "rm3d run: %s\n", rerr.c_str());
+      outputErrors.push_back(rerr);
+    } else {
+      const double frames = double(std::max<int64_t>(1, capture.writer().frames()));
+      std::printf("recorded %lld frames (%.1f KiB, %.2f KiB and %.3f ms per step) to %s\n",
+                  (long long)capture.writer().frames(), double(capture.writer().bytes()) / 1024,
+                  double(capture.writer().bytes()) / 1024 / frames, capture.recordSeconds() * 1000 / frames,
+                  a.record.c_str());
+    }
+  }
+  if (!a.fork.empty() && r.loadError.empty() && !fork.done)
+    std::fprintf(stderr, "rm3d run: --at %g: the run ended at t=%.4f s, before the fork\n", *a.at,
+                 r.world->time());
+  if (!forkMatched)
+    std::fprintf(stderr, "rm3d run: warning: the re-simulation differs from the recording at the fork\n");
   if (!framesError.empty()) outputErrors.push_back("--frames: " + framesError);
   World& w = *r.world;
   if (!r.loadError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.loadError.c_str());
@@ -310,7 +405,11 @@ int runCommand(const RunArgs& a, const std::string& root) {
       std::fprintf(stderr, "rm3d run: --png: %s\n", perr.c_str());
       outputErrors.push_back("--png: " + perr);
     } else {
-      renderer.draw(buildSnapshot(w), worldCamera(w));
+      if (capture.started()) capture.refresh(w);
+      if (capture.started())
+        renderer.draw(capture.snapshot(), capture.camera());
+      else
+        renderer.draw(buildSnapshot(w), worldCamera(w));
       if (!renderer.writePng(a.png, perr)) {
         std::fprintf(stderr, "rm3d run: --png: %s\n", perr.c_str());
         outputErrors.push_back("--png: " + perr);

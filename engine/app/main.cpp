@@ -110,6 +110,42 @@ int run(int argc, char** argv) {
   runCmd->add_option("--trace-every", run.traceEvery, "steps between traced rows for --trace (default 1)")
       ->check(positiveWhole("steps"));
   run.commandLine.assign(argv, argv + argc);
+  runCmd->add_option("--record", run.record,
+                     "record every step (poses, docks, events, sources) for replay and fork");
+  runCmd->add_option("--fork", run.fork,
+                     "re-simulate this recording to --at T, then go on with the files on disk");
+  const CLI::Validator kTime =
+      numberCheck("a time in simulated seconds, 0 or more", [](double v) { return v >= 0 && v <= 1e9; });
+  runCmd->add_option("--at", run.at, "the time to fork at (with --fork)")->check(kTime);
+  const char* eyeHelp = "camera position X,Y,Z for pictures (default: world.camera, else framing the scene)";
+  const char* targetHelp = "point the camera looks at, X,Y,Z";
+  const char* fovHelp = "camera vertical field of view, degrees (default 45)";
+  runCmd->add_option("--eye", run.eye, eyeHelp);
+  runCmd->add_option("--target", run.target, targetHelp);
+  runCmd->add_option("--fov", run.fov, fovHelp);
+
+  rm3d::ReplayArgs replay;
+  CLI::App* replayCmd = app.add_subcommand(
+      "replay", "draw a recording (rm3d run --record) again, offscreen or with --view in a window");
+  replayCmd->add_option("recording", replay.file, "recording file")->required();
+  replayCmd->add_option("--png", replay.png, "write the last frame (or the one at --at) as PNG");
+  replayCmd->add_option("--video", replay.video, "write a video (MP4)");
+  replayCmd->add_option("--frames", replay.frames, "write a PNG every --every steps into this folder");
+  replayCmd->add_option("--every", replay.every, "steps between frames (default: 30 frames per second)")
+      ->check(positiveWhole("steps"));
+  replayCmd->add_option("--size", replay.size, "picture size WxH (default 1280x720)");
+  replayCmd->add_option("--at", replay.at, "the frame for --png and --json, in simulated seconds")
+      ->check(kTime);
+  replayCmd->add_option("--json", replay.json, "write the state at --at (or the last frame) as JSON");
+  replayCmd->add_option("--eye", replay.eye, eyeHelp);
+  replayCmd->add_option("--target", replay.target, targetHelp);
+  replayCmd->add_option("--fov", replay.fov, fovHelp);
+  replayCmd->add_flag("--view", replay.view, "show it in a window with a time slider and play/pause");
+  // Hidden: with --view, draw N frames, save the window as PNG and exit (tests).
+  replayCmd->add_option("--view-frames", replay.viewFrames, "frames to draw")
+      ->group("")
+      ->check(positiveWhole("frames"));
+  replayCmd->add_option("--screenshot", replay.screenshot, "PNG of the last window frame")->group("");
 
   rm3d::TestArgs test;
   CLI::App* testCmd =
@@ -188,9 +224,9 @@ int run(int argc, char** argv) {
 
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];
-    if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view" && cmd != "plot") {
+    if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view" && cmd != "plot" && cmd != "replay") {
       std::fprintf(stderr,
-                   "rm3d: unknown command '%s' (expected run, test, bench, view or plot; see rm3d --help)\n",
+                   "rm3d: unknown command '%s' (expected run, test, bench, view, plot or replay; see rm3d --help)\n",
                    cmd.c_str());
       return 2;
     }
@@ -213,6 +249,7 @@ int run(int argc, char** argv) {
   }
   const std::string r = projectRoot(root);
   if (*runCmd) return rm3d::runCommand(run, r);
+  if (*replayCmd) return rm3d::replayCommand(replay);
   if (*testCmd) return rm3d::testCommand(test, r);
   if (*benchCmd) {
     bench.stepsGiven = benchSteps->count() > 0;

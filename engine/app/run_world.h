@@ -37,9 +37,8 @@ struct WorldRun {
 using StepHook = std::function<void(World&)>;
 
 /// Loads and steps a world until it finishes (or `steps` steps / `seconds` simulated seconds,
-/// or SIGINT/SIGTERM once installInterruptHandlers() was called), calling onStep (if any) after
-/// every step, then the world's on_end hooks. onStart (if any) is called once the world has
-/// loaded, before the first step.
+/// or SIGINT/SIGTERM once installInterruptHandlers() was called), calling onStart (if any) once
+/// the world is loaded, onStep (if any) after every step, then the world's on_end hooks.
 WorldRun runWorldFile(const std::string& file, const RunOptions& options, std::optional<long long> steps,
                       std::optional<double> seconds, const StepHook& onStep = {},
                       const StepHook& onStart = {});

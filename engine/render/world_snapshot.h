@@ -9,7 +9,8 @@ namespace rm3d {
 class World;
 
 Snapshot buildSnapshot(const World& world);
-/// The world's camera (world.camera{...}); without one, frames every module from the front left.
+/// The world's camera (world.camera{...}); without one, frames every module and body as they are
+/// now (sceneCamera with the state now as the start). Runs keep their start: render/scene_state.h.
 Camera worldCamera(const World& world);
 
 }  // namespace rm3d

@@ -20,6 +20,7 @@ Behaviour::Behaviour(const RunOptions& options, ModuleHandle module, Watchdog* w
   m_vm.setInstructionBudget(options.behaviourBudget);
   m_vm.setName("module " + module.self().name);
   m_vm.setWatchdog(watchdog);
+  m_vm.setSources(options.sources.get());
   openModuleApi(m_vm.L(), m_ctx);
 }
 

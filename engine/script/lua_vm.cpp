@@ -14,6 +14,7 @@
 #include <lua.hpp>
 #include <sstream>
 
+#include "core/source_files.h"
 #include "script/watchdog.h"
 
 namespace fs = std::filesystem;
@@ -381,8 +382,9 @@ std::string LuaVm::displayName(const std::string& path) const {
 
 bool LuaVm::loadFile(const std::string& path, std::string& err) {
   std::string text;
-  if (!readTextFile(path, text)) {
-    err = displayName(path) + ": cannot read file (" + std::strerror(errno) + ")";
+  if (m_sources ? !m_sources->read(path, text) : !readTextFile(path, text)) {
+    err = displayName(path) + ": cannot read file (" + (m_sources ? "not in the recording or " : "") +
+          std::strerror(errno) + ")";
     return false;
   }
   std::string chunk = "@";
@@ -512,13 +514,13 @@ int LuaVm::require(lua_State* L) {
     for (const std::string& dir : vm->m_requirePath) {
       const fs::path path = fs::path(dir) / rel;
       std::error_code ec;
-      if (!fs::is_regular_file(path, ec)) {
+      if (vm->m_sources ? !vm->m_sources->isFile(path.string()) : !fs::is_regular_file(path, ec)) {
         tried += "\n\tno file '" + vm->displayName(path.string()) + "'";
         continue;
       }
       // The file must really lie inside one of the allowed folders (no symlinks out).
       const fs::path real = fs::canonical(path, ec);
-      bool inside = false;
+      bool inside = vm->m_sources && vm->m_sources->overlaid(path.string());  // checked when recorded
       for (const std::string& allowed : vm->m_requirePath) {
         std::error_code ec2;
         const fs::path realDir = fs::canonical(allowed, ec2);
@@ -529,7 +531,8 @@ int LuaVm::require(lua_State* L) {
       if (!inside) {
         problem = "require: '" + shown +
                   "' leads outside the folders scripts may load from (lua/, behaviors/, the script's folder)";
-      } else if (!readTextFile(path.string(), text)) {
+      } else if (vm->m_sources ? !vm->m_sources->read(path.string(), text)
+                               : !readTextFile(path.string(), text)) {
         problem = "require: cannot read '" + shown + "'";
       } else {
         const std::string chunk = "@" + shown;

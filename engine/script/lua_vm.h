@@ -31,6 +31,7 @@ struct lua_Debug;
 namespace rm3d {
 
 class Watchdog;
+class SourceFiles;
 
 class LuaVm {
  public:
@@ -56,6 +57,8 @@ class LuaVm {
   /// A name for the VM in watchdog messages ("module snake_3").
   void setName(std::string name) { m_name = std::move(name); }
   const std::string& name() const { return m_name; }
+  /// Reads sources through these (a recording's texts, or noting what is read); nullptr: the disk.
+  void setSources(SourceFiles* s) { m_sources = s; }
   /// Registers with a watchdog (nullptr: none). The watchdog must outlive the VM or be unset.
   void setWatchdog(Watchdog* w);
 
@@ -126,6 +129,7 @@ class LuaVm {
   int m_watchdogStops = 0;            ///< calls ended by the watchdog (m_abort was Watchdog)
   void* m_user = nullptr;
   Watchdog* m_watchdog = nullptr;
+  SourceFiles* m_sources = nullptr;
   LuaVm* m_outer = nullptr;  ///< the VM whose call this thread was in when ours began
   std::atomic<uint64_t> m_stamp{0};
   std::atomic<bool> m_busy{false};

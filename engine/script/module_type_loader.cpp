@@ -714,7 +714,7 @@ class TypeReader {
 
 }  // namespace
 
-ModuleTypeDef loadModuleType(const std::string& path, const std::string& projectRoot) {
+ModuleTypeDef loadModuleType(const std::string& path, const std::string& projectRoot, SourceFiles* sources) {
   std::error_code ec;
   const fs::path root = fs::absolute(projectRoot, ec).lexically_normal();
   const fs::path file = fs::absolute(path, ec).lexically_normal();
@@ -722,6 +722,7 @@ ModuleTypeDef loadModuleType(const std::string& path, const std::string& project
 
   LuaVm vm(kMemoryLimit);
   vm.setInstructionBudget(kInstructionBudget);
+  vm.setSources(sources);
   vm.setDisplayRoot(root.string());
   vm.setRequirePath({dir.string(), (root / "assets" / "modules").string(), (root / "lua").string()});
   const std::string display = vm.displayName(file.string());

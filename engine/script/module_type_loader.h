@@ -8,12 +8,16 @@
 
 namespace rm3d {
 
+class SourceFiles;
+
 /// Runs `path` in a fresh sandboxed LuaVm (64 MB, 1e8 instructions; `require` searches the
 /// file's folder, then projectRoot/lua) and converts the table it returns. Mesh files resolve
 /// against the file's folder, then projectRoot. Throws InputError naming the file (relative to
 /// projectRoot) and the place in the data, e.g.
 /// "assets/modules/superbot.lua: links[2].shapes[1]: unknown key 'sise' (expected one of: ...)".
 /// The result's `file` is that display path.
-ModuleTypeDef loadModuleType(const std::string& path, const std::string& projectRoot);
+/// `sources` (may be null: the disk) serves the Lua texts (core/source_files.h).
+ModuleTypeDef loadModuleType(const std::string& path, const std::string& projectRoot,
+                             SourceFiles* sources = nullptr);
 
 }  // namespace rm3d

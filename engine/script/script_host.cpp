@@ -22,7 +22,7 @@ LuaScriptHost::LuaScriptHost(World& world) : m_world(world) {
 LuaScriptHost::~LuaScriptHost() = default;
 
 ModuleTypeDef LuaScriptHost::loadModuleType(const std::string& path) {
-  return rm3d::loadModuleType(path, m_world.options().projectRoot);
+  return rm3d::loadModuleType(path, m_world.options().projectRoot, m_world.options().sources.get());
 }
 
 std::unique_ptr<ModuleProgram> LuaScriptHost::loadBehaviour(const ModuleHandle& module,

@@ -22,6 +22,7 @@ WorldScript::WorldScript(World& world) : m_world(world), m_vm(world.options().wo
   m_vm.setWatchdog(scriptHostOf(world).watchdog());
   m_vm.setDisplayRoot(world.options().projectRoot);
   m_vm.setInstructionBudget(world.options().worldBudget);
+  m_vm.setSources(world.options().sources.get());
   openWorldApi(m_vm.L(), *this);
 }
 

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "core/error.h"
+#include "core/source_files.h"
 #include "core/text_file.h"
 #include "docking/dock_frame.h"
 #include "world/behaviour_pool.h"
@@ -155,9 +156,15 @@ std::string World::resolvePath(const std::string& path) const {
   const fs::path worldDir = fs::path(m_worldFile).parent_path();
   for (const fs::path& base : {worldDir, fs::path(m_options.projectRoot)}) {
     const fs::path c = (base / p).lexically_normal();
-    if (fs::exists(c)) return c.string();
+    const bool overlaid = m_options.sources && m_options.sources->overlayOn() && c.extension() == ".lua";
+    if (overlaid ? m_options.sources->isFile(c.string()) : fs::exists(c)) return c.string();
   }
   return {};
+}
+
+bool World::sourceExists(const std::string& path) const {
+  std::error_code ec;
+  return m_options.sources ? m_options.sources->isFile(path) : fs::is_regular_file(path, ec);
 }
 
 const ModuleTypeDef& World::moduleType(const std::string& name) {
@@ -183,7 +190,7 @@ const ModuleTypeDef& World::moduleType(const std::string& name) {
   });
   const fs::path dir = fs::path(m_options.projectRoot) / "assets" / "modules";
   const fs::path file = dir / (name + ".lua");
-  if (!plain || !fs::is_regular_file(file)) {
+  if (!plain || !sourceExists(file.string())) {
     std::string known;
     std::error_code ec;
     std::vector<std::string> names;
@@ -210,7 +217,7 @@ int World::spawn(const SpawnDef& def) {
     if (behaviourPath.empty())
       throw InputError("behavior '" + def.behaviour +
                        "' not found (looked in the world's folder and the project root)");
-    if (!fs::is_regular_file(behaviourPath))
+    if (!sourceExists(behaviourPath))
       throw InputError("behavior '" + def.behaviour + "' is not a file (" + behaviourPath +
                        "; expected a .lua file)");
   }
@@ -552,7 +559,8 @@ int World::reloadFile(const std::string& path, std::vector<std::string>& errors)
     auto it = sources.find(m.behaviourFile);
     if (it == sources.end()) {
       std::string t;
-      if (!readTextFile(m.behaviourFile, t)) {
+      if (m_options.sources ? !m_options.sources->read(m.behaviourFile, t)
+                            : !readTextFile(m.behaviourFile, t)) {
         errors.push_back(m.behaviourFile + ": cannot read file");
         continue;
       }

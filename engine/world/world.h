@@ -35,6 +35,7 @@ namespace rm3d {
 class WorldScript;
 class BehaviourPool;
 class ModuleHandle;
+class SourceFiles;
 
 /// How to run: what the command line or a test gives.
 struct RunOptions {
@@ -52,6 +53,9 @@ struct RunOptions {
   double watchdogSeconds = 5;                 ///< wall-clock limit on one call into a VM (0: none)
   bool echoLog = true;                        ///< print module log lines to stderr
   bool keepHistory = false;                   ///< keep recent log lines and messages per module (viewer)
+  /// Where Lua sources are read (core/source_files.h): noted for --record, a recording's texts
+  /// for --fork; null: straight from the disk.
+  std::shared_ptr<SourceFiles> sources;
 };
 
 /// world.set{...}: fixed before the first step.
@@ -207,6 +211,8 @@ class World {
   void requestStop() { m_stopRequested = true; }
   /// Resolves a path from a world script: the world's folder first, then the project root.
   std::string resolvePath(const std::string& path) const;
+  /// A source file exists (through options().sources when set, else on disk).
+  bool sourceExists(const std::string& path) const;
 
   // --- hot reload ---
   /// Files whose edits should reach the run: behaviour files in use, lua/*.lua, the world file.

@@ -1,0 +1,321 @@
+// Scene layout and state: the mesh table, capturing a world's state, and building a Snapshot.
+#include "render/scene_state.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "world/world.h"
+
+namespace rm3d {
+
+namespace {
+
+Eigen::Vector3f f3(const Vec3& v) {
+  return v.cast<float>();
+}
+
+RenderMesh boxMesh() {
+  RenderMesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.emplace_back(i & 1 ? 0.5f : -0.5f, i & 2 ? 0.5f : -0.5f, i & 4 ? 0.5f : -0.5f);
+  const uint32_t idx[] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                          2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  m.indices.assign(std::begin(idx), std::end(idx));
+  return m;
+}
+
+/// Unit-radius cylinder along z from -0.5 to 0.5 (scaled per item).
+RenderMesh cylinderMesh(int n = 24) {
+  RenderMesh m;
+  for (int i = 0; i < n; ++i) {
+    const float a = float(2 * kPi * i / n);
+    m.vertices.emplace_back(std::cos(a), std::sin(a), -0.5f);
+    m.vertices.emplace_back(std::cos(a), std::sin(a), 0.5f);
+  }
+  const uint32_t bottom = uint32_t(m.vertices.size());
+  m.vertices.emplace_back(0, 0, -0.5f);
+  m.vertices.emplace_back(0, 0, 0.5f);
+  for (int i = 0; i < n; ++i) {
+    const uint32_t a = uint32_t(2 * i), b = uint32_t(2 * ((i + 1) % n));
+    m.indices.insert(m.indices.end(), {a, b, a + 1, a + 1, b, b + 1, bottom, b, a, bottom + 1, a + 1, b + 1});
+  }
+  return m;
+}
+
+RenderMesh sphereMesh(int rings = 12, int segments = 24) {
+  RenderMesh m;
+  for (int r = 0; r <= rings; ++r) {
+    const double th = kPi * r / rings;
+    for (int s = 0; s < segments; ++s) {
+      const double ph = 2 * kPi * s / segments;
+      m.vertices.emplace_back(float(std::sin(th) * std::cos(ph)), float(std::sin(th) * std::sin(ph)),
+                              float(std::cos(th)));
+    }
+  }
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const uint32_t a = uint32_t(r * segments + s), b = uint32_t(r * segments + (s + 1) % segments);
+      const uint32_t c = a + uint32_t(segments), d = b + uint32_t(segments);
+      m.indices.insert(m.indices.end(), {a, c, b, b, c, d});
+    }
+  return m;
+}
+
+/// Mesh index and scale for a shape; hull meshes are added once per distinct point set.
+struct MeshTable {
+  std::vector<RenderMesh>& meshes;
+  int box = -1, cylinder = -1, sphere = -1;
+  std::map<const ShapeDef*, int> hulls;
+
+  int add(RenderMesh m) {
+    meshes.push_back(std::move(m));
+    return int(meshes.size()) - 1;
+  }
+  int meshFor(const ShapeDef& s, Eigen::Vector3f& scale) {
+    switch (s.kind) {
+      case ShapeKind::Box:
+        scale = f3(s.size);
+        if (box < 0) box = add(boxMesh());
+        return box;
+      case ShapeKind::Cylinder:
+        scale = Eigen::Vector3f(float(s.radius), float(s.radius), float(s.length));
+        if (cylinder < 0) cylinder = add(cylinderMesh());
+        return cylinder;
+      case ShapeKind::Sphere:
+        scale = Eigen::Vector3f::Constant(float(s.radius));
+        if (sphere < 0) sphere = add(sphereMesh());
+        return sphere;
+      case ShapeKind::Hull: {
+        scale = Eigen::Vector3f::Ones();
+        auto it = hulls.find(&s);
+        if (it != hulls.end()) return it->second;
+        RenderMesh m;
+        for (const Vec3& p : s.points) m.vertices.push_back(f3(p));
+        m.indices = s.triangles;
+        return hulls[&s] = add(std::move(m));
+      }
+    }
+    return 0;
+  }
+};
+
+Eigen::Matrix4f toMatrix(const Pose& p, const Eigen::Vector3f& scale) {
+  Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
+  m.block<3, 3>(0, 0) = p.rot.toRotationMatrix().cast<float>() * scale.asDiagonal();
+  m.block<3, 1>(0, 3) = f3(p.pos);
+  return m;
+}
+
+/// Radius of a sphere about the owner's frame origin that holds the shape.
+double shapeRadius(const ShapeDef& s) {
+  double r = 0;
+  switch (s.kind) {
+    case ShapeKind::Box:
+      r = s.size.norm() / 2;
+      break;
+    case ShapeKind::Cylinder:
+      r = std::hypot(s.radius, s.length / 2);
+      break;
+    case ShapeKind::Sphere:
+      r = s.radius;
+      break;
+    case ShapeKind::Hull:
+      for (const Vec3& p : s.points) r = std::max(r, p.norm());
+      break;
+  }
+  return r + s.pose.pos.norm();
+}
+
+constexpr std::array<float, 4> kFaultColor{0.85f, 0.1f, 0.1f, 1.0f};
+constexpr std::array<float, 4> kDockDisabled{0.9f, 0.15f, 0.1f, 1}, kDockEngaged{0.2f, 0.8f, 0.3f, 1},
+    kDockFree{0.55f, 0.55f, 0.6f, 1};
+constexpr double kSceneryRadius = 5.0;  // bodies larger than 10 m across are scenery, not framed
+
+}  // namespace
+
+SceneLayout sceneLayout(const World& w) {
+  SceneLayout lay;
+  MeshTable table{lay.meshes, -1, -1, -1, {}};
+  for (size_t i = 0; i < w.modules().size(); ++i) {
+    const Module& m = w.modules()[i];
+    SceneLayout::ModuleInfo info;
+    info.name = m.name;
+    info.type = m.type->name;
+    info.id = m.id;
+    info.rootLink = m.type->rootLink;
+    info.firstLink = lay.linkCount;
+    info.firstJoint = lay.jointCount;
+    info.firstDock = lay.dockCount;
+    info.links = int(m.type->links.size());
+    for (const JointDef& j : m.type->joints) info.joints.push_back(j.name);
+    for (const DockDef& d : m.type->docks) info.docks.push_back(d.name);
+    lay.linkCount += info.links;
+    lay.jointCount += int(info.joints.size());
+    lay.dockCount += int(info.docks.size());
+    lay.modules.push_back(std::move(info));
+    for (size_t l = 0; l < m.type->links.size(); ++l) {
+      const LinkDef& link = m.type->links[l];
+      for (const ShapeDef& s : link.shapes) {
+        SceneLayout::Item item;
+        item.kind = SceneLayout::Kind::Link;
+        item.owner = int(i);
+        item.link = int(l);
+        item.mesh = table.meshFor(s, item.scale);
+        item.local = s.pose;
+        item.color = link.color;
+        lay.items.push_back(item);
+      }
+    }
+    // Dock faces, just inside the face (so an engaged pair does not flicker).
+    for (size_t d = 0; d < m.type->docks.size(); ++d) {
+      const DockDef& dock = m.type->docks[d];
+      SceneLayout::Item item;
+      item.kind = SceneLayout::Kind::Dock;
+      item.owner = int(i);
+      item.link = dock.link;
+      item.dock = int(d);
+      Eigen::Vector3f unused;
+      item.mesh = table.meshFor(ShapeDef{}, unused);
+      Pose shift;
+      shift.pos = Vec3(-0.0005, 0, 0);
+      item.local = dock.frame * shift;
+      item.scale = Eigen::Vector3f(0.002f, float(dock.size), float(dock.size));
+      lay.items.push_back(item);
+    }
+    for (const SensorDef& sd : m.type->sensors)
+      if (sd.kind == SensorKind::Range)
+        lay.ranges.push_back({int(i), sd.link, sd.pos, sd.dir, sd.minRange, sd.maxRange});
+  }
+  for (size_t b = 0; b < w.obstacles().size(); ++b) {
+    const World::Obstacle& o = w.obstacles()[b];
+    SceneLayout::Item item;
+    item.kind = SceneLayout::Kind::Body;
+    item.owner = int(b);
+    item.mesh = table.meshFor(o.shape, item.scale);
+    item.local = o.shape.pose;
+    item.color = o.mass > 0 ? std::array<float, 4>{0.35f, 0.55f, 0.85f, 1}
+                            : std::array<float, 4>{0.6f, 0.6f, 0.62f, 1};
+    lay.items.push_back(item);
+    lay.bodyRadius.push_back(shapeRadius(o.shape));
+  }
+  lay.ground = w.hasGround();
+  lay.dt = w.settings().dt;
+  const World::CameraDef& c = w.camera();
+  lay.camera = {c.eye, c.target, c.follow, c.fovDeg};
+  return lay;
+}
+
+void captureState(const World& w, const SceneLayout& lay, SceneState& out) {
+  out.time = w.time();
+  out.steps = w.steps();
+  out.faults = w.faultCount();
+  out.links.resize(size_t(lay.linkCount));
+  out.joints.resize(size_t(lay.jointCount));
+  out.docks.resize(size_t(lay.dockCount));
+  out.faulted.resize(lay.modules.size());
+  for (size_t i = 0; i < lay.modules.size(); ++i) {
+    const SceneLayout::ModuleInfo& info = lay.modules[i];
+    const Module& m = w.modules()[i];
+    for (int l = 0; l < info.links; ++l) out.links[size_t(info.firstLink + l)] = w.linkPose(int(i), l);
+    for (size_t j = 0; j < info.joints.size(); ++j)
+      out.joints[size_t(info.firstJoint) + j] = w.jointAngle(int(i), int(j));
+    for (size_t d = 0; d < info.docks.size(); ++d)
+      out.docks[size_t(info.firstDock) + d] =
+          uint8_t((m.docks[d].enabled ? 1 : 0) | (m.docks[d].engaged ? 2 : 0));
+    out.faulted[i] = m.fault.empty() ? 0 : 1;
+  }
+  out.rangeHits.resize(lay.ranges.size());
+  for (size_t r = 0; r < lay.ranges.size(); ++r) {
+    const SceneLayout::Range& s = lay.ranges[r];
+    const Pose lp = w.linkPose(s.module, s.link);
+    const Vec3 dir = lp.rot * s.dir, from = lp * s.pos;
+    out.rangeHits[r] =
+        w.physicsConst().rayCast(from + dir * s.minRange, dir, s.maxRange - s.minRange, s.module);
+  }
+  out.bodies.resize(w.obstacles().size());
+  for (size_t b = 0; b < w.obstacles().size(); ++b) out.bodies[b] = w.obstaclePose(w.obstacles()[b].part);
+}
+
+Snapshot buildSnapshot(const SceneLayout& lay, const SceneState& st) {
+  Snapshot snap;
+  snap.meshes = lay.meshes;
+  snap.items.reserve(lay.items.size());
+  for (const SceneLayout::Item& it : lay.items) {
+    RenderItem item;
+    item.mesh = it.mesh;
+    item.color = it.color;
+    Pose frame;
+    if (it.kind == SceneLayout::Kind::Body) {
+      frame = st.bodies[size_t(it.owner)];
+    } else {
+      const SceneLayout::ModuleInfo& info = lay.modules[size_t(it.owner)];
+      item.tag = it.owner;
+      if (it.kind == SceneLayout::Kind::Link) {
+        if (st.faulted[size_t(it.owner)]) item.color = kFaultColor;
+      } else {
+        const uint8_t flags = st.docks[size_t(info.firstDock + it.dock)];
+        item.color = !(flags & 1) ? kDockDisabled : (flags & 2) ? kDockEngaged : kDockFree;
+      }
+      frame = st.links[size_t(info.firstLink + it.link)];
+    }
+    item.transform = toMatrix(frame * it.local, it.scale);
+    snap.items.push_back(item);
+  }
+  // Range sensors as lines: to the hit (red) or over their whole range (yellow).
+  for (size_t r = 0; r < lay.ranges.size(); ++r) {
+    const SceneLayout::Range& s = lay.ranges[r];
+    const Pose& lp = st.links[size_t(lay.modules[size_t(s.module)].firstLink + s.link)];
+    const Vec3 dir = lp.rot * s.dir, from = lp * s.pos;
+    const double hit = st.rangeHits[r];
+    RenderLine line;
+    line.a = f3(from);
+    line.b = f3(from + dir * (hit >= 0 ? hit + s.minRange : s.maxRange));
+    line.color =
+        hit >= 0 ? std::array<float, 4>{0.95f, 0.2f, 0.15f, 1} : std::array<float, 4>{0.95f, 0.85f, 0.1f, 1};
+    snap.lines.push_back(line);
+  }
+  snap.ground = lay.ground;
+  char line[160];
+  std::snprintf(line, sizeof line, "t = %.2f s   step %lld   %zu modules   %d faults", st.time,
+                (long long)st.steps, lay.modules.size(), st.faults);
+  snap.overlay.push_back(line);
+  return snap;
+}
+
+Camera sceneCamera(const SceneLayout& lay, const SceneState& start, const SceneState& now) {
+  Camera cam;
+  const SceneLayout::CameraDef& def = lay.camera;
+  auto root = [&](const SceneState& s, size_t i) -> const Vec3& {
+    return s.links[size_t(lay.modules[i].firstLink + lay.modules[i].rootLink)].pos;
+  };
+  Vec3 lo(-0.5, -0.5, 0), hi(0.5, 0.5, 0.2);
+  bool any = false;
+  auto extend = [&](const Vec3& a, const Vec3& b) {
+    lo = any ? lo.cwiseMin(a) : a;
+    hi = any ? hi.cwiseMax(b) : b;
+    any = true;
+  };
+  // The scene at the start: modules and bodies (not scenery), then the modules now.
+  for (size_t i = 0; i < lay.modules.size(); ++i) extend(root(start, i), root(start, i));
+  for (size_t b = 0; b < start.bodies.size() && b < lay.bodyRadius.size(); ++b) {
+    const double r = lay.bodyRadius[b];
+    if (r > kSceneryRadius) continue;
+    extend(start.bodies[b].pos - Vec3::Constant(r), start.bodies[b].pos + Vec3::Constant(r));
+  }
+  for (size_t i = 0; i < lay.modules.size(); ++i) extend(root(now, i), root(now, i));
+  Vec3 target = (lo + hi) / 2;
+  const bool follow = def.follow >= 0 && def.follow < int(lay.modules.size());
+  if (follow) target = root(now, size_t(def.follow));
+  if (def.target) target = *def.target;
+  const double extent = std::max(0.6, (hi - lo).norm() + 0.3);
+  Vec3 eye = target + Vec3(0.55, -1.0, 0.6).normalized() * extent * 0.9;
+  if (def.eye) eye = follow && !def.target ? target + *def.eye : *def.eye;
+  cam.eye = f3(eye);
+  cam.target = f3(target);
+  cam.fovyDeg = float(def.fovDeg);
+  return cam;
+}
+
+}  // namespace rm3d

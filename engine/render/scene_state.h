@@ -1,0 +1,87 @@
+// A picture of a world in two parts: the layout, fixed once the world is built (meshes, which
+// item sits on which link, dock or body, colours, names), and the state, one per step (poses,
+// joint angles, dock and fault flags, range-sensor hits, clock). buildSnapshot puts the two
+// together; the live renderer and `rm3d replay` (which reads both from a recording) draw through
+// it, so a replayed frame is the live one to the pixel. Frames: z up, metres.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+#include "render/snapshot.h"
+
+namespace rm3d {
+
+class World;
+
+struct SceneLayout {
+  enum class Kind : uint8_t { Link, Dock, Body };
+  /// One drawn item: a shape on a module link, a dock face, or a body (obstacle) shape.
+  struct Item {
+    Kind kind = Kind::Link;
+    int owner = 0;  ///< module index (Link, Dock) or body index (Body)
+    int link = 0;   ///< the module link it sits on (Link, Dock)
+    int dock = -1;  ///< the dock index in the module (Dock)
+    Pose local;     ///< item frame in its link's (or body's) frame
+    Eigen::Vector3f scale = Eigen::Vector3f::Ones();
+    std::array<float, 4> color{0.8f, 0.8f, 0.8f, 1.0f};
+    int mesh = 0;
+  };
+  struct Range {  ///< a range sensor, drawn as a line to its hit
+    int module = 0, link = 0;
+    Vec3 pos = Vec3::Zero(), dir = Vec3::UnitX();
+    double minRange = 0, maxRange = 1;
+  };
+  struct ModuleInfo {
+    std::string name, type;
+    int id = 0, rootLink = 0;
+    int firstLink = 0, firstJoint = 0, firstDock = 0;  ///< offsets into SceneState's arrays
+    std::vector<std::string> joints, docks;
+    int links = 0;
+  };
+  /// world.camera{...}, by value (follow: module index or -1).
+  struct CameraDef {
+    std::optional<Vec3> eye, target;
+    int follow = -1;
+    double fovDeg = 45;
+  };
+
+  std::vector<RenderMesh> meshes;
+  std::vector<Item> items;
+  std::vector<Range> ranges;
+  std::vector<ModuleInfo> modules;
+  std::vector<double> bodyRadius;  ///< per body: radius of a sphere around its shape (framing)
+  bool ground = true;
+  double dt = 1.0 / 60;
+  CameraDef camera;
+  int linkCount = 0, jointCount = 0, dockCount = 0;
+};
+
+struct SceneState {
+  double time = 0;
+  int64_t steps = 0;
+  int faults = 0;
+  std::vector<Pose> links;        ///< every module's links, module after module
+  std::vector<double> joints;     ///< joint angles, rad, module after module
+  std::vector<uint8_t> docks;     ///< per dock: bit 0 enabled, bit 1 engaged
+  std::vector<uint8_t> faulted;   ///< per module: 1 when faulted
+  std::vector<double> rangeHits;  ///< per range sensor: distance past minRange to the hit, or -1
+  std::vector<Pose> bodies;       ///< per body (obstacle)
+};
+
+SceneLayout sceneLayout(const World& world);
+/// Fills `out` (its arrays keep their capacity: no allocation after the first call).
+void captureState(const World& world, const SceneLayout& layout, SceneState& out);
+Snapshot buildSnapshot(const SceneLayout& layout, const SceneState& state);
+
+/// The camera for a picture of `now`. world.camera{...} wins where given; otherwise the camera
+/// frames the scene at the start (every module and every body under 10 m across: obstacles,
+/// static ones too) and keeps that frame while the modules stay inside it; a module leaving it
+/// widens the frame just enough, continuously (no re-framing from frame to frame).
+Camera sceneCamera(const SceneLayout& layout, const SceneState& start, const SceneState& now);
+
+}  // namespace rm3d

@@ -12,15 +12,11 @@
 
 #include "app/app.h"
 #include "app/cmd_view.h"
+#include "app/data_root.h"
+#include "app/sweep.h"
+#include "app/version.h"
 
 namespace {
-
-std::string projectRoot(const std::string& given) {
-  if (!given.empty()) return std::filesystem::absolute(given).lexically_normal().string();
-  if (const char* env = std::getenv("RM3D_ROOT"))
-    return std::filesystem::absolute(env).lexically_normal().string();
-  return RM3D_SOURCE_DIR;
-}
 
 /// A CLI11 check on a number whose message says what was expected: the parse error reads
 /// "--steps must be a positive whole number of steps, got 0". `ok` sees the parsed value; `whole`
@@ -68,8 +64,11 @@ int run(int argc, char** argv) {
   CLI::App app{"RM3D: a physics-based simulator for self-reconfigurable modular robots"};
   app.require_subcommand(1);
   std::string root;
-  app.add_option("--root", root, "project root (assets/, lua/, behaviors/); default: the source tree")
+  app.add_option("--root", root,
+                 "project root (assets/, lua/, behaviors/); default: where rm3d is installed, then "
+                 "$RM3D_ROOT, then the current project")
       ->check(CLI::ExistingDirectory);
+  app.set_version_flag("--version", "rm3d " + rm3dVersion(), "print the version (and git revision) and exit");
 
   rm3d::RunArgs run;
   CLI::App* runCmd = app.add_subcommand("run", "run a world headless");
@@ -167,11 +166,19 @@ int run(int argc, char** argv) {
   // Hidden: opens the inspector on a module at start (tests, README pictures).
   viewCmd->add_option("--select", view.select, "module id to select at start")->group("");
 
+  rm3d::SweepArgs sweep;
+  CLI::App* sweepCmd = rm3d::addSweepCommand(app, sweep);
+
+  // Before parsing: CLI11 would first insist on a subcommand.
+  if (argc == 2 && std::string(argv[1]) == "--version") {
+    std::printf("rm3d %s\n", rm3dVersion().c_str());
+    return 0;
+  }
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];
-    if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view") {
+    if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view" && cmd != "sweep") {
       std::fprintf(stderr,
-                   "rm3d: unknown command '%s' (expected run, test, bench or view; see rm3d --help)\n",
+                   "rm3d: unknown command '%s' (expected run, test, bench, view or sweep; see rm3d --help)\n",
                    cmd.c_str());
       return 2;
     }
@@ -181,6 +188,8 @@ int run(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // "--steps: must be ..." from numberCheck reads "--steps must be ...".
@@ -192,7 +201,12 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "rm3d: %s\n(see %s)\n", msg.c_str(), help.c_str());
     return 2;
   }
-  const std::string r = projectRoot(root);
+  const rm3d::DataRoot dataRoot = rm3d::findDataRoot(root);
+  if (dataRoot.path.empty()) {
+    std::fprintf(stderr, "rm3d: %s\n", dataRoot.error.c_str());
+    return 2;
+  }
+  const std::string& r = dataRoot.path;
   if (*runCmd) return rm3d::runCommand(run, r);
   if (*testCmd) return rm3d::testCommand(test, r);
   if (*benchCmd) {
@@ -200,6 +214,7 @@ int run(int argc, char** argv) {
     return bench.converged ? rm3d::convergedCommand(bench, r) : rm3d::benchCommand(bench, r);
   }
   if (*viewCmd) return rm3d::viewCommand(view, r);
+  if (*sweepCmd) return rm3d::sweepCommand(sweep, r);
   return 2;
 }
 

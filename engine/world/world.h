@@ -199,6 +199,8 @@ class World {
   void requestStop() { m_stopRequested = true; }
   /// Resolves a path from a world script: the world's folder first, then the project root.
   std::string resolvePath(const std::string& path) const;
+  /// Where resolvePath looks, for not-found errors: "(looked in /w/worlds/ and /w/)".
+  std::string resolveLookedIn() const;
 
   // --- hot reload ---
   /// Files whose edits should reach the run: behaviour files in use, lua/*.lua, the world file.

@@ -83,7 +83,8 @@ std::set<std::string> finishedRuns(const std::string& out) {
   std::string line;
   while (std::getline(in, line)) {
     const json j = json::parse(line, nullptr, false);
-    if (j.is_object() && j.contains("params") && j.contains("seed")) done.insert(keyOf(j["params"], j["seed"]));
+    if (j.is_object() && j.contains("params") && j.contains("seed"))
+      done.insert(keyOf(j["params"], j["seed"]));
   }
   return done;
 }
@@ -208,9 +209,10 @@ class Progress {
     char eta[64] = "";
     if (done > 0 && done < todo)
       std::snprintf(eta, sizeof eta, ", about %.0f s left", secs / double(done) * double(todo - done));
-    std::fprintf(stderr, "%ssweep: %zu/%zu runs done (%zu failed, %zu running, %zu already in the output), %.0f s%s%s",
-                 m_tty ? "\r\033[K" : "", done, todo, failed, running, m_skipped, secs, eta,
-                 m_tty && !last ? "" : "\n");
+    std::fprintf(
+        stderr, "%ssweep: %zu/%zu runs done (%zu failed, %zu running, %zu already in the output), %.0f s%s%s",
+        m_tty ? "\r\033[K" : "", done, todo, failed, running, m_skipped, secs, eta,
+        m_tty && !last ? "" : "\n");
     std::fflush(stderr);
   }
 
@@ -268,7 +270,8 @@ int runLocal(const SweepArgs& a, const std::string& root, const std::vector<Swee
     const bool interrupted = interruptSignal() && (code == kExitSigint || code == kExitSigterm);
     if (!interrupted) {
       std::string err;
-      if (!appendLine(a.out, line.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace), err)) {
+      if (!appendLine(a.out, line.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace),
+                      err)) {
         std::fprintf(stderr, "\nrm3d sweep: %s\n", err.c_str());
         return kExitBadInput;
       }
@@ -281,11 +284,13 @@ int runLocal(const SweepArgs& a, const std::string& root, const std::vector<Swee
   }
   fs::remove(work, ec);  // only when empty
   if (interruptSignal()) {
-    std::fprintf(stderr, "rm3d sweep: interrupted; %zu runs not done (run the same command again to resume)\n",
+    std::fprintf(stderr,
+                 "rm3d sweep: interrupted; %zu runs not done (run the same command again to resume)\n",
                  todo.size() - done);
     return 128 + interruptSignal();
   }
-  if (failed) std::fprintf(stderr, "rm3d sweep: %zu of %zu runs exited non-zero (see exit_code)\n", failed, done);
+  if (failed)
+    std::fprintf(stderr, "rm3d sweep: %zu of %zu runs exited non-zero (see exit_code)\n", failed, done);
   return failed ? kExitFailed : kExitOk;
 }
 
@@ -323,7 +328,8 @@ int writeSlurm(const SweepArgs& a, const std::string& root, size_t total, size_t
   if (a.seconds) s << " --seconds " << *a.seconds;
   if (a.steps) s << " --steps " << *a.steps;
   if (a.strict) s << " --strict";
-  s << " --watchdog " << a.watchdog << " --runs-per-task " << per << " --array-task \"$SLURM_ARRAY_TASK_ID\"\n";
+  s << " --watchdog " << a.watchdog << " --runs-per-task " << per
+    << " --array-task \"$SLURM_ARRAY_TASK_ID\"\n";
   {
     std::ofstream f(script, std::ios::binary);
     f << s.str();
@@ -374,7 +380,8 @@ bool expandSweep(const std::vector<std::string>& params, const std::string& seed
   for (const std::string& p : params) {
     const size_t eq = p.find('=');
     if (eq == std::string::npos || eq == 0) {
-      err = "--param '" + p + "': expected key=a,b,c (values separated by commas, or by | when a value holds commas)";
+      err = "--param '" + p +
+            "': expected key=a,b,c (values separated by commas, or by | when a value holds commas)";
       return false;
     }
     const std::string key = p.substr(0, eq), rest = p.substr(eq + 1);
@@ -389,13 +396,13 @@ bool expandSweep(const std::vector<std::string>& params, const std::string& seed
   for (const std::string& part : split(seeds, ',')) {
     const size_t dash = part.find('-');
     unsigned long long lo = 0, hi = 0;
-    const bool ok = dash == std::string::npos
-                        ? wholeNumber(part, lo) && (hi = lo, true)
-                        : wholeNumber(part.substr(0, dash), lo) && wholeNumber(part.substr(dash + 1), hi) && lo <= hi;
+    const bool ok = dash == std::string::npos ? wholeNumber(part, lo) && (hi = lo, true)
+                                              : wholeNumber(part.substr(0, dash), lo) &&
+                                                    wholeNumber(part.substr(dash + 1), hi) && lo <= hi;
     if (!ok || hi - lo >= (unsigned long long)kMaxRuns) {
       err = "--seeds " + seeds +
-            ": expected seeds as A-B (A <= B), a list A,B,C or both (1-10,20), whole numbers from 0; got '" + part +
-            "'";
+            ": expected seeds as A-B (A <= B), a list A,B,C or both (1-10,20), whole numbers from 0; got '" +
+            part + "'";
       return false;
     }
     for (unsigned long long s = lo;; ++s) {
@@ -431,18 +438,23 @@ std::string sweepRunKey(const SweepRun& r) {
 
 CLI::App* addSweepCommand(CLI::App& app, SweepArgs& a) {
   CLI::App* c = app.add_subcommand(
-      "sweep", "run a world over parameter values x seeds (child `rm3d run`s, N at a time, or a Slurm job array)");
+      "sweep",
+      "run a world over parameter values x seeds (child `rm3d run`s, N at a time, or a Slurm job array)");
   c->add_option("world", a.world, "world script (.lua)")->required();
-  c->add_option("--param", a.params,
-                "k=a,b,c: the values of args.k to sweep (separate with | when a value holds commas); repeat for "
-                "more keys (cartesian product)")
+  c->add_option(
+       "--param", a.params,
+       "k=a,b,c: the values of args.k to sweep (separate with | when a value holds commas); repeat for "
+       "more keys (cartesian product)")
       ->take_all();
   c->add_option("--seeds", a.seeds, "seeds: A-B, A,B,C or both (default 1)");
   c->add_option("--jobs", a.jobs, "runs at a time (default 1)")->check(CLI::Range(1, 4096));
   c->add_option("--out", a.out, "output: one JSON line per run; runs already in it are skipped")->required();
-  auto* sec = c->add_option("--seconds", a.seconds, "simulated seconds per run (default: the world's duration)")
-                  ->check(CLI::PositiveNumber);
-  c->add_option("--steps", a.steps, "steps per run")->check(CLI::Range(1LL, 9'000'000'000'000'000'000LL))->excludes(sec);
+  auto* sec =
+      c->add_option("--seconds", a.seconds, "simulated seconds per run (default: the world's duration)")
+          ->check(CLI::PositiveNumber);
+  c->add_option("--steps", a.steps, "steps per run")
+      ->check(CLI::Range(1LL, 9'000'000'000'000'000'000LL))
+      ->excludes(sec);
   c->add_flag("--strict", a.strict, "a module fault ends a run with exit code 1");
   c->add_option("--watchdog", a.watchdog, "each run's watchdog, seconds of wall time (default 5)")
       ->check(CLI::Range(0.0, 1e9));

@@ -43,8 +43,8 @@ DataRoot findDataRoot(const std::string& given) {
   };
   if (!given.empty()) {
     if (isDataRoot(given)) return found(given, "--root");
-    r.error = "--root " + given + ": not an RM3D project (expected " + normal(fs::path(given) / "assets/modules") +
-              "/ with the module types)";
+    r.error = "--root " + given + ": not an RM3D project (expected " +
+              normal(fs::path(given) / "assets/modules") + "/ with the module types)";
     return r;
   }
   const fs::path exeDir = executableDir();

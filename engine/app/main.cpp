@@ -11,6 +11,7 @@
 #include <string>
 
 #include "app/app.h"
+#include "app/bench_scenes.h"
 #include "app/cmd_view.h"
 #include "app/data_root.h"
 #include "app/sweep.h"
@@ -118,7 +119,8 @@ int run(int argc, char** argv) {
   rm3d::BenchArgs bench;
   CLI::App* benchCmd = app.add_subcommand(
       "bench", "scale benchmarks: the paper's scale table (snake_150 ... atrons_1500) and more");
-  benchCmd->add_option("scenes", bench.scenes, "scene names (default: all)");
+  benchCmd->add_option("scenes", bench.scenes, "scene names (default: all; listed below)");
+  benchCmd->footer(rm3d::benchSceneHelp());
   benchCmd->add_option("--dt", bench.dt, "control step, s (default: the world's)")
       ->check(
           numberCheck("a positive number of seconds", [](double v) { return v > 0 && std::isfinite(v); }));
@@ -158,10 +160,14 @@ int run(int argc, char** argv) {
   viewCmd->add_option("--chunk", view.chunk, chunkHelp)->check(kChunk);
   viewCmd->add_flag("--quiet", view.quiet,
                     "no module log lines on the terminal (the inspector still shows them)");
-  viewCmd->add_option("--frames", view.frames, "render this many frames, then exit (with --screenshot)")
+  viewCmd->add_option("--exit-after", view.frames, "render this many frames, then exit (with --screenshot)")
       ->check(positiveWhole("frames"));
+  // `--frames` is a folder of PNG frames (as in `run`); `view --frames N`, the old spelling of
+  // --exit-after N, still works with a deprecation warning.
+  std::string viewFramesOld;
+  viewCmd->add_option("--frames", viewFramesOld, "deprecated: use --exit-after N")->group("");
   viewCmd->add_option("--screenshot", view.screenshot,
-                      "save the last frame's window as PNG (needs --frames)");
+                      "save the last frame's window as PNG (needs --exit-after)");
   viewCmd->add_option("--watchdog", view.watchdog, watchdogHelp)->check(kWatchdogSeconds);
   // Hidden: opens the inspector on a module at start (tests, README pictures).
   viewCmd->add_option("--select", view.select, "module id to select at start")->group("");
@@ -213,7 +219,24 @@ int run(int argc, char** argv) {
     bench.stepsGiven = benchSteps->count() > 0;
     return bench.converged ? rm3d::convergedCommand(bench, r) : rm3d::benchCommand(bench, r);
   }
-  if (*viewCmd) return rm3d::viewCommand(view, r);
+  if (*viewCmd) {
+    if (!viewFramesOld.empty()) {
+      std::string n = viewFramesOld;
+      if (!positiveWhole("frames")(n).empty()) {
+        std::fprintf(
+            stderr,
+            "rm3d view: --frames %s: the viewer writes no frame folders (--frames DIR is `run`'s); to "
+            "stop after N frames give --exit-after N\n",
+            viewFramesOld.c_str());
+        return 2;
+      }
+      std::fprintf(stderr,
+                   "rm3d view: --frames N is deprecated, use --exit-after N (--frames means a folder of PNG "
+                   "frames, as in `rm3d run`)\n");
+      view.frames = int(std::strtol(viewFramesOld.c_str(), nullptr, 10));
+    }
+    return rm3d::viewCommand(view, r);
+  }
   if (*sweepCmd) return rm3d::sweepCommand(sweep, r);
   return 2;
 }

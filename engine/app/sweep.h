@@ -23,13 +23,13 @@ struct SweepArgs {
   std::optional<long long> steps;
   bool strict = false;
   double watchdog = 5;
-  bool slurm = false;                    ///< write (and submit) a Slurm job array instead
-  bool dryRun = false;                   ///< --slurm: write the script only
-  bool wait = false;                     ///< --slurm: sbatch --wait (return when the array is done)
-  long long runsPerTask = 1;             ///< --slurm: runs per array task
+  bool slurm = false;                     ///< write (and submit) a Slurm job array instead
+  bool dryRun = false;                    ///< --slurm: write the script only
+  bool wait = false;                      ///< --slurm: sbatch --wait (return when the array is done)
+  long long runsPerTask = 1;              ///< --slurm: runs per array task
   std::vector<std::string> slurmOptions;  ///< extra #SBATCH lines ("--partition=short")
-  std::string script;                    ///< --slurm: where the script goes (default OUT.slurm.sh)
-  std::optional<long long> arrayTask;    ///< hidden: run only this array task's chunk
+  std::string script;                     ///< --slurm: where the script goes (default OUT.slurm.sh)
+  std::optional<long long> arrayTask;     ///< hidden: run only this array task's chunk
 };
 
 /// One run of a sweep: its parameter values (as given) and seed.

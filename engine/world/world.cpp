@@ -225,7 +225,8 @@ int World::spawn(const SpawnDef& def) {
   m.params = def.params;
   // A named module's stream follows its name, so adding or reordering other modules never
   // changes its numbers; an unnamed one's follows its id (its place in spawn order).
-  m.rng.seed(m_settings.seed, def.name.empty() ? uint64_t(m.id) : streamOfName(def.name));
+  m.rngStream = def.name.empty() ? uint64_t(m.id) : streamOfName(def.name);
+  m.rng.seed(m_settings.seed, m.rngStream);
   m.fixed = def.fixed;
   for (size_t l = 0; l < type.links.size(); ++l) {
     const LinkDef& link = type.links[l];

@@ -402,3 +402,20 @@ expect_run("test --chunk" 0 "1 passed" test ${SRC}/tests/worlds/servo_45.lua --t
 # view takes run's flags that mean the same there (parsed, then it stops for want of a display).
 expect_cmd("view takes run's flags" 2 "no display available" ${CMAKE_COMMAND} -E env --unset=DISPLAY --unset=WAYLAND_DISPLAY
   ${RM3D} view ${SRC}/worlds/nodders.lua --quiet --threads 2 --chunk 4 --watchdog 2 --param k=v --seed 3)
+
+# Noise streams are keyed by percept/action name: acting and sensing in another order (or in
+# pairs() order) gives the same run, bit for bit.
+foreach(order forward reverse pairs)
+  execute_process(COMMAND ${RM3D} run ${SRC}/tests/cli/noise_order/world.lua --param order=${order} --json ${OUT}/order_${order}.json
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE o ERROR_VARIABLE e)
+  string(REGEX MATCH "percept sum [-0-9.e+]+ [-0-9.e+]+" sum_${order} "${e}")
+  file(READ ${OUT}/order_${order}.json j)
+  string(JSON mods_${order} GET "${j}" modules)
+endforeach()
+if(NOT sum_forward OR NOT mods_forward STREQUAL mods_reverse OR NOT mods_forward STREQUAL mods_pairs
+   OR NOT sum_forward STREQUAL sum_reverse OR NOT sum_forward STREQUAL sum_pairs)
+  message(SEND_ERROR "noise depends on call order:\n${sum_forward} / ${sum_reverse} / ${sum_pairs}\n${mods_forward}\n${mods_reverse}")
+  math(EXPR failures "${failures}+1")
+else()
+  message(STATUS "ok: noise streams keyed by name (${sum_forward})")
+endif()

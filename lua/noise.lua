@@ -2,8 +2,10 @@
 -- the global `noise`). Each constructor checks its parameters (an error names the calling line)
 -- and returns a model; every percept or action using it gets its own instance (its own drift,
 -- delay line, stuck state). Models work on numbers and, element by element, on vectors such as
--- {x, y, z}; booleans and strings pass through. All randomness comes from the module's own
--- seeded stream (sim.random, sim.gaussian), so runs repeat exactly.
+-- {x, y, z}; booleans and strings pass through. All randomness comes from a seeded stream: each
+-- percept's and action's own (sim.stream("percept:<name>"), "action:<name>"), which
+-- rm3d_behaviour.lua hands to model.make(stream), so the order in which a behaviour senses or
+-- acts never changes the numbers; a model made without one draws from the module's stream (sim).
 local noise = {}
 local Model = {}
 Model.__index = Model
@@ -49,8 +51,9 @@ noise.each = each
 function noise.gaussian(sigma)
   number(sigma, "sigma", "gaussian")
   check(sigma >= 0, "noise.gaussian: sigma must not be negative, got " .. sigma)
-  return model("gaussian", function()
-    return function(v) return each(v, function(x) return x + sim.gaussian(0, sigma) end) end
+  return model("gaussian", function(r)
+    local rng = r or sim
+    return function(v) return each(v, function(x) return x + rng.gaussian(0, sigma) end) end
   end, {sigma = sigma})
 end
 
@@ -58,8 +61,9 @@ end
 function noise.uniform(half_width)
   number(half_width, "half_width", "uniform")
   check(half_width >= 0, "noise.uniform: half_width must not be negative, got " .. half_width)
-  return model("uniform", function()
-    return function(v) return each(v, function(x) return x + (2 * sim.random() - 1) * half_width end) end
+  return model("uniform", function(r)
+    local rng = r or sim
+    return function(v) return each(v, function(x) return x + (2 * rng.random() - 1) * half_width end) end
   end, {half_width = half_width})
 end
 
@@ -77,7 +81,8 @@ end
 function noise.drift(sigma)
   number(sigma, "sigma", "drift")
   check(sigma >= 0, "noise.drift: sigma must not be negative, got " .. sigma)
-  return model("drift", function()
+  return model("drift", function(r)
+    local rng = r or sim
     local offset, last = {}, nil
     return function(v)
       local t = sim.time()
@@ -85,7 +90,7 @@ function noise.drift(sigma)
         -- the walk advances with time, not with reads: sigma * sqrt(time since the last read)
         local span = last and (t - last) or sim.dt()
         for i = 1, (type(v) == "table" and #v or 1) do
-          offset[i] = (offset[i] or 0) + sim.gaussian(0, sigma * math.sqrt(span))
+          offset[i] = (offset[i] or 0) + rng.gaussian(0, sigma * math.sqrt(span))
         end
         last = t
       end
@@ -98,9 +103,10 @@ end
 function noise.dropout(p)
   number(p, "p", "dropout")
   check(p >= 0 and p <= 1, "noise.dropout: p must be in [0, 1], got " .. p)
-  return model("dropout", function()
+  return model("dropout", function(r)
+    local rng = r or sim
     return function(v)
-      if sim.random() < p then return nil end
+      if rng.random() < p then return nil end
       return v
     end
   end, {p = p})
@@ -152,10 +158,11 @@ function noise.stuck(opts)
   check(opts.at ~= nil or opts.rate ~= nil, "noise.stuck: give `at` (seconds) or `rate` (probability per step)")
   if opts.rate then check(type(opts.rate) == "number" and opts.rate >= 0 and opts.rate <= 1, "noise.stuck: rate must be in [0, 1]") end
   if opts.at then check(type(opts.at) == "number" and opts.at >= 0, "noise.stuck: at must be a time >= 0") end
-  return model("stuck", function()
+  return model("stuck", function(r)
+    local rng = r or sim
     local stuck, held = false, nil
     return function(v)
-      if not stuck and ((opts.at and sim.time() >= opts.at) or (opts.rate and sim.random() < opts.rate)) then
+      if not stuck and ((opts.at and sim.time() >= opts.at) or (opts.rate and rng.random() < opts.rate)) then
         stuck = true
         held = opts.value
         if held == nil then held = v end
@@ -174,9 +181,9 @@ function noise.compose(...)
   end
   local nil_ok = false
   for _, m in ipairs(models) do nil_ok = nil_ok or m.nil_ok end
-  return model("compose", function()
+  return model("compose", function(r)
     local fs = {}
-    for i, m in ipairs(models) do fs[i] = m.make() end
+    for i, m in ipairs(models) do fs[i] = m.make(r) end
     return function(v)
       for i, f in ipairs(fs) do
         if v ~= nil or models[i].nil_ok then v = f(v) end

@@ -36,16 +36,19 @@ local function check_keys(where, spec, allowed)
   end
 end
 
-local function pipeline(where, spec)
+-- `key` names the random stream the noise draws from ("percept:tilt", "action:lift"): one per
+-- percept or action, so call order (pairs() over the actions, say) never changes the numbers.
+local function pipeline(where, spec, key)
   local stages, nil_ok = {}, {}
+  local rng = sim.stream(key)
   local n = spec.noise
   if n ~= nil then
     if noise.is_model(n) then
-      stages[1], nil_ok[1] = n.make(), n.nil_ok
+      stages[1], nil_ok[1] = n.make(rng), n.nil_ok
     elseif type(n) == "table" then
       for i, m in ipairs(n) do
         if not noise.is_model(m) then fail(string.format("%s: noise[%d] is not a noise model", where, i)) end
-        stages[i], nil_ok[i] = m.make(), m.nil_ok
+        stages[i], nil_ok[i] = m.make(rng), m.nil_ok
       end
     else
       fail(where .. ": noise must be a noise model (noise.gaussian(...), ...) or a list of them")
@@ -76,7 +79,7 @@ local function build()
       local ok, list = has_sensor(spec.sensor)
       if not ok then fail(string.format("%s: no sensor '%s' on a %s (it has: %s)", where, spec.sensor, module.type, list)) end
       if spec.field ~= nil and spec.field ~= "velocity" then fail(where .. ": field must be \"velocity\" (joints only)") end
-      state.p[name] = {spec = spec, apply = pipeline(where, spec), stamp = nil, value = nil}
+      state.p[name] = {spec = spec, apply = pipeline(where, spec, "percept:" .. tostring(name)), stamp = nil, value = nil}
     end
   end
   if state.actions ~= nil then
@@ -101,7 +104,7 @@ local function build()
       else
         fail(where .. ": give the joint or the dock it drives")
       end
-      state.a[name] = {spec = spec, apply = pipeline(where, spec), target = target}
+      state.a[name] = {spec = spec, apply = pipeline(where, spec, "action:" .. tostring(name)), target = target}
     end
   end
 end

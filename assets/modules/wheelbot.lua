@@ -4,7 +4,10 @@
 -- so it can tow or join other modules. Module frame: x forward, z up, origin at the chassis
 -- centre, which rides 0.04 m above the ground on flat floor. The format is described in
 -- superbot.lua.
-local kWheelX, kWheelY = 0.07, 0.075
+-- Wheels at x = +-0.055: their rims reach 0.095 m, 5 mm behind the dock faces at 0.10 m, so two
+-- Wheelbots meeting head on touch dock to dock and latch (at 0.07 the wheels stuck out 1 cm past
+-- the docks and met first, 19 mm short of latching).
+local kWheelX, kWheelY = 0.055, 0.075
 
 local function wheel(name, x, y)
   return { name = name, mass = 0.05, color = { 0.1, 0.1, 0.1 }, friction = 1.2,

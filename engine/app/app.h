@@ -30,10 +30,10 @@ struct RunArgs {
   int traceEvery = 0;                    ///< --trace-every N (0: not given, every step)
   std::vector<std::string> commandLine;  ///< argv as given, for the summary
   // Record, replay, fork (app/run_capture.h, app/fork.h) and the camera of pictures.
-  std::string record;             ///< --record FILE
-  std::string fork;               ///< --fork FILE (with --at T)
-  std::optional<double> at;       ///< --at T
-  std::string eye, target, fov;   ///< --eye X,Y,Z --target X,Y,Z --fov DEG
+  std::string record;            ///< --record FILE
+  std::string fork;              ///< --fork FILE (with --at T)
+  std::optional<double> at;      ///< --at T
+  std::string eye, target, fov;  ///< --eye X,Y,Z --target X,Y,Z --fov DEG
 };
 
 /// `rm3d replay FILE`: a recording drawn again, offscreen or in a window (app/cmd_replay.cpp).

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "app/app.h"
+#include "app/bench_scenes.h"
 #include "app/run_world.h"
 #include "core/error.h"
 #include "world/world.h"
@@ -283,6 +284,16 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
     }
   }
   return 0;
+}
+
+std::string benchSceneHelp() {
+  std::string out = "Scenes:\n";
+  for (const Scene& s : kScenes) {
+    char line[512];
+    std::snprintf(line, sizeof line, "  %-16s %s (%d modules)\n", s.name, s.what, s.modules);
+    out += line;
+  }
+  return out;
 }
 
 }  // namespace rm3d

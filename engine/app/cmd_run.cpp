@@ -11,10 +11,10 @@
 #include <thread>
 
 #include "app/app.h"
-#include "app/progress_line.h"
-#include "app/run_identity.h"
 #include "app/fork.h"
+#include "app/progress_line.h"
 #include "app/run_capture.h"
+#include "app/run_identity.h"
 #include "app/run_world.h"
 #include "app/video_pipe.h"
 #include "app/world_session.h"

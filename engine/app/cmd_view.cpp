@@ -1,7 +1,7 @@
 // `rm3d view`: steps a world in real time in a GLFW window (OpenGL 3.3 core) drawn by the shared
 // SceneRenderer, with an orbit camera, click-to-inspect modules (Dear ImGui panels), pause /
 // single step / speed / reset keys, and hot reload of behaviours, lua/ and the world file as in
-// `run --watch`. `--frames N --screenshot FILE` renders N frames, saves the last and exits (tests,
+// `run --watch`. `--exit-after N --screenshot FILE` renders N frames, saves the last and exits (tests,
 // README pictures).
 #include "app/cmd_view.h"
 
@@ -632,7 +632,7 @@ int viewCommand(const ViewArgs& a, const std::string& root) {
     return 2;
   }
   if (!a.screenshot.empty() && a.frames <= 0) {
-    std::fprintf(stderr, "rm3d view: --screenshot needs --frames N (the frame to save)\n");
+    std::fprintf(stderr, "rm3d view: --screenshot needs --exit-after N (the frame to save)\n");
     return 2;
   }
 

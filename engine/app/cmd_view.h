@@ -14,7 +14,7 @@ struct ViewArgs {
   int threads = 1;
   int chunk = 16;          ///< --chunk N (RunOptions::chunkSize)
   bool quiet = false;      ///< --quiet: no module log lines on the terminal
-  int frames = 0;          ///< > 0: render this many frames, then exit (with --screenshot)
+  int frames = 0;          ///< --exit-after N: > 0: render this many frames, then exit (with --screenshot)
   std::string screenshot;  ///< PNG of the last frame's window contents
   int select = -1;         ///< module id selected (inspector open) at start; -1: none
   double watchdog = 5;     ///< --watchdog S (RunOptions::watchdogSeconds)

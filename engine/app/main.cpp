@@ -11,16 +11,13 @@
 #include <string>
 
 #include "app/app.h"
+#include "app/bench_scenes.h"
 #include "app/cmd_view.h"
+#include "app/data_root.h"
+#include "app/sweep.h"
+#include "app/version.h"
 
 namespace {
-
-std::string projectRoot(const std::string& given) {
-  if (!given.empty()) return std::filesystem::absolute(given).lexically_normal().string();
-  if (const char* env = std::getenv("RM3D_ROOT"))
-    return std::filesystem::absolute(env).lexically_normal().string();
-  return RM3D_SOURCE_DIR;
-}
 
 /// A CLI11 check on a number whose message says what was expected: the parse error reads
 /// "--steps must be a positive whole number of steps, got 0". `ok` sees the parsed value; `whole`
@@ -68,8 +65,11 @@ int run(int argc, char** argv) {
   CLI::App app{"RM3D: a physics-based simulator for self-reconfigurable modular robots"};
   app.require_subcommand(1);
   std::string root;
-  app.add_option("--root", root, "project root (assets/, lua/, behaviors/); default: the source tree")
+  app.add_option("--root", root,
+                 "project root (assets/, lua/, behaviors/); default: where rm3d is installed, then "
+                 "$RM3D_ROOT, then the current project")
       ->check(CLI::ExistingDirectory);
+  app.set_version_flag("--version", "rm3d " + rm3dVersion(), "print the version (and git revision) and exit");
 
   rm3d::RunArgs run;
   CLI::App* runCmd = app.add_subcommand("run", "run a world headless");
@@ -161,7 +161,8 @@ int run(int argc, char** argv) {
   rm3d::BenchArgs bench;
   CLI::App* benchCmd = app.add_subcommand(
       "bench", "scale benchmarks: the paper's scale table (snake_150 ... atrons_1500) and more");
-  benchCmd->add_option("scenes", bench.scenes, "scene names (default: all)");
+  benchCmd->add_option("scenes", bench.scenes, "scene names (default: all; listed below)");
+  benchCmd->footer(rm3d::benchSceneHelp());
   benchCmd->add_option("--dt", bench.dt, "control step, s (default: the world's)")
       ->check(
           numberCheck("a positive number of seconds", [](double v) { return v > 0 && std::isfinite(v); }));
@@ -201,10 +202,14 @@ int run(int argc, char** argv) {
   viewCmd->add_option("--chunk", view.chunk, chunkHelp)->check(kChunk);
   viewCmd->add_flag("--quiet", view.quiet,
                     "no module log lines on the terminal (the inspector still shows them)");
-  viewCmd->add_option("--frames", view.frames, "render this many frames, then exit (with --screenshot)")
+  viewCmd->add_option("--exit-after", view.frames, "render this many frames, then exit (with --screenshot)")
       ->check(positiveWhole("frames"));
+  // `--frames` is a folder of PNG frames (as in `run`); `view --frames N`, the old spelling of
+  // --exit-after N, still works with a deprecation warning.
+  std::string viewFramesOld;
+  viewCmd->add_option("--frames", viewFramesOld, "deprecated: use --exit-after N")->group("");
   viewCmd->add_option("--screenshot", view.screenshot,
-                      "save the last frame's window as PNG (needs --frames)");
+                      "save the last frame's window as PNG (needs --exit-after)");
   viewCmd->add_option("--watchdog", view.watchdog, watchdogHelp)->check(kWatchdogSeconds);
   // Hidden: opens the inspector on a module at start (tests, README pictures).
   viewCmd->add_option("--select", view.select, "module id to select at start")->group("");
@@ -222,12 +227,23 @@ int run(int argc, char** argv) {
   plotCmd->add_option("--ylabel", plot.ylabel, "label of the y axis (default: the column, when one)");
   plotCmd->add_option("--size", plot.size, "picture size WxH (default 1000x600)");
 
+  rm3d::SweepArgs sweep;
+  CLI::App* sweepCmd = rm3d::addSweepCommand(app, sweep);
+
+  // Before parsing: CLI11 would first insist on a subcommand.
+  if (argc == 2 && std::string(argv[1]) == "--version") {
+    std::printf("rm3d %s\n", rm3dVersion().c_str());
+    return 0;
+  }
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];
-    if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view" && cmd != "plot" && cmd != "replay") {
-      std::fprintf(stderr,
-                   "rm3d: unknown command '%s' (expected run, test, bench, view, plot or replay; see rm3d --help)\n",
-                   cmd.c_str());
+    if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view" && cmd != "plot" &&
+        cmd != "replay" && cmd != "sweep") {
+      std::fprintf(
+          stderr,
+          "rm3d: unknown command '%s' (expected run, test, bench, view, plot, replay or sweep; see rm3d "
+          "--help)\n",
+          cmd.c_str());
       return 2;
     }
   }
@@ -236,6 +252,8 @@ int run(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // "--steps: must be ..." from numberCheck reads "--steps must be ...".
@@ -247,7 +265,12 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "rm3d: %s\n(see %s)\n", msg.c_str(), help.c_str());
     return 2;
   }
-  const std::string r = projectRoot(root);
+  const rm3d::DataRoot dataRoot = rm3d::findDataRoot(root);
+  if (dataRoot.path.empty()) {
+    std::fprintf(stderr, "rm3d: %s\n", dataRoot.error.c_str());
+    return 2;
+  }
+  const std::string& r = dataRoot.path;
   if (*runCmd) return rm3d::runCommand(run, r);
   if (*replayCmd) return rm3d::replayCommand(replay);
   if (*testCmd) return rm3d::testCommand(test, r);
@@ -255,8 +278,26 @@ int run(int argc, char** argv) {
     bench.stepsGiven = benchSteps->count() > 0;
     return bench.converged ? rm3d::convergedCommand(bench, r) : rm3d::benchCommand(bench, r);
   }
-  if (*viewCmd) return rm3d::viewCommand(view, r);
+  if (*viewCmd) {
+    if (!viewFramesOld.empty()) {
+      std::string n = viewFramesOld;
+      if (!positiveWhole("frames")(n).empty()) {
+        std::fprintf(
+            stderr,
+            "rm3d view: --frames %s: the viewer writes no frame folders (--frames DIR is `run`'s); to "
+            "stop after N frames give --exit-after N\n",
+            viewFramesOld.c_str());
+        return 2;
+      }
+      std::fprintf(stderr,
+                   "rm3d view: --frames N is deprecated, use --exit-after N (--frames means a folder of PNG "
+                   "frames, as in `rm3d run`)\n");
+      view.frames = int(std::strtol(viewFramesOld.c_str(), nullptr, 10));
+    }
+    return rm3d::viewCommand(view, r);
+  }
   if (*plotCmd) return rm3d::plotCommand(plot);
+  if (*sweepCmd) return rm3d::sweepCommand(sweep, r);
   return 2;
 }
 

@@ -1,10 +1,9 @@
-// RM3D's version (app/version.h).
+// rm3dVersion(): the strings come from the build (CMakeLists.txt, cmake/version_info.cmake).
 #include "app/version.h"
 
-namespace rm3d {
+#include "rm3d_version_info.h"
 
-const char* rm3dVersion() {
-  return "dev";
+std::string rm3dVersion() {
+  const std::string rev = RM3D_GIT_REVISION;
+  return rev.empty() ? std::string(RM3D_PROJECT_VERSION) : std::string(RM3D_PROJECT_VERSION) + "+" + rev;
 }
-
-}  // namespace rm3d

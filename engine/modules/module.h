@@ -61,7 +61,8 @@ struct Module {
   std::string behaviourFile;  ///< absolute, empty: none
   Value params;
   Rng rng;
-  std::string fault;  ///< empty: healthy
+  uint64_t rngStream = 0;  ///< the stream `rng` was seeded with; sim.stream(key) derives from it
+  std::string fault;       ///< empty: healthy
   bool faultReported = false;
   bool fixed = false;  ///< root link held in place (a base)
   /// on_dock events for the module's next step: (dock, "engaged" | "disengaged" | "broken").

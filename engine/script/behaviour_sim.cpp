@@ -2,6 +2,7 @@
 // and math.random/math.randomseed on the module's stream, in a behaviour VM.
 #include <cstdint>
 #include <lua.hpp>
+#include <new>
 
 #include "script/behaviour.h"
 #include "script/behaviour_bindings.h"
@@ -27,9 +28,8 @@ int simDt(lua_State* L) {
   return 1;
 }
 
-/// sim.random([m [, n]]) -> like math.random, from the module's own seeded stream
-int simRandom(lua_State* L) {
-  Rng& rng = self(L).rng;
+/// Like math.random on `rng`: () -> [0, 1), (n) -> 1..n, (m, n) -> m..n.
+int pushRandom(lua_State* L, Rng& rng) {
   const int n = lua_gettop(L);
   if (n == 0) {
     lua_pushnumber(L, rng.uniform());
@@ -49,12 +49,52 @@ int simRandom(lua_State* L) {
   return 1;
 }
 
-/// sim.gaussian([mu [, sigma]]) -> a normal deviate from the module's stream
-int simGaussian(lua_State* L) {
+int pushGaussian(lua_State* L, Rng& rng) {
   const double mu = luaL_optnumber(L, 1, 0.0);
   const double sigma = luaL_optnumber(L, 2, 1.0);
   luaL_argcheck(L, sigma >= 0, 2, "sigma must not be negative");
-  lua_pushnumber(L, self(L).rng.gaussian(mu, sigma));
+  lua_pushnumber(L, rng.gaussian(mu, sigma));
+  return 1;
+}
+
+/// sim.random([m [, n]]) -> like math.random, from the module's own seeded stream
+int simRandom(lua_State* L) {
+  return pushRandom(L, self(L).rng);
+}
+
+/// sim.gaussian([mu [, sigma]]) -> a normal deviate from the module's stream
+int simGaussian(lua_State* L) {
+  return pushGaussian(L, self(L).rng);
+}
+
+Rng& streamOf(lua_State* L) {
+  return *static_cast<Rng*>(lua_touserdata(L, lua_upvalueindex(1)));
+}
+int streamRandom(lua_State* L) {
+  return pushRandom(L, streamOf(L));
+}
+int streamGaussian(lua_State* L) {
+  return pushGaussian(L, streamOf(L));
+}
+
+/// sim.stream(key) -> {random = fn, gaussian = fn}: a random stream of its own, seeded from the
+/// world seed, the module's stream and the key, so what draws from it (a percept's or an action's
+/// noise, keyed by its name) gets the same numbers whatever else draws, and in whatever order.
+int simStream(lua_State* L) {
+  size_t len = 0;
+  const char* key = luaL_checklstring(L, 1, &len);
+  const Module& m = self(L);
+  uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a of the key
+  for (size_t i = 0; i < len; ++i) h = (h ^ static_cast<unsigned char>(key[i])) * 0x100000001b3ull;
+  const uint64_t seed = behaviourContext(L).module.world().settings().seed;
+  lua_createtable(L, 0, 2);
+  new (lua_newuserdatauv(L, sizeof(Rng), 0))
+      Rng(seed, m.rngStream ^ (h * 0x9E3779B97F4A7C15ull) ^ 0x5354524541ull);
+  lua_pushvalue(L, -1);
+  lua_pushcclosure(L, streamRandom, 1);
+  lua_setfield(L, -3, "random");
+  lua_pushcclosure(L, streamGaussian, 1);
+  lua_setfield(L, -2, "gaussian");
   return 1;
 }
 
@@ -83,8 +123,8 @@ int logLine(lua_State* L) {
 }  // namespace
 
 void openSimApi(lua_State* L) {
-  static const luaL_Reg simFns[] = {
-      {"time", simTime}, {"dt", simDt}, {"random", simRandom}, {"gaussian", simGaussian}, {nullptr, nullptr}};
+  static const luaL_Reg simFns[] = {{"time", simTime},         {"dt", simDt},         {"random", simRandom},
+                                    {"gaussian", simGaussian}, {"stream", simStream}, {nullptr, nullptr}};
   luaL_newlib(L, simFns);
   lua_setglobal(L, "sim");
 

@@ -513,10 +513,11 @@ class TypeReader {
       }
     }
     if (path.empty())
-      fail(where, "mesh file '" + name + "' not found" +
-                      (given.is_absolute()
-                           ? std::string()
-                           : " (looked in " + m_vm.displayName(m_dir.string()) + "/ and the project root)"));
+      fail(where,
+           "mesh file '" + name + "' not found" +
+               (given.is_absolute() ? std::string()
+                                    : " (looked in " + (m_dir / "").lexically_normal().string() + " and " +
+                                          (m_root / "").lexically_normal().string() + ", the project root)"));
     const std::string display = m_vm.displayName(path);
     auto key = std::make_pair(path, scale);
     auto it = m_meshes.find(key);

@@ -61,8 +61,7 @@ void pushBody(lua_State* L, int part) {
 void loadHullShape(World& w, const char* file, double scale, ShapeDef& out) {
   const std::string path = w.resolvePath(file);
   if (path.empty())
-    throw InputError(std::string("mesh file '") + file +
-                     "' not found (looked in the world's folder and the project root)");
+    throw InputError(std::string("mesh file '") + file + "' not found " + w.resolveLookedIn());
   MeshData mesh;
   std::string err;
   if (!loadMesh(path, scale, mesh, err)) throw InputError(err);

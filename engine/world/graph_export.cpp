@@ -1,5 +1,4 @@
 // The connection graph as JSON (run --graph, world.graph()) and Graphviz DOT.
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -27,20 +26,39 @@ std::string World::graphJson() const {
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+namespace {
+
+/// Text for a DOT quoted string: `"` and `\` escaped (a backslash would otherwise start a label
+/// escape such as \N), a line break as DOT's \n, other control characters as spaces.
+std::string dotQuoted(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      out += ' ';
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
 std::string World::graphDot() const {
   std::string out = "graph rm3d {\n  node [shape=box];\n";
-  char line[256];
-  for (const Module& m : modules()) {
-    std::snprintf(line, sizeof line, "  m%d [label=\"%s\\n%s\"];\n", m.id, m.name.c_str(),
-                  m.type->name.c_str());
-    out += line;
-  }
+  for (const Module& m : modules())
+    out += "  m" + std::to_string(m.id) + " [label=" + dotQuoted(m.name + "\n" + m.type->name) + "];\n";
   for (const Connection& c : connections()) {
     const Module& a = modules()[size_t(c.moduleA)];
     const Module& b = modules()[size_t(c.moduleB)];
-    std::snprintf(line, sizeof line, "  m%d -- m%d [taillabel=\"%s\", headlabel=\"%s\"];\n", a.id, b.id,
-                  a.type->docks[size_t(c.dockA)].name.c_str(), b.type->docks[size_t(c.dockB)].name.c_str());
-    out += line;
+    out += "  m" + std::to_string(a.id) + " -- m" + std::to_string(b.id) +
+           " [taillabel=" + dotQuoted(a.type->docks[size_t(c.dockA)].name) +
+           ", headlabel=" + dotQuoted(b.type->docks[size_t(c.dockB)].name) + "];\n";
   }
   return out + "}\n";
 }

@@ -167,6 +167,12 @@ bool World::sourceExists(const std::string& path) const {
   return m_options.sources ? m_options.sources->isFile(path) : fs::is_regular_file(path, ec);
 }
 
+std::string World::resolveLookedIn() const {
+  const fs::path worldDir = fs::path(m_worldFile).parent_path();
+  return "(looked in " + (worldDir / "").lexically_normal().string() + " and " +
+         (fs::path(m_options.projectRoot) / "").lexically_normal().string() + ", the project root)";
+}
+
 const ModuleTypeDef& World::moduleType(const std::string& name) {
   auto it = m_types.find(name);
   if (it != m_types.end()) return *it->second;
@@ -176,9 +182,7 @@ const ModuleTypeDef& World::moduleType(const std::string& name) {
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".lua") == 0) {
     // A module-type file given by path (a variant kept next to a world, say).
     const std::string path = resolvePath(name);
-    if (path.empty())
-      throw InputError("module type file '" + name +
-                       "' not found (looked in the world's folder and the project root)");
+    if (path.empty()) throw InputError("module type file '" + name + "' not found " + resolveLookedIn());
     auto def = std::make_unique<ModuleTypeDef>(m_host->loadModuleType(path));
     prepareType(*def);
     const ModuleTypeDef& ref = *def;
@@ -198,7 +202,8 @@ const ModuleTypeDef& World::moduleType(const std::string& name) {
       if (e.path().extension() == ".lua") names.push_back(e.path().stem().string());
     std::sort(names.begin(), names.end());
     for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
-    throw InputError("unknown module type '" + name + "' (expected one of: " + known + ")");
+    throw InputError("unknown module type '" + name + "' (expected one of: " + known + "; looked in " +
+                     (dir / "").lexically_normal().string() + ")");
   }
   auto def = std::make_unique<ModuleTypeDef>(m_host->loadModuleType(file.string()));
   prepareType(*def);
@@ -215,8 +220,7 @@ int World::spawn(const SpawnDef& def) {
   if (!def.behaviour.empty()) {
     behaviourPath = resolvePath(def.behaviour);
     if (behaviourPath.empty())
-      throw InputError("behavior '" + def.behaviour +
-                       "' not found (looked in the world's folder and the project root)");
+      throw InputError("behavior '" + def.behaviour + "' not found " + resolveLookedIn());
     if (!sourceExists(behaviourPath))
       throw InputError("behavior '" + def.behaviour + "' is not a file (" + behaviourPath +
                        "; expected a .lua file)");
@@ -231,7 +235,8 @@ int World::spawn(const SpawnDef& def) {
   m.params = def.params;
   // A named module's stream follows its name, so adding or reordering other modules never
   // changes its numbers; an unnamed one's follows its id (its place in spawn order).
-  m.rng.seed(m_settings.seed, def.name.empty() ? uint64_t(m.id) : streamOfName(def.name));
+  m.rngStream = def.name.empty() ? uint64_t(m.id) : streamOfName(def.name);
+  m.rng.seed(m_settings.seed, m.rngStream);
   m.fixed = def.fixed;
   for (size_t l = 0; l < type.links.size(); ++l) {
     const LinkDef& link = type.links[l];

@@ -213,6 +213,8 @@ class World {
   std::string resolvePath(const std::string& path) const;
   /// A source file exists (through options().sources when set, else on disk).
   bool sourceExists(const std::string& path) const;
+  /// Where resolvePath looks, for not-found errors: "(looked in /w/worlds/ and /w/)".
+  std::string resolveLookedIn() const;
 
   // --- hot reload ---
   /// Files whose edits should reach the run: behaviour files in use, lua/*.lua, the world file.

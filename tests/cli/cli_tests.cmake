@@ -395,8 +395,29 @@ expect_run("--steps 2.5" 2 "--steps must be a positive whole number of steps, go
 expect_run("--threads 0" 2 "--threads must be a whole number of threads from 1 to 256, got 0" run ${SRC}/worlds/snake.lua --threads 0)
 expect_run("--chunk 0" 2 "--chunk must be a whole number of modules from 1 to 1000000, got 0" test ${SRC}/tests/worlds/servo_45.lua --chunk 0)
 expect_run("--watchdog -1" 2 "--watchdog must be a number of seconds, 0 or more \\(0: no watchdog\\), got -1" run ${SRC}/worlds/snake.lua --watchdog -1)
-expect_run("view --frames 0" 2 "--frames must be a positive whole number of frames, got 0\n\\(see rm3d view --help\\)" view ${SRC}/worlds/snake.lua --frames 0)
+expect_run("view --exit-after 0" 2 "--exit-after must be a positive whole number of frames, got 0\n\\(see rm3d view --help\\)" view ${SRC}/worlds/snake.lua --exit-after 0)
+expect_run("view --frames 0 (the old spelling)" 2 "--frames 0: the viewer writes no frame folders.*--exit-after N" view ${SRC}/worlds/snake.lua --frames 0)
+# bench --help lists every scene of the scene table; --version names the version.
+expect_run("bench --help lists the scenes" 0 "snake_150 .*superbots_200 .*atrons_275 .*snake_1000 .*superbots_1000 .*atrons_1500 .*docking_1000 .*relay_1000 " bench --help)
+expect_run("--version" 0 "^rm3d [0-9]+\\.[0-9]+\\.[0-9]+" --version)
 expect_run("test --chunk" 0 "1 passed" test ${SRC}/tests/worlds/servo_45.lua --threads 2 --chunk 1)
 # view takes run's flags that mean the same there (parsed, then it stops for want of a display).
 expect_cmd("view takes run's flags" 2 "no display available" ${CMAKE_COMMAND} -E env --unset=DISPLAY --unset=WAYLAND_DISPLAY
   ${RM3D} view ${SRC}/worlds/nodders.lua --quiet --threads 2 --chunk 4 --watchdog 2 --param k=v --seed 3)
+
+# Noise streams are keyed by percept/action name: acting and sensing in another order (or in
+# pairs() order) gives the same run, bit for bit.
+foreach(order forward reverse pairs)
+  execute_process(COMMAND ${RM3D} run ${SRC}/tests/cli/noise_order/world.lua --param order=${order} --json ${OUT}/order_${order}.json
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE o ERROR_VARIABLE e)
+  string(REGEX MATCH "percept sum [-0-9.e+]+ [-0-9.e+]+" sum_${order} "${e}")
+  file(READ ${OUT}/order_${order}.json j)
+  string(JSON mods_${order} GET "${j}" modules)
+endforeach()
+if(NOT sum_forward OR NOT mods_forward STREQUAL mods_reverse OR NOT mods_forward STREQUAL mods_pairs
+   OR NOT sum_forward STREQUAL sum_reverse OR NOT sum_forward STREQUAL sum_pairs)
+  message(SEND_ERROR "noise depends on call order:\n${sum_forward} / ${sum_reverse} / ${sum_pairs}\n${mods_forward}\n${mods_reverse}")
+  math(EXPR failures "${failures}+1")
+else()
+  message(STATUS "ok: noise streams keyed by name (${sum_forward})")
+endif()

@@ -29,6 +29,16 @@ cat "$dir/bad.txt"
 check "bad world: exit code $rc, expected 2" test $rc -eq 2
 check "bad world: file:line" grep -q "bad.lua:3:" "$dir/bad.txt"
 
+# --quiet is accepted; `--frames` is a folder in `run`, so `view --frames DIR` is refused naming
+# --exit-after, and the old `view --frames N` still works with a deprecation warning.
+env -u DISPLAY -u WAYLAND_DISPLAY timeout 60 "$rm3d" view "$src/worlds/snake.lua" --quiet --frames out > "$dir/frames.txt" 2>&1
+rc=$?
+check "view --frames DIR: exit code $rc, expected 2" test $rc -eq 2
+check "view --frames DIR: names --exit-after" grep -q "writes no frame folders.*--exit-after N" "$dir/frames.txt"
+env -u DISPLAY -u WAYLAND_DISPLAY timeout 60 "$rm3d" view "$src/worlds/snake.lua" --quiet --frames 3 > "$dir/frames_old.txt" 2>&1
+check "view --frames N: deprecation warning" grep -q "\-\-frames N is deprecated, use --exit-after N" "$dir/frames_old.txt"
+check "view --frames N: still reaches the viewer" grep -q "no display available" "$dir/frames_old.txt"
+
 if ! command -v xvfb-run > /dev/null || ! command -v xauth > /dev/null; then
   # xvfb-run needs xauth too; .ci/install-deps installs both.
   echo "skipped: no xvfb-run (or no xauth for it): the window itself is not tested"
@@ -48,7 +58,7 @@ png_size() {
 shot() {
   local name=$1
   shift
-  timeout 300 xvfb-run -a -s "-screen 0 1280x720x24" "$rm3d" view "$src/worlds/snake.lua" --frames 30 \
+  timeout 300 xvfb-run -a -s "-screen 0 1280x720x24" "$rm3d" view "$src/worlds/snake.lua" --exit-after 30 \
     --screenshot "$dir/$name.png" "$@" > "$dir/$name.txt" 2>&1
   local rc=$?
   grep -v "^\[" "$dir/$name.txt"  # the world's own progress lines are noise here

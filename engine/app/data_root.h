@@ -1,0 +1,27 @@
+// Where rm3d finds its data (assets/modules, assets/meshes, lua/, behaviors/, worlds/): the
+// project root every relative path and module type resolves against.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace rm3d {
+
+struct DataRoot {
+  std::string path;                 ///< absolute; empty when none was found
+  std::string from;                 ///< how it was found: "--root", "installed", "RM3D_ROOT", ...
+  std::vector<std::string> looked;  ///< every place tried, in order, each with why it was skipped
+  std::string error;                ///< when path is empty (or --root / RM3D_ROOT is not a project)
+};
+
+/// True when `dir` holds RM3D data (an assets/modules folder).
+bool isDataRoot(const std::string& dir);
+
+/// In order: `given` (--root) when not empty; then where the executable is installed
+/// (<exe dir>/../share/rm3d); then $RM3D_ROOT; then the current project (the working folder or
+/// the nearest parent holding assets/modules); then, for a binary still in the folder it was
+/// built in, its source tree. A --root or RM3D_ROOT that is not a project is an error naming it;
+/// when nothing is found, the error lists every place looked.
+DataRoot findDataRoot(const std::string& given);
+
+}  // namespace rm3d

@@ -1,0 +1,166 @@
+---@meta
+-- LuaLS definitions of the world-script API (worlds/*.lua, tests/worlds/*.lua). Kept complete by
+-- the ctest `luals_meta` (tests/cli/luals_meta.cmake), which fails when a bound name is missing.
+-- Reference: README.md, "Lua API reference".
+
+---@alias Vec3 {x: number, y: number, z: number, [1]: number, [2]: number, [3]: number}
+---@alias Quat {w: number, x: number, y: number, z: number}
+
+---A module in the world (world side).
+---@class Module
+---@field id integer 1, 2, ... in spawn order
+---@field name string
+---@field type string module type name
+local Module = {}
+---@return Vec3
+function Module:position() end
+---@return Quat
+function Module:orientation() end
+---@return Vec3 linear velocity, m/s
+function Module:velocity() end
+---@param link string
+---@return Vec3
+function Module:link_position(link) end
+---@param joint string
+---@return number radians
+function Module:joint_angle(joint) end
+---@return table<string, number>
+function Module:joint_angles() end
+---Torque (N m) its motor applied over the last step, and whether it was saturated.
+---@param joint string
+---@return number torque
+---@return boolean saturated
+function Module:joint_torque(joint) end
+---@param dock string
+---@return {enabled: boolean, engaged: boolean, peer_module: integer?, peer_dock: string?}
+function Module:dock_state(dock) end
+---@param dock string
+---@return Vec3
+function Module:dock_position(dock) end
+---@param dock string
+---@return Vec3
+function Module:dock_normal(dock) end
+---@param dock string
+---@return "male"|"female"|"genderless"
+function Module:dock_gender(dock) end
+---Load through the connection at this dock over the last step, or nil.
+---@param dock string
+---@return {force: number, torque: number}?
+function Module:dock_load(dock) end
+---@param dock string
+---@param enabled boolean
+function Module:set_dock(dock, enabled) end
+---A force (N, at most 1e9) on the root link during the next step.
+---@param force number[] {fx, fy, fz}
+function Module:push(force) end
+---The raw sensor reading (an oracle for checks).
+---@param name string
+---@param field? "velocity"
+---@return any
+function Module:sensor(name, field) end
+---@param fault {joint: string?, dock: string?, sensor: string?}
+function Module:inject_fault(fault) end
+---@return string? fault text, nil when healthy
+function Module:error() end
+
+---An obstacle (world.box, sphere, cylinder, mesh).
+---@class Body
+local Body = {}
+---@return Vec3
+function Body:position() end
+---@return Quat
+function Body:orientation() end
+---@return Vec3
+function Body:velocity() end
+
+---@class ShapeOptions
+---@field at? number[] {x, y, z}
+---@field rot? number[] {roll, pitch, yaw}
+---@field mass? number 0 (default): static
+---@field friction? number
+---@field velocity? number[]
+
+---@class world
+world = {}
+---@param s {dt: number?, substeps: integer?, gravity: number[]?, seed: integer?, duration: number?, solver: ("pgs"|"exact")?, solver_iterations: integer?, joint_iterations: integer?, erp: number?, max_speed: number?, max_angular_speed: number?, bounds: number?, expect_faults: (boolean|integer)?}
+function world.set(s) end
+---@param g? {friction: number?, restitution: number?}
+function world.ground(g) end
+---@param o ShapeOptions|{size: number[]}
+---@return Body
+function world.box(o) end
+---@param o ShapeOptions|{radius: number}
+---@return Body
+function world.sphere(o) end
+---@param o ShapeOptions|{radius: number, length: number}
+---@return Body
+function world.cylinder(o) end
+---@param o ShapeOptions|{file: string, scale: number?}
+---@return Body
+function world.mesh(o) end
+---@param type string a module type name or a module-type file
+---@param o? {at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?}
+---@return Module
+function world.spawn(type, o) end
+---@param a Module
+---@param dock_a string
+---@param b Module
+---@param dock_b string
+---@param orientation? integer quarter turns about the normal
+function world.connect(a, dock_a, b, dock_b, orientation) end
+---@return Module[]
+function world.modules() end
+---@param id_or_name integer|string
+---@return Module?
+function world.module(id_or_name) end
+---@return Module[][]
+function world.components() end
+---@param c {eye: number[]?, target: number[]?, follow: Module?, fov: number?}
+function world.camera(c) end
+---@param c {loss: number?, delay: integer?, rate: integer?, max_bytes: integer?}
+function world.channel(c) end
+---@param format? "json"|"dot"
+---@return string
+function world.graph(format) end
+---@param since? number
+---@return {time: number, event: string, module_a: integer, dock_a: string, module_b: integer, dock_b: string, force: number?, torque: number?}[]
+function world.events(since) end
+---@return {sent: integer, received: integer, dropped: integer}
+function world.messages() end
+---@param fn fun(t: number)
+function world.on_step(fn) end
+---Runs once when the run ends, however it ends.
+---@param fn fun(t: number)
+function world.on_end(fn) end
+---@param t number
+---@param fn fun(t: number)
+function world.at(t, fn) end
+---@param period number
+---@param fn fun(t: number)
+function world.every(period, fn) end
+function world.stop() end
+---@return number
+function world.time() end
+---@return number
+function world.dt() end
+---A series in --trace output.
+---@param name string
+---@param value number
+function world.trace(name, value) end
+---A named result under "metrics" in the JSON summary and sweep lines.
+---@param name string
+---@param value number|string|boolean
+function world.metric(name, value) end
+
+---A test assertion: a failure is recorded with file:line and the run goes on.
+---@param cond any
+---@param message? string
+function expect(cond, message) end
+
+---`--param key=value` pairs (numbers and true/false typed).
+---@type table<string, string|number|boolean>
+args = {}
+
+---A line on stderr tagged with the time.
+---@param ... any
+function log(...) end

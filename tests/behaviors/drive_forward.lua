@@ -1,0 +1,9 @@
+-- Drives a Wheelbot straight ahead at params.speed (rad/s on every wheel; default 6) and stops
+-- once its front dock is engaged.
+local wheels = {}
+for _, name in ipairs(module.joints()) do wheels[#wheels + 1] = module.joint(name) end
+local front = module.dock("front")
+function step(dt)
+  local v = front:engaged() and 0 or (params.speed or 6)
+  for _, w in ipairs(wheels) do w:set_velocity(v) end
+end

@@ -105,7 +105,7 @@ json="$dir/other/s.json"
 check "summary written into a new folder" [ -f "$json" ]
 check "metric final_x" grep -q '"final_x": -\?[0-9]' "$json"
 check "metric steps_seen = 30" grep -q '"steps_seen": 30\.0' "$json"
-check "version" grep -q '"version": "dev"' "$json"
+check "version" grep -qE '"version": "[0-9]+\.[0-9]+\.[0-9]+' "$json"
 check "command line" grep -q '"--trace-every",' "$json"
 check "params typed" bash -c "tr -d ' \n' < '$json' | grep -q '\"params\":{\"gain\":2.5,\"mode\":\"fast\",\"n\":3}'"
 check "seed" grep -q '"seed": 4' "$json"

@@ -31,3 +31,10 @@ world.at(10, function()
   local d = head:position().x - tail:position().x
   expect(d > (n - 1) * 0.19 * 0.8, "the chain should stay stretched out")
 end)
+
+-- Results for sweeps (`rm3d sweep`, README "Sweeps"): however long the run was.
+world.on_end(function(t)
+  if t <= 0 then return end
+  world.metric("speed_m_s", (head:position().x - start.x) / t)
+  world.metric("pieces", #world.components())
+end)

@@ -80,7 +80,9 @@ struct PlotArgs {
   std::vector<std::string> modules;  ///< --module NAME|ID (default: all)
   std::string out;                   ///< .png or .svg (default: FILE with .png)
   std::string title, ylabel;
-  std::string size;  ///< WxH
+  std::string size;   ///< WxH
+  std::string by;     ///< --by COLUMN: one line per value of this column (default: module)
+  bool mean = false;  ///< --mean: per x value, the mean of y with its standard deviation as bars
 };
 
 /// Exit codes (run_world.h, ExitCode; README "Exit codes"): 0 ok; 1 failed expectations, a fault

@@ -1,17 +1,23 @@
 // `rm3d plot FILE.csv --y COLUMN ...`: line plots of a trace (or any CSV with a header row) as
 // PNG or SVG, drawn by gnuplot (started with an argument vector, never through a shell). One line
-// per y column and module (the `module` column of a trace), against --x (default `time`).
+// per y column and module (the `module` column of a trace), against --x (default `time`). A
+// `.jsonl` file (rm3d sweep --out) is read as a table too: one row per run, with columns `seed`,
+// `exit_code`, `params.<k>` and `metrics.<k>`; its points are drawn as points, or with --mean as
+// the mean per x value with the standard deviation as error bars.
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -76,6 +82,46 @@ std::string joined(const std::vector<std::string>& names, size_t max) {
   return out;
 }
 
+/// A sweep's JSON lines as a table: `seed`, `exit_code`, `params.<k>`, `metrics.<k>` (numbers and
+/// booleans as numbers, strings as they are). Empty header and a message on a bad line.
+std::string readJsonLines(const std::string& file, std::vector<std::string>& header,
+                          std::vector<std::vector<std::string>>& rows) {
+  std::ifstream in(file);
+  std::string line;
+  long long lineNo = 0;
+  std::map<std::string, int> column;
+  auto cell = [&](std::vector<std::string>& row, const std::string& name, const nlohmann::json& v) {
+    std::string text;
+    if (v.is_number() || v.is_boolean())
+      text = v.is_boolean() ? (v.get<bool>() ? "1" : "0") : v.dump();
+    else if (v.is_string())
+      text = v.get<std::string>();
+    else
+      return;
+    auto [it, added] = column.emplace(name, int(header.size()));
+    if (added) header.push_back(name);
+    if (row.size() <= size_t(it->second)) row.resize(size_t(it->second) + 1);
+    row[size_t(it->second)] = text;
+  };
+  while (std::getline(in, line)) {
+    ++lineNo;
+    if (line.empty()) continue;
+    const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+    if (j.is_discarded() || !j.is_object())
+      return file + ":" + std::to_string(lineNo) +
+             ": expected a JSON object per line (rm3d sweep --out writes them)";
+    std::vector<std::string> row;
+    for (const char* key : {"seed", "exit_code"})
+      if (j.contains(key)) cell(row, key, j[key]);
+    for (const char* group : {"params", "metrics"})
+      if (j.contains(group) && j[group].is_object())
+        for (const auto& [k, v] : j[group].items()) cell(row, std::string(group) + "." + k, v);
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty()) return file + ": no runs in it (expected JSON lines from rm3d sweep --out)";
+  return {};
+}
+
 struct Series {
   std::string module;  ///< empty: the file has no module column
   int column;          ///< the y column
@@ -120,11 +166,27 @@ int plotCommand(const PlotArgs& a) {
   if (!fs::is_regular_file(a.file, ec))
     return fail(a.file + ": cannot read the file (" +
                 (fs::exists(a.file, ec) ? "not a regular file" : "no such file") + ")");
-  std::ifstream in(a.file);
-  std::string line;
-  if (!std::getline(in, line) || line.empty())
-    return fail(a.file + ": empty, expected a CSV file with a header row (rm3d run --trace writes one)");
-  const std::vector<std::string> header = splitCsv(line);
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> table;  // rows after the header
+  std::vector<long long> rowLine;               // their line numbers
+  const bool sweep = fs::path(a.file).extension() == ".jsonl";
+  if (sweep) {
+    const std::string err = readJsonLines(a.file, header, table);
+    if (!err.empty()) return fail(err);
+  } else {
+    std::ifstream in(a.file);
+    std::string line;
+    if (!std::getline(in, line) || line.empty())
+      return fail(a.file + ": empty, expected a CSV file with a header row (rm3d run --trace writes one)");
+    header = splitCsv(line);
+    long long rowNo = 1;
+    while (std::getline(in, line)) {
+      ++rowNo;
+      if (line.empty()) continue;
+      table.push_back(splitCsv(line));
+      rowLine.push_back(rowNo);
+    }
+  }
   const auto columnOf = [&](const std::string& name) -> int {
     for (size_t i = 0; i < header.size(); ++i)
       if (header[i] == name) return int(i);
@@ -134,7 +196,10 @@ int plotCommand(const PlotArgs& a) {
     return fail(std::string(flag) + " " + name + ": no column '" + name + "' in " + a.file +
                 " (columns: " + joined(header, 60) + ")");
   };
-  const std::string xName = a.x.empty() ? (columnOf("time") >= 0 ? "time" : header[0]) : a.x;
+  const std::string xName = a.x.empty() ? (columnOf("time") >= 0            ? "time"
+                                           : sweep && columnOf("seed") >= 0 ? "seed"
+                                                                            : header[0])
+                                        : a.x;
   const int xCol = columnOf(xName);
   if (xCol < 0) return unknown("--x", xName);
   std::vector<int> yCols;
@@ -143,7 +208,9 @@ int plotCommand(const PlotArgs& a) {
     if (c < 0) return unknown("--y", y);
     yCols.push_back(c);
   }
-  const int moduleCol = columnOf("module"), idCol = columnOf("module_id");
+  const int moduleCol = columnOf(a.by.empty() ? "module" : a.by);
+  const int idCol = a.by.empty() ? columnOf("module_id") : -1;
+  if (!a.by.empty() && moduleCol < 0) return unknown("--by", a.by);
 
   // One series per (y column, module), in the order modules first appear.
   std::vector<std::string> modules;  // every module in the file (for messages)
@@ -158,13 +225,10 @@ int plotCommand(const PlotArgs& a) {
       }
     return false;
   };
-  long long rowNo = 1;
-  while (std::getline(in, line)) {
-    ++rowNo;
-    if (line.empty()) continue;
-    std::vector<std::string> row = splitCsv(line);
+  for (size_t r = 0; r < table.size(); ++r) {
+    std::vector<std::string>& row = table[r];
     if (row.size() > header.size())
-      return fail(a.file + ":" + std::to_string(rowNo) + ": " + std::to_string(row.size()) +
+      return fail(a.file + ":" + std::to_string(rowLine[r]) + ": " + std::to_string(row.size()) +
                   " cells, more than the header's " + std::to_string(header.size()));
     row.resize(header.size());
     const std::string module = moduleCol >= 0 ? row[size_t(moduleCol)] : "";
@@ -189,16 +253,36 @@ int plotCommand(const PlotArgs& a) {
     return fail("nothing to plot: no row of " + a.file + " has numbers in both --x " + xName + " and --y " +
                 joined(a.y, 10) + (a.modules.empty() ? "" : " for --module " + joined(a.modules, 10)));
 
+  // --mean: one point per x value, the mean of its y values, with their standard deviation.
+  std::vector<std::vector<double>> spread(series.size());
+  if (a.mean) {
+    for (size_t i = 0; i < series.size(); ++i) {
+      std::map<double, std::pair<double, std::vector<double>>> byX;
+      for (const auto& [x, y] : series[i].points) byX[x].second.push_back(y);
+      series[i].points.clear();
+      for (auto& [x, ys] : byX) {
+        double sum = 0, sq = 0;
+        for (double y : ys.second) sum += y;
+        const double mean = sum / double(ys.second.size());
+        for (double y : ys.second) sq += (y - mean) * (y - mean);
+        series[i].points.emplace_back(x, mean);
+        spread[i].push_back(ys.second.size() > 1 ? std::sqrt(sq / double(ys.second.size() - 1)) : 0.0);
+      }
+    }
+  }
+  const char* style = a.mean ? "yerrorlines" : sweep ? "points pt 7 ps 0.6" : "lines";
+
   std::string err;
   if (!prepareOutputFile("--out", out, err)) return fail(err);
   // Data (one block per series) and script, beside the output while gnuplot runs.
   const std::string dataFile = out + ".data.tmp", scriptFile = out + ".gp.tmp";
   {
     std::ofstream d(dataFile);
-    for (const Series& s : series) {
-      for (const auto& [x, y] : s.points) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%.17g %.17g\n", x, y);
+    for (size_t i = 0; i < series.size(); ++i) {
+      for (size_t k = 0; k < series[i].points.size(); ++k) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g\n", series[i].points[k].first,
+                      series[i].points[k].second, a.mean ? spread[i][k] : 0.0);
         d << buf;
       }
       d << "\n\n";
@@ -219,9 +303,13 @@ int plotCommand(const PlotArgs& a) {
     for (size_t i = 0; i < series.size(); ++i) {
       const Series& s = series[i];
       std::string title = header[size_t(s.column)];
-      if (!s.module.empty()) title = a.y.size() == 1 ? s.module : s.module + ": " + title;
-      g << (i ? ", \\\n     " : "") << gpQuote(dataFile) << " index " << i << " using 1:2 with lines title "
-        << gpQuote(title);
+      if (!s.module.empty()) {
+        const std::string group = a.by.empty() ? s.module : a.by + " = " + s.module;
+        title = a.y.size() == 1 ? group : group + ": " + title;
+      }
+      g << (i ? ", \\\n     " : "") << gpQuote(dataFile) << " index " << i << " using "
+        << (a.mean ? "1:2:3" : "1:2") << " with " << style << " title "
+        << gpQuote(a.mean ? "mean " + title : title);
     }
     g << "\n";
     if (!d || !g) {

@@ -217,7 +217,10 @@ int run(int argc, char** argv) {
   rm3d::PlotArgs plot;
   CLI::App* plotCmd =
       app.add_subcommand("plot", "plot columns of a --trace CSV as PNG or SVG (through gnuplot)");
-  plotCmd->add_option("file", plot.file, "CSV file with a header row (rm3d run --trace)")->required();
+  plotCmd
+      ->add_option("file", plot.file,
+                   "CSV file with a header row (rm3d run --trace), or JSON lines (rm3d sweep --out)")
+      ->required();
   plotCmd->add_option("--y", plot.y, "columns to plot (repeat, or a,b,c)")->required()->delimiter(',');
   plotCmd->add_option("--x", plot.x, "column along x (default: time)");
   plotCmd->add_option("--module", plot.modules,
@@ -226,6 +229,10 @@ int run(int argc, char** argv) {
   plotCmd->add_option("--title", plot.title, "title above the plot");
   plotCmd->add_option("--ylabel", plot.ylabel, "label of the y axis (default: the column, when one)");
   plotCmd->add_option("--size", plot.size, "picture size WxH (default 1000x600)");
+  plotCmd->add_option("--by", plot.by,
+                      "one line per value of this column (default: module; e.g. params.period for a sweep)");
+  plotCmd->add_flag("--mean", plot.mean,
+                    "per x value, the mean of y and its standard deviation as error bars (e.g. over seeds)");
 
   rm3d::SweepArgs sweep;
   CLI::App* sweepCmd = rm3d::addSweepCommand(app, sweep);

@@ -138,5 +138,28 @@ check "unknown column: exit 2" [ $rc -eq 2 ]
 check "unknown column: names the file and lists the columns" \
   grep -q "rm3d plot: --y trace.callz: no column 'trace.callz' in .*t.csv (columns: time, step, .*trace.calls" "$dir/bad.log"
 
+# rm3d plot of a sweep's JSON lines: a line per --by value, --mean over seeds with the standard
+# deviation written for gnuplot's error bars.
+cat > "$dir/sweep.jsonl" <<'JSONL'
+{"params": {"a": 1, "p": 2}, "seed": 1, "exit_code": 0, "metrics": {"v": 1.0}}
+{"params": {"a": 1, "p": 2}, "seed": 2, "exit_code": 0, "metrics": {"v": 3.0}}
+{"params": {"a": 2, "p": 2}, "seed": 1, "exit_code": 0, "metrics": {"v": 5.0}}
+{"params": {"a": 1, "p": 4}, "seed": 1, "exit_code": 0, "metrics": {"v": 7.0}}
+{"params": {"a": 2, "p": 4}, "seed": 1, "exit_code": 1, "metrics": {}}
+JSONL
+"$rm3d" plot "$dir/sweep.jsonl" --x params.a --y metrics.v --by params.p --mean --out "$dir/sweep.png" \
+  > "$dir/sweep.log" 2>&1
+rc=$?
+cat "$dir/sweep.log"
+check "sweep plot exits 0" [ $rc -eq 0 ]
+check "sweep plot: 2 lines (p = 2, p = 4), 3 mean points (the failed run has no metric)" \
+  grep -q "wrote .*sweep.png: 2 lines, 3 points" "$dir/sweep.log"
+check "sweep plot is a PNG" [ "$(head -c 8 "$dir/sweep.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]
+printf '{"params": {"a": 1}}\nnot json\n' > "$dir/bad.jsonl"
+"$rm3d" plot "$dir/bad.jsonl" --x params.a --y metrics.v > "$dir/badj.log" 2>&1
+rc=$?
+check "bad JSON line: exit 2, names file:line" [ $rc -eq 2 ]
+check "bad JSON line: the message" grep -q "bad.jsonl:2: expected a JSON object per line" "$dir/badj.log"
+
 [ $fail -eq 0 ] && echo "1 passed, 0 failed" || echo "0 passed, 1 failed"
 exit $fail

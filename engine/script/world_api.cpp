@@ -101,6 +101,9 @@ int worldSet(lua_State* L) {
   s.jointIterations = int(jiters);
   s.duration = duration;
   s.erp = erp;
+  // --seed wins over world.set{seed=} (World::setSettings); math.random follows the one in force.
+  const uint64_t effective = world(L).options().seed ? *world(L).options().seed : uint64_t(seed);
+  if (effective != world(L).settings().seed) seedWorldRandom(L, effective);
   s.seed = uint64_t(seed);
   s.gravity = gravity;
   s.limits = lim;
@@ -555,6 +558,17 @@ void pushArgs(lua_State* L, const std::map<std::string, std::string>& params) {
 
 World& scriptWorld(lua_State* L) {
   return script(L).world();
+}
+
+void seedWorldRandom(lua_State* L, uint64_t seed) {
+  lua_getglobal(L, "math");
+  if (lua_getfield(L, -1, "randomseed") == LUA_TFUNCTION) {
+    lua_pushinteger(L, lua_Integer(seed));
+    lua_call(L, 1, 0);
+  } else {
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
 }
 
 void openWorldApi(lua_State* L, WorldScript& s) {

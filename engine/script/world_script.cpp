@@ -24,6 +24,7 @@ WorldScript::WorldScript(World& world) : m_world(world), m_vm(world.options().wo
   m_vm.setInstructionBudget(world.options().worldBudget);
   m_vm.setSources(world.options().sources.get());
   openWorldApi(m_vm.L(), *this);
+  seedWorldRandom(m_vm.L(), world.settings().seed);
 }
 
 void WorldScript::setUp(const std::string& folder) {

@@ -2,6 +2,7 @@
 // keeps its hooks (on_step, at, every), called after each step.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,5 +56,8 @@ class WorldScript : public WorldProgram {
 
 /// Installs `world`, `expect`, `args`, `log` and the Module and Body handle types.
 void openWorldApi(lua_State* L, WorldScript& script);
+/// math.random in the world VM draws from the run's seed (Lua seeds it from the clock otherwise):
+/// the same world and seed give the same draws.
+void seedWorldRandom(lua_State* L, uint64_t seed);
 
 }  // namespace rm3d

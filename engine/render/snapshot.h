@@ -30,6 +30,13 @@ struct RenderLine {
   std::array<float, 4> color{1, 1, 0, 1};
 };
 
+/// A set of equal spheres drawn instanced (fluid and debris particles): one draw call per set.
+struct RenderSpheres {
+  std::vector<Eigen::Vector3f> centers;  ///< world space
+  float radius = 0.01f;
+  std::array<float, 4> color{0.2f, 0.45f, 0.9f, 1.0f};  ///< linear RGBA
+};
+
 struct Camera {
   Eigen::Vector3f eye{1.5f, -1.5f, 1.0f};
   Eigen::Vector3f target{0, 0, 0};
@@ -41,6 +48,7 @@ struct Snapshot {
   std::vector<RenderMesh> meshes;
   std::vector<RenderItem> items;
   std::vector<RenderLine> lines;
+  std::vector<RenderSpheres> spheres;  ///< particle systems
   bool ground = true;                ///< draw the plane z = 0 with a 0.1 m / 1 m grid
   std::vector<std::string> overlay;  ///< text lines drawn top-left (sim time, modules, ...)
 };

@@ -55,7 +55,9 @@
 --             continuous = true,        -- ... unless the joint turns without limits
 --             torque = 2.5,             -- required, motor torque limit, N m, >= 0
 --             speed = 3,                -- required, motor speed limit, rad/s, >= 0
---             gain = 20 }               -- optional servo gain, 1/s (default 20)
+--             gain = 20,                -- optional servo gain, 1/s (default 20)
+--             stiffness = 300 }         -- optional, N m/rad: a holding servo yields torque /
+--                                       -- stiffness under load (default 0: rigid; exact solver)
 --
 --   dock  = { name = "...",             -- required, unique among docks
 --             link = "link",            -- required, the link carrying the face
@@ -149,7 +151,8 @@ local kBackTurn = quatMul(quatAxisAngle({ 1, 0, 0 }, math.pi / 2), quatAxisAngle
 
 local function joint(name, parent, child, pivot, axis)
   return { name = name, parent = parent, child = child, pivot = pivot, axis = axis,
-           lower = -kLimit, upper = kLimit, torque = 2.5, speed = 3, gain = 20 }
+           lower = -kLimit, upper = kLimit, torque = 2.5, speed = 3, gain = 20,
+           stiffness = 300 }
 end
 
 local function dock(name, link, at, normal, up)

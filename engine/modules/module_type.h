@@ -34,6 +34,7 @@ struct JointDef {
   double lower = -kPi / 2, upper = kPi / 2;
   double maxTorque = 1.0, maxSpeed = 1.0;
   double servoGain = 20.0;
+  double servoStiffness = 0;  ///< N m/rad a held servo gives under load (0: rigid)
 };
 
 enum class Gender { None, Male, Female };

@@ -16,8 +16,12 @@ using Vec3d = Eigen::Vector3d;
 using Mat3d = Eigen::Matrix3d;
 
 constexpr double kRegularisation = 1e-9;  // -e on the joint diagonal (m/(N s) and rad/(N m s))
-constexpr double kLimitMargin = 0.25;     // rad: a limit row may engage only this close to its stop
-constexpr double kLimitRecovery = 0.2;    // share of a limit overshoot removed per substep
+// Bodies in one rigid group at most: a long held chain is not rigid at its scale (its motors are
+// bounded), and a group that spans it lets friction take self-cancelling impulses that its
+// joints must then carry.
+constexpr int kMaxGroupBodies = 8;
+constexpr double kLimitMargin = 0.25;   // rad: a limit row may engage only this close to its stop
+constexpr double kLimitRecovery = 0.2;  // share of a limit overshoot removed per substep
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 Vec3d toEigen(const btVector3& v) {
@@ -311,6 +315,8 @@ void ExactSolver::buildGroups(int firstBody) {
   const int nb = int(m_bodies.size()) - firstBody;
   m_groupParent.resize(size_t(nb));
   for (int i = 0; i < nb; ++i) m_groupParent[size_t(i)] = i;
+  std::vector<int>& size = m_component;
+  size.assign(size_t(nb), 1);
   auto find = [&](int i) {
     while (m_groupParent[size_t(i)] != i)
       i = m_groupParent[size_t(i)] = m_groupParent[size_t(m_groupParent[size_t(i)])];
@@ -321,7 +327,9 @@ void ExactSolver::buildGroups(int firstBody) {
     const Row& r = m_rows[size_t(j)];
     if (r.na < 0 || r.nb < 0 || !e.motorOn || e.state == A::Fixed) continue;
     const int a = find(r.na - firstBody), b = find(r.nb - firstBody);
-    if (a != b) m_groupParent[size_t(std::max(a, b))] = std::min(a, b);
+    if (a == b || size[size_t(a)] + size[size_t(b)] > kMaxGroupBodies) continue;
+    m_groupParent[size_t(std::max(a, b))] = std::min(a, b);
+    size[size_t(std::min(a, b))] += size[size_t(std::max(a, b))];
   }
   m_groups.clear();
   m_bodyGroup.assign(m_bodies.size(), -1);
@@ -490,6 +498,8 @@ void ExactSolver::factor(Cluster& c) {
       const Row& r = m_rows[size_t(n.joint)];
       n.d = -kRegularisation * Mat6::Identity();
       if (!r.axialActive) n.d(5, 5) = -1;
+      const ExactJoint& ej = joints[size_t(n.joint)];
+      if (r.axialActive && ej.state == ExactJoint::Axial::Motor) n.d(5, 5) -= ej.compliance;
       if (n.parent >= 0) {
         n.hp = n.parentIsA ? r.ja : r.jb;  // H(joint, body) = J
         if (!r.axialActive) n.hp.row(5).setZero();
@@ -567,7 +577,9 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
     if (r.nb >= 0) jv.noalias() += r.jb * bodyVelocity(r.nb);
     n.y = -jv;
     const ExactJoint& e = joints[size_t(n.joint)];
-    n.y[5] = r.axialActive ? e.rowTarget - jv[5] : 0;
+    n.y[5] = r.axialActive ? e.rowTarget - jv[5] -
+                                 (e.state == ExactJoint::Axial::Motor ? e.compliance * r.lambda[5] : 0)
+                           : 0;
   }
   solve(c);
   for (int k = c.begin; k < c.end; ++k) {

@@ -52,6 +52,7 @@ struct ExactJoint {
   bool motorOn = false;
   double targetVel = 0;   ///< rad/s, B relative to A about the axis
   double maxImpulse = 0;  ///< N m s per substep (rated torque x substep)
+  double compliance = 0;  ///< rad/s per N m s on the motor row: the servo's finite stiffness
   bool limited = false;
   double lower = 0, upper = 0;  ///< rad
   double angle = 0;             ///< rad, unwrapped, B relative to A

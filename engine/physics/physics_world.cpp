@@ -516,6 +516,11 @@ struct PhysicsWorld::Impl {
       e.motorOn = h.mode != MotorMode::Off;
       e.targetVel = e.motorOn ? motorSpeed(h, dtSub) : 0;
       e.maxImpulse = impulse;
+      // A servo commands gain x error as speed; a compliance c on that row holds a load tau at
+      // c tau dt = gain x error, so the error is tau / stiffness.
+      e.compliance = h.mode == MotorMode::Servo && h.d.servoStiffness > 0
+                         ? std::min(h.d.servoGain, 1.0 / dtSub) / (h.d.servoStiffness * dtSub)
+                         : 0;
       e.limited = h.d.limited;
       e.lower = h.d.lower;
       e.upper = h.d.upper;

@@ -48,6 +48,9 @@ struct HingeDesc {
   double maxTorque = 1.0;   ///< N m
   double maxSpeed = 1.0;    ///< rad/s
   double servoGain = 20.0;  ///< 1/s: servo speed command per radian of error
+  /// N m/rad: how far a holding servo yields under load (torque / stiffness); 0: rigid. The exact
+  /// solver makes the motor row compliant; pgs's motor rows are soft by iteration already.
+  double servoStiffness = 0;
 };
 
 enum class MotorMode { Off, Servo, Velocity };

@@ -539,7 +539,7 @@ class TypeReader {
   JointDef readJoint(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
     checkRecord(v, where,
                 {"name", "parent", "child", "pivot", "axis", "lower", "upper", "continuous", "torque",
-                 "speed", "gain"});
+                 "speed", "gain", "stiffness"});
     JointDef j;
     j.name = toName(require(v, where, "name"), childPath(where, "name"));
     j.parent = linkIndex(def, require(v, where, "parent"), childPath(where, "parent"));
@@ -566,6 +566,8 @@ class TypeReader {
     j.maxTorque = toNonNegative(require(v, where, "torque"), childPath(where, "torque"));
     j.maxSpeed = toNonNegative(require(v, where, "speed"), childPath(where, "speed"));
     if (const LuaValue* g = find(v, "gain")) j.servoGain = toNonNegative(*g, childPath(where, "gain"));
+    if (const LuaValue* k = find(v, "stiffness"))
+      j.servoStiffness = toNonNegative(*k, childPath(where, "stiffness"));
     return j;
   }
 

@@ -259,6 +259,7 @@ int World::spawn(const SpawnDef& def) {
     h.maxTorque = j.maxTorque;
     h.maxSpeed = j.maxSpeed;
     h.servoGain = j.servoGain;
+    h.servoStiffness = j.servoStiffness;
     m.hinges.push_back(m_physics->addHinge(h));
   }
   m.commands.assign(type.joints.size(), JointCommand{});

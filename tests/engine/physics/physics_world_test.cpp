@@ -154,7 +154,7 @@ namespace {
 
 /// A horizontal chain of `n` 0.1 m boxes (0.2 kg) hinged about y, the first hinged to a static
 /// base; every servo holds 0. Returns the hinge ids.
-std::vector<int> cantileverChain(PhysicsWorld& w, int n, double torque) {
+std::vector<int> cantileverChain(PhysicsWorld& w, int n, double torque, double stiffness = 0) {
   PartDesc base;
   base.shapes = {box(0.05, 0.05, 0.05)};
   base.mass = 0;
@@ -178,6 +178,7 @@ std::vector<int> cantileverChain(PhysicsWorld& w, int n, double torque) {
     h.frameB.rot = h.frameA.rot;
     h.maxTorque = torque;
     h.maxSpeed = 3;
+    h.servoStiffness = stiffness;
     const int id = w.addHinge(h);
     w.setMotor(id, MotorMode::Servo, 0);
     hinges.push_back(id);
@@ -212,6 +213,21 @@ TEST_CASE(
       CHECK(std::abs(w.hingeTorque(hinges[0])) == doctest::Approx(rating).epsilon(0.001));
       CHECK(w.hingeQuality().maxGap < 1e-4);
     }
+  }
+}
+
+TEST_CASE("exact solver: a servo with a stiffness yields torque / stiffness under a held load") {
+  const double g = 9.81, need = 0.2 * g * (0.05 + 0.15 + 0.25);  // 0.883 N m on the first hinge
+  for (const double k : {50.0, 300.0}) {
+    PhysicsSettings s;
+    s.solver = SolverKind::Exact;
+    PhysicsWorld w(s);
+    const std::vector<int> hinges = cantileverChain(w, 3, 2.5, k);
+    for (int i = 0; i < 240; ++i) w.step(1.0 / 60, 1);
+    // The links tip a little (the angle's sign is about -y), so the load is a hair smaller.
+    CHECK(std::abs(w.hingeTorque(hinges[0])) == doctest::Approx(need).epsilon(0.02));
+    CHECK(std::abs(w.hingeAngle(hinges[0])) == doctest::Approx(need / k).epsilon(0.03));
+    CHECK(w.hingeQuality().maxGap < 1e-5);
   }
 }
 

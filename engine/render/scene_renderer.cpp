@@ -120,17 +120,20 @@ void main() {
   fragColor = vec4(c, uColor.a);
 })";
 
-// Sphere impostors, one point per centre, in eye space: the point is a square about the
-// projected centre just large enough for the sphere's outline (which an off-axis sphere pushes
-// outwards), then per fragment the eye ray is intersected with the sphere for the exact outline,
-// normal and depth. Points are sized in pixels (uFocal: the focal length in pixels) and capped
-// by the GL (255 px on llvmpipe), which only a sphere filling half the view reaches. The sun's
-// shadow is looked up once per sphere, at its sunward point: per fragment it would double the
-// cost on a software GL, and particles are a few pixels across.
+// Sphere impostors, one point per centre, in eye space: the point is a square covering the
+// sphere's outline on screen (which an off-axis sphere stretches outwards), cut to the view and
+// centred on what is left, so a sphere whose centre has left the view still shows its part in
+// it (a GL drops a point whose centre is outside). Per fragment the eye ray is intersected with
+// the sphere for the exact outline, normal and depth. Points are sized in pixels (uFocal: the
+// focal length in pixels) and capped by the GL (255 px on llvmpipe), which only a sphere
+// filling half the view reaches. The sun's shadow is looked up once per sphere, at its sunward
+// point: per fragment it would double the cost on a software GL, and particles are a few
+// pixels across.
 const char* kSphereVs = R"(#version 330 core
 layout(location = 0) in vec3 aCenter;
 uniform mat4 uView, uProj, uLightViewProj;
 uniform vec3 uSunDir;
+uniform vec2 uViewport;
 uniform float uRadius, uFocal, uNormalOffset;
 uniform sampler2DShadow uShadow;
 flat out vec3 vCenter;
@@ -139,23 +142,24 @@ void main() {
   vec3 c = (uView * vec4(aCenter, 1.0)).xyz;
   vCenter = c;
   vLit = 1.0;
-  float d = length(c);
-  if (-c.z <= uRadius * 1.0001) {  // reaching behind the eye: nothing sensible to draw
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
-    gl_PointSize = 1.0;
-    return;
-  }
-  // Outward reach of the outline from the projected centre: f (tan(t + a) - tan t), with t the
-  // centre's angle off the view axis and a the half-angle of the tangent cone.
-  float cosT = -c.z / d, sinT = sqrt(max(1.0 - cosT * cosT, 0.0));
+  gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the view: dropped, unless placed below
+  gl_PointSize = 1.0;
+  if (-c.z <= uRadius * 1.0001) return;  // reaching behind the eye: nothing sensible to draw
+  // Outward reach of the outline from the projected centre, in pixels: f (tan(t + a) - tan t),
+  // with t the centre's angle off the view axis and a the half-angle of the tangent cone.
+  float d = length(c), cosT = -c.z / d, sinT = sqrt(max(1.0 - cosT * cosT, 0.0));
   float sinA = uRadius / d, cosA = sqrt(1.0 - sinA * sinA);
   float cosTA = max(cosT * cosA - sinT * sinA, 1e-3);
-  gl_PointSize = 2.0 * uFocal * sinA / (cosT * cosTA) + 0.5;
+  float reach = uFocal * sinA / (cosT * cosTA) + 0.25;
+  vec4 p = uProj * vec4(c, 1.0);
+  vec2 centre = (p.xy / p.w * 0.5 + 0.5) * uViewport;
+  vec2 lo = max(centre - reach, vec2(0.0)), hi = min(centre + reach, uViewport);
+  if (any(greaterThanEqual(lo, hi))) return;
+  gl_PointSize = max(hi.x - lo.x, hi.y - lo.y);
   // At the depth of the sphere's nearest point, so that the depth it writes is never nearer
   // (depth_greater): where the GL honours that it may reject hidden spheres before shading.
-  vec4 p = uProj * vec4(c, 1.0);
   float zFront = c.z + uRadius;
-  gl_Position = vec4(p.xy / p.w, (uProj[2][2] * zFront + uProj[3][2]) / -zFront, 1.0);
+  gl_Position = vec4((lo + hi) / uViewport - 1.0, (uProj[2][2] * zFront + uProj[3][2]) / -zFront, 1.0);
   vec4 l = uLightViewProj * vec4(aCenter + uSunDir * (uRadius + uNormalOffset), 1.0);
   vec3 s = l.xyz / l.w * 0.5 + 0.5;
   if (s.z < 1.0) vLit = texture(uShadow, s);
@@ -171,7 +175,7 @@ flat in float vLit;
 uniform mat4 uProj;
 uniform vec2 uViewport;
 uniform vec3 uSunView, uUpView;
-uniform vec4 uColor;
+uniform vec4 uColor;  // rgb in sRGB (linear ^ 1 / 2.2), alpha as given
 uniform float uRadius;
 out vec4 fragColor;
 void main() {
@@ -186,8 +190,9 @@ void main() {
   float zNdc = (uProj[2][2] * hit.z + uProj[3][2]) / -hit.z;
   gl_FragDepth = 0.5 * (gl_DepthRange.diff * zNdc + gl_DepthRange.near + gl_DepthRange.far);
   float ndl = max(dot(n, uSunView), 0.0);
-  vec3 c = uColor.rgb * (0.30 + 0.08 * dot(n, uUpView) + 0.62 * ndl * vLit);
-  fragColor = vec4(pow(c, vec3(1.0 / 2.2)), uColor.a);
+  // Gamma of (colour x light) as the meshes have it, with one pow: uColor is already raised.
+  float lit = 0.30 + 0.08 * dot(n, uUpView) + 0.62 * ndl * vLit;
+  fragColor = vec4(uColor.rgb * pow(lit, 1.0 / 2.2), uColor.a);
 })";
 
 const char* kShadowVs = R"(#version 330 core
@@ -442,7 +447,9 @@ void SceneRenderer::Impl::drawSpheres(const std::vector<RenderSpheres>& sets, bo
       gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Eigen::Vector3f),
                              reinterpret_cast<const void*>(offset));
       gl.Uniform1f(sphereLoc.radius, set.radius);
-      gl.Uniform4f(sphereLoc.color, set.color[0], set.color[1], set.color[2], set.color[3]);
+      auto gamma = [](float c) { return std::pow(std::max(c, 0.0f), 1.0f / 2.2f); };
+      gl.Uniform4f(sphereLoc.color, gamma(set.color[0]), gamma(set.color[1]), gamma(set.color[2]),
+                   set.color[3]);
       gl.DrawArrays(GL_POINTS, 0, GLsizei(set.centers.size()));
     }
     offset += bytes;

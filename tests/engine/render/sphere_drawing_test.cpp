@@ -1,7 +1,8 @@
 // Sphere sets (particles) drawn offscreen: colour where a sphere is and background elsewhere,
-// outline of the right size, lit from the sun, hidden by a box in front and hiding one behind
-// through the depth of the sphere's surface (not of the quad it is drawn on), several sets in
-// one frame, buffers reused and grown across frames, and sets that draw nothing.
+// the outline where exact ray casts put it (off axis, and cut by the edge of the view), lit from
+// the sun, hidden by a box in front and hiding one behind through the depth of the sphere's
+// surface (not of the point it is drawn as), several sets in one frame, buffers reused and
+// grown across frames, and sets that draw nothing.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -50,6 +51,13 @@ struct Scene {
     REQUIRE(y >= 0);
     REQUIRE(y < kH);
     return rm3d::test::pixel(renderer, x, y);
+  }
+  /// The exact answer: does the ray through pixel (x, y) meet the sphere?
+  bool hits(int x, int y, const Eigen::Vector3f& c, float radius) const {
+    const rm3d::Ray ray = rm3d::pixelRay(cam, kW, kH, x + 0.5f, y + 0.5f);
+    const Eigen::Vector3f oc = ray.origin - c;
+    const float b = oc.dot(ray.dir);
+    return b * b - (oc.squaredNorm() - radius * radius) >= 0;
   }
 };
 
@@ -122,12 +130,7 @@ TEST_CASE("sphere sets: off-axis spheres in a wide view keep their whole outline
   s.spheres.push_back(spheres({c}, radius, kRed));
   sc.draw();
   auto redAt = [&](int x, int y) { return red(rm3d::test::pixel(sc.renderer, x, y)); };
-  auto hits = [&](int x, int y) {  // the exact answer: does the pixel's ray meet the sphere?
-    const rm3d::Ray ray = rm3d::pixelRay(sc.cam, kW, kH, x + 0.5f, y + 0.5f);
-    const Eigen::Vector3f oc = ray.origin - c;
-    const float b = oc.dot(ray.dir);
-    return b * b - (oc.squaredNorm() - radius * radius) >= 0;
-  };
+  auto hits = [&](int x, int y) { return sc.hits(x, y, c, radius); };
   const auto [cx, cy] = sc.project(c);
   REQUIRE(redAt(cx, cy));
   // Walk outwards (right along the row, up the column) to the last pixel on the sphere.
@@ -143,6 +146,24 @@ TEST_CASE("sphere sets: off-axis spheres in a wide view keep their whole outline
   for (int a = 0; a < 2; ++a) {
     CHECK(lastHit[a] > 8);
     CHECK(std::abs(lastRed[a] - lastHit[a]) <= 1);
+  }
+}
+
+TEST_CASE("sphere sets: a sphere whose centre has left the view still shows the part in it") {
+  Scene sc;
+  // The view reaches 1.657 m right of the axis at the spheres' distance: these centres are out.
+  for (float x : {1.7f, 1.8f}) {
+    CAPTURE(x);
+    const Eigen::Vector3f c(x, 0, 0.5f);
+    sc.s.spheres = {spheres({c}, 0.3f, kRed)};
+    sc.draw();
+    int drawn = 0, exact = 0;
+    for (int y = 0; y < kH; ++y) {
+      drawn += red(rm3d::test::pixel(sc.renderer, kW - 1, y));
+      exact += sc.hits(kW - 1, y, c, 0.3f);
+    }
+    CHECK(exact > 10);
+    CHECK(std::abs(drawn - exact) <= 1);
   }
 }
 

@@ -1,6 +1,7 @@
 // OpenGL 3.3 implementation of SceneRenderer: faceted Lambert shading with a sun shadow map, a
-// procedural grid ground, GL_LINES and an stb_easy_font text overlay, drawn multisampled and
-// resolved into the caller's framebuffer. Also the PNG writer (stb_image_write).
+// procedural grid ground, ray-cast sphere impostors for particle sets, GL_LINES and an
+// stb_easy_font text overlay, drawn multisampled and resolved into the caller's framebuffer.
+// Also the PNG writer (stb_image_write).
 #include "render/scene_renderer.h"
 
 #include <algorithm>
@@ -47,7 +48,7 @@ namespace {
   X(BindFramebuffer) X(FramebufferTexture2D) X(CheckFramebufferStatus) X(DeleteFramebuffers)       \
   X(DrawBuffer) X(ReadBuffer) X(GenRenderbuffers) X(BindRenderbuffer) X(RenderbufferStorage)       \
   X(RenderbufferStorageMultisample) X(FramebufferRenderbuffer) X(DeleteRenderbuffers)              \
-  X(BlitFramebuffer) X(GetIntegerv)
+  X(BlitFramebuffer) X(GetIntegerv) X(BufferSubData)
 // clang-format on
 
 /// Per-renderer GL entry points (no process-wide table: renderers stay independent).
@@ -117,6 +118,81 @@ void main() {
   vec3 c = pow(base * lit, vec3(1.0 / 2.2));
   if (uGround == 1) c = mix(c, uFog, smoothstep(15.0, 45.0, length(vWorld.xy - uEye.xy)));
   fragColor = vec4(c, uColor.a);
+})";
+
+// Sphere impostors, one point per centre, in eye space: the point is a square covering the
+// sphere's outline on screen (which an off-axis sphere stretches outwards), cut to the view and
+// centred on what is left, so a sphere whose centre has left the view still shows its part in
+// it (a GL drops a point whose centre is outside). Per fragment the eye ray is intersected with
+// the sphere for the exact outline, normal and depth. Points are sized in pixels (uFocal: the
+// focal length in pixels) and capped by the GL (255 px on llvmpipe), which only a sphere
+// filling half the view reaches. The sun's shadow is looked up once per sphere, at its sunward
+// point: per fragment it would double the cost on a software GL, and particles are a few
+// pixels across.
+const char* kSphereVs = R"(#version 330 core
+layout(location = 0) in vec3 aCenter;
+uniform mat4 uView, uProj, uLightViewProj;
+uniform vec3 uSunDir;
+uniform vec2 uViewport;
+uniform float uRadius, uFocal, uNormalOffset;
+uniform sampler2DShadow uShadow;
+flat out vec3 vCenter;
+flat out float vLit;
+void main() {
+  vec3 c = (uView * vec4(aCenter, 1.0)).xyz;
+  vCenter = c;
+  vLit = 1.0;
+  gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the view: dropped, unless placed below
+  gl_PointSize = 1.0;
+  if (-c.z <= uRadius * 1.0001) return;  // reaching behind the eye: nothing sensible to draw
+  // Outward reach of the outline from the projected centre, in pixels: f (tan(t + a) - tan t),
+  // with t the centre's angle off the view axis and a the half-angle of the tangent cone.
+  float d = length(c), cosT = -c.z / d, sinT = sqrt(max(1.0 - cosT * cosT, 0.0));
+  float sinA = uRadius / d, cosA = sqrt(1.0 - sinA * sinA);
+  float cosTA = max(cosT * cosA - sinT * sinA, 1e-3);
+  float reach = uFocal * sinA / (cosT * cosTA) + 0.25;
+  vec4 p = uProj * vec4(c, 1.0);
+  vec2 centre = (p.xy / p.w * 0.5 + 0.5) * uViewport;
+  vec2 lo = max(centre - reach, vec2(0.0)), hi = min(centre + reach, uViewport);
+  if (any(greaterThanEqual(lo, hi))) return;
+  gl_PointSize = max(hi.x - lo.x, hi.y - lo.y);
+  // At the depth of the sphere's nearest point, so that the depth it writes is never nearer
+  // (depth_greater): where the GL honours that it may reject hidden spheres before shading.
+  float zFront = c.z + uRadius;
+  gl_Position = vec4((lo + hi) / uViewport - 1.0, (uProj[2][2] * zFront + uProj[3][2]) / -zFront, 1.0);
+  vec4 l = uLightViewProj * vec4(aCenter + uSunDir * (uRadius + uNormalOffset), 1.0);
+  vec3 s = l.xyz / l.w * 0.5 + 0.5;
+  if (s.z < 1.0) vLit = texture(uShadow, s);
+})";
+
+const char* kSphereFs = R"(#version 330 core
+#ifdef GL_ARB_conservative_depth
+#extension GL_ARB_conservative_depth : enable
+layout(depth_greater) out float gl_FragDepth;
+#endif
+flat in vec3 vCenter;
+flat in float vLit;
+uniform mat4 uProj;
+uniform vec2 uViewport;
+uniform vec3 uSunView, uUpView;
+uniform vec4 uColor;  // rgb in sRGB (linear ^ 1 / 2.2), alpha as given
+uniform float uRadius;
+out vec4 fragColor;
+void main() {
+  vec2 ndc = gl_FragCoord.xy / uViewport * 2.0 - 1.0;
+  vec3 dir = normalize(vec3(ndc.x / uProj[0][0], ndc.y / uProj[1][1], -1.0));
+  float b = dot(vCenter, dir);
+  vec3 q = b * dir - vCenter;  // centre to the ray's closest point: stable however far the eye is
+  float h = uRadius * uRadius - dot(q, q);
+  if (h < 0.0) discard;
+  vec3 hit = (b - sqrt(h)) * dir;
+  vec3 n = (hit - vCenter) / uRadius;
+  float zNdc = (uProj[2][2] * hit.z + uProj[3][2]) / -hit.z;
+  gl_FragDepth = 0.5 * (gl_DepthRange.diff * zNdc + gl_DepthRange.near + gl_DepthRange.far);
+  float ndl = max(dot(n, uSunView), 0.0);
+  // Gamma of (colour x light) as the meshes have it, with one pow: uColor is already raised.
+  float lit = 0.30 + 0.08 * dot(n, uUpView) + 0.62 * ndl * vLit;
+  fragColor = vec4(uColor.rgb * pow(lit, 1.0 / 2.2), uColor.a);
 })";
 
 const char* kShadowVs = R"(#version 330 core
@@ -200,8 +276,16 @@ Eigen::Matrix4f fitSunFrustum(const Eigen::AlignedBox3f& box, float& texelWorld)
 struct SceneRenderer::Impl {
   Gl gl;
   bool loaded = false;  // every entry point and object was made
-  GLuint meshProg = 0, shadowProg = 0, lineProg = 0, textProg = 0, skyProg = 0;
+  GLuint meshProg = 0, shadowProg = 0, lineProg = 0, textProg = 0, skyProg = 0, sphereProg = 0;
   GLuint meshVao = 0, meshVbo = 0, lineVao = 0, lineVbo = 0, textVao = 0, textVbo = 0;
+  // Every sphere set's centres, one set after another; grown (glBufferData) only when a frame
+  // holds more than ever before, else rewritten in place (glBufferSubData).
+  GLuint sphereVao = 0, sphereVbo = 0;
+  size_t sphereCapacity = 0;  // centres the buffer holds
+  struct {
+    GLint view, proj, lightViewProj, viewport, focal, sunDir, sunView, upView, normalOffset, shadow, radius,
+        color;
+  } sphereLoc{};
   GLuint shadowFbo = 0, shadowTex = 0;
   // Scene targets at the last drawn size: multisampled (if the GL allows), and a single-sampled
   // copy it resolves into. Resolving straight into the caller's framebuffer would need identical
@@ -308,7 +392,73 @@ struct SceneRenderer::Impl {
   }
 
   void drawText(const std::vector<std::string>& lines, int width, int height);
+  void uploadSpheres(const std::vector<RenderSpheres>& sets);
+  void drawSpheres(const std::vector<RenderSpheres>& sets, bool translucent);
 };
+
+namespace {
+
+static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "centres are uploaded as packed xyz");
+
+bool drawable(const RenderSpheres& set) {
+  return !set.centers.empty() && std::isfinite(set.radius) && set.radius > 0.0f;
+}
+
+}  // namespace
+
+void SceneRenderer::Impl::uploadSpheres(const std::vector<RenderSpheres>& sets) {
+  size_t total = 0;
+  for (const RenderSpheres& set : sets)
+    if (drawable(set)) total += set.centers.size();
+  if (total == 0) return;
+  gl.BindBuffer(GL_ARRAY_BUFFER, sphereVbo);
+  if (total > sphereCapacity) {
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(total * sizeof(Eigen::Vector3f)), nullptr, GL_STREAM_DRAW);
+    sphereCapacity = total;
+  }
+  size_t offset = 0;
+  for (const RenderSpheres& set : sets) {
+    if (!drawable(set)) continue;
+    const size_t bytes = set.centers.size() * sizeof(Eigen::Vector3f);
+    gl.BufferSubData(GL_ARRAY_BUFFER, GLintptr(offset), GLsizeiptr(bytes), set.centers.data());
+    offset += bytes;
+  }
+}
+
+/// One draw (GL_POINTS) per set whose opacity matches `translucent`; the sphere program's frame
+/// uniforms (matrices, eye, sun, shadow) are set by the caller.
+void SceneRenderer::Impl::drawSpheres(const std::vector<RenderSpheres>& sets, bool translucent) {
+  bool bound = false;
+  size_t offset = 0;  // bytes, in the layout uploadSpheres wrote
+  for (const RenderSpheres& set : sets) {
+    if (!drawable(set)) continue;
+    const size_t bytes = set.centers.size() * sizeof(Eigen::Vector3f);
+    if ((set.color[3] < 1.0f) == translucent) {
+      if (!bound) {
+        gl.UseProgram(sphereProg);
+        gl.Enable(GL_PROGRAM_POINT_SIZE);
+        // Single-sampled: the outline is per pixel anyway (discard), and a software GL would
+        // otherwise test and write the computed depth per sample (15% of the time).
+        gl.Disable(GL_MULTISAMPLE);
+        gl.BindVertexArray(sphereVao);
+        gl.BindBuffer(GL_ARRAY_BUFFER, sphereVbo);
+        bound = true;
+      }
+      gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Eigen::Vector3f),
+                             reinterpret_cast<const void*>(offset));
+      gl.Uniform1f(sphereLoc.radius, set.radius);
+      auto gamma = [](float c) { return std::pow(std::max(c, 0.0f), 1.0f / 2.2f); };
+      gl.Uniform4f(sphereLoc.color, gamma(set.color[0]), gamma(set.color[1]), gamma(set.color[2]),
+                   set.color[3]);
+      gl.DrawArrays(GL_POINTS, 0, GLsizei(set.centers.size()));
+    }
+    offset += bytes;
+  }
+  if (bound) {
+    gl.Disable(GL_PROGRAM_POINT_SIZE);
+    gl.Enable(GL_MULTISAMPLE);
+  }
+}
 
 SceneRenderer::SceneRenderer() : m_impl(std::make_unique<Impl>()) {}
 SceneRenderer::~SceneRenderer() = default;
@@ -336,12 +486,21 @@ bool SceneRenderer::init(GlGetProc getProc, std::string& err) {
   r.lineProg = r.program(kLineVs, kLineFs, err);
   r.textProg = r.program(kTextVs, kTextFs, err);
   r.skyProg = r.program(kSkyVs, kSkyFs, err);
+  r.sphereProg = r.program(kSphereVs, kSphereFs, err);
   if (!err.empty()) return false;
-  GLuint vaos[3], vbos[3];
-  gl.GenVertexArrays(3, vaos);
-  gl.GenBuffers(3, vbos);
-  r.meshVao = vaos[0], r.lineVao = vaos[1], r.textVao = vaos[2];
-  r.meshVbo = vbos[0], r.lineVbo = vbos[1], r.textVbo = vbos[2];
+  GLuint vaos[4], vbos[4];
+  gl.GenVertexArrays(4, vaos);
+  gl.GenBuffers(4, vbos);
+  r.meshVao = vaos[0], r.lineVao = vaos[1], r.textVao = vaos[2], r.sphereVao = vaos[3];
+  r.meshVbo = vbos[0], r.lineVbo = vbos[1], r.textVbo = vbos[2], r.sphereVbo = vbos[3];
+  const GLuint sp = r.sphereProg;
+  r.sphereLoc = {r.loc(sp, "uView"),     r.loc(sp, "uProj"),   r.loc(sp, "uLightViewProj"),
+                 r.loc(sp, "uViewport"), r.loc(sp, "uFocal"),  r.loc(sp, "uSunDir"),
+                 r.loc(sp, "uSunView"),  r.loc(sp, "uUpView"), r.loc(sp, "uNormalOffset"),
+                 r.loc(sp, "uShadow"),   r.loc(sp, "uRadius"), r.loc(sp, "uColor")};
+  gl.BindVertexArray(r.sphereVao);
+  gl.EnableVertexAttribArray(0);
+  gl.BindVertexArray(0);
 
   // Shadow map: depth texture with hardware comparison; outside it everything is lit.
   GLint previous = 0;
@@ -377,10 +536,12 @@ void SceneRenderer::release() {
   Impl& r = *m_impl;
   if (!r.loaded) return;
   Gl& gl = r.gl;
-  for (GLuint p : {r.meshProg, r.shadowProg, r.lineProg, r.textProg, r.skyProg}) gl.DeleteProgram(p);
-  GLuint vaos[] = {r.meshVao, r.lineVao, r.textVao}, vbos[] = {r.meshVbo, r.lineVbo, r.textVbo};
-  gl.DeleteVertexArrays(3, vaos);
-  gl.DeleteBuffers(3, vbos);
+  for (GLuint p : {r.meshProg, r.shadowProg, r.lineProg, r.textProg, r.skyProg, r.sphereProg})
+    gl.DeleteProgram(p);
+  GLuint vaos[] = {r.meshVao, r.lineVao, r.textVao, r.sphereVao};
+  GLuint vbos[] = {r.meshVbo, r.lineVbo, r.textVbo, r.sphereVbo};
+  gl.DeleteVertexArrays(4, vaos);
+  gl.DeleteBuffers(4, vbos);
   gl.DeleteFramebuffers(1, &r.shadowFbo);
   gl.DeleteTextures(1, &r.shadowTex);
   r.dropTargets();
@@ -489,16 +650,40 @@ void SceneRenderer::draw(const Snapshot& s, const Camera& cam, int width, int he
     gl.DrawArrays(GL_TRIANGLES, first, count);
   };
   if (s.ground) drawMesh(Eigen::Matrix4f::Identity(), {0.62f, 0.62f, 0.62f, 1.0f}, groundFirst, 6, 1);
-  // Opaque items first, then translucent ones blended without writing depth.
+
+  if (!s.spheres.empty()) {
+    r.uploadSpheres(s.spheres);
+    const Eigen::Matrix4f view = lookAt(cam.eye, cam.target, cam.up);
+    const Eigen::Matrix4f proj =
+        perspective(cam.fovyDeg, float(width) / float(height), kNearPlane, kFarPlane);
+    const Eigen::Vector3f sunView = view.topLeftCorner<3, 3>() * kSunDir;
+    const Eigen::Vector3f upView = view.topLeftCorner<3, 3>() * Eigen::Vector3f::UnitZ();
+    const auto& at = r.sphereLoc;
+    gl.UseProgram(r.sphereProg);
+    gl.UniformMatrix4fv(at.view, 1, GL_FALSE, view.data());
+    gl.UniformMatrix4fv(at.proj, 1, GL_FALSE, proj.data());
+    gl.UniformMatrix4fv(at.lightViewProj, 1, GL_FALSE, lightViewProj.data());
+    gl.Uniform3f(at.sunDir, kSunDir.x(), kSunDir.y(), kSunDir.z());
+    gl.Uniform2f(at.viewport, float(width), float(height));
+    gl.Uniform1f(at.focal, 0.5f * float(height) * proj(1, 1));
+    gl.Uniform3f(at.sunView, sunView.x(), sunView.y(), sunView.z());
+    gl.Uniform3f(at.upView, upView.x(), upView.y(), upView.z());
+    gl.Uniform1f(at.normalOffset, 1.5f * texelWorld);
+    gl.Uniform1i(at.shadow, 0);
+  }
+  // Opaque items and spheres first, then translucent ones blended without writing depth.
   for (int pass = 0; pass < 2; ++pass) {
     if (pass == 1) {
       gl.Enable(GL_BLEND);
       gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
       gl.DepthMask(GL_FALSE);
     }
+    gl.UseProgram(mp);
+    gl.BindVertexArray(r.meshVao);
     for (const RenderItem& it : s.items)
       if (validItem(it) && (it.color[3] < 1.0f) == (pass == 1))
         drawMesh(it.transform, it.color, ranges[it.mesh].first, ranges[it.mesh].second, 0);
+    r.drawSpheres(s.spheres, pass == 1);
   }
   gl.DepthMask(GL_TRUE);
 

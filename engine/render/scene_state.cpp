@@ -297,13 +297,15 @@ Camera sceneCamera(const SceneLayout& lay, const SceneState& start, const SceneS
     hi = any ? hi.cwiseMax(b) : b;
     any = true;
   };
-  // The scene at the start: modules and bodies (not scenery), then the modules now.
+  // The scene at the start: modules, bodies (not scenery) and particles, then the modules now.
   for (size_t i = 0; i < lay.modules.size(); ++i) extend(root(start, i), root(start, i));
   for (size_t b = 0; b < start.bodies.size() && b < lay.bodyRadius.size(); ++b) {
     const double r = lay.bodyRadius[b];
     if (r > kSceneryRadius) continue;
     extend(start.bodies[b].pos - Vec3::Constant(r), start.bodies[b].pos + Vec3::Constant(r));
   }
+  for (const Eigen::AlignedBox3d& box : start.particleBounds)
+    if (!box.isEmpty()) extend(box.min(), box.max());
   for (size_t i = 0; i < lay.modules.size(); ++i) extend(root(now, i), root(now, i));
   Vec3 target = (lo + hi) / 2;
   const bool follow = def.follow >= 0 && def.follow < int(lay.modules.size());

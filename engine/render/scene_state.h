@@ -71,6 +71,9 @@ struct SceneState {
   std::vector<uint8_t> faulted;   ///< per module: 1 when faulted
   std::vector<double> rangeHits;  ///< per range sensor: distance past minRange to the hit, or -1
   std::vector<Pose> bodies;       ///< per body (obstacle)
+  /// Per particle set (fluid, debris): the box holding its spheres (centres grown by the
+  /// radius), framed by the automatic camera like a body. Empty boxes are skipped.
+  std::vector<Eigen::AlignedBox3d> particleBounds;
 };
 
 SceneLayout sceneLayout(const World& world);
@@ -79,9 +82,9 @@ void captureState(const World& world, const SceneLayout& layout, SceneState& out
 Snapshot buildSnapshot(const SceneLayout& layout, const SceneState& state);
 
 /// The camera for a picture of `now`. world.camera{...} wins where given; otherwise the camera
-/// frames the scene at the start (every module and every body under 10 m across: obstacles,
-/// static ones too) and keeps that frame while the modules stay inside it; a module leaving it
-/// widens the frame just enough, continuously (no re-framing from frame to frame).
+/// frames the scene at the start (every module, every body under 10 m across: obstacles,
+/// static ones too, and every particle set) and keeps that frame while the modules stay inside it; a module
+/// leaving it widens the frame just enough, continuously (no re-framing from frame to frame).
 Camera sceneCamera(const SceneLayout& layout, const SceneState& start, const SceneState& now);
 
 }  // namespace rm3d

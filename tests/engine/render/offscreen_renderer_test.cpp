@@ -4,27 +4,11 @@
 
 #include <doctest/doctest.h>
 
-namespace {
+#include "render_test_util.h"
 
-/// Axis-aligned box mesh with the given half extents, faces counter-clockwise from outside.
-rm3d::RenderMesh makeBox(float hx, float hy, float hz) {
-  rm3d::RenderMesh m;
-  for (int i = 0; i < 8; ++i) m.vertices.emplace_back(i & 1 ? hx : -hx, i & 2 ? hy : -hy, i & 4 ? hz : -hz);
-  m.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
-               2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
-  return m;
-}
-
-struct Rgb {
-  int r, g, b;
-};
-
-Rgb pixel(const rm3d::OffscreenRenderer& r, int x, int y) {
-  const uint8_t* p = r.rgba().data() + (size_t(y) * r.width() + x) * 4;
-  return {p[0], p[1], p[2]};
-}
-
-}  // namespace
+using rm3d::test::makeBox;
+using rm3d::test::pixel;
+using rm3d::test::Rgb;
 
 TEST_CASE("OffscreenRenderer draws a red box on the grid ground") {
   rm3d::OffscreenRenderer renderer;

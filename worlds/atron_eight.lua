@@ -105,11 +105,7 @@ end)
 
 world.on_end(function(t)
   for _, m in ipairs(mods) do expect(m:error() == nil, m.name .. " did not fault: " .. tostring(m:error())) end
-  for _, k in ipairs(connections) do
-    local s = k.a:dock_state(k.da)
-    expect(s.engaged and s.peer_module == k.b.id and s.peer_dock == k.db,
-           string.format("%s.%s is still docked to %s.%s", k.a.name, k.da, k.b.name, k.db))
-  end
+  atron.expect_connected(connections)
   expect(worstRadius < 0.002 and worstApart < 0.002,
          string.format("ring A kept its shape: radius within %.4f m, distances within %.4f m (2 mm)", worstRadius,
                        worstApart))

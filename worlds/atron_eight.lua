@@ -111,6 +111,9 @@ world.on_end(function(t)
                        worstApart))
   expect(worstB < 0.002, string.format("ring B stayed put: moved %.4f m at most", worstB))
   world.metric("ring_a_turns", math.abs(turned) / (2 * math.pi))
+  print(string.format("ring A turned %.2f turns; its radius changed by %.2f mm and its distances by %.2f mm at most; "
+                      .. "ring B moved %.2f mm", math.abs(turned) / (2 * math.pi), worstRadius * 1000, worstApart * 1000,
+                      worstB * 1000))
   if t < 12 then return end -- a shorter run (the sample test's 2 s) checks only the above
   local turns = math.abs(turned) / (2 * math.pi)
   expect(turns > 1.5, string.format("ring A turned %.2f turns in %.0f s, expected more than 1.5", turns, t))

@@ -18,6 +18,7 @@ world.ground{friction = 0.8}
 local loop = track.build{behavior = "behaviors/track_to_snake.lua", direction = args.direction,
                          brake_at = args.brake_at or 6, open_at = args.open_at or 8}
 local ms = loop.modules
+world.camera{eye = {1.35, -2.3, 1.0}, target = {1.35, 0.1, 0.05}, fov = 55}
 
 local function centroid() return track.centroid(loop) end
 local function flat(a, b) return math.sqrt((a.x - b.x) ^ 2 + (a.y - b.y) ^ 2) end

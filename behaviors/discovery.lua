@@ -25,8 +25,10 @@
 --   leave_at    seconds: at this time the module disables `leave_dock` (it undocks there)
 --   leave_dock  the dock to let go (default "back")
 local names = module.docks()
-local docks = {}
-for i, n in ipairs(names) do docks[i] = module.dock(n) end
+local docks, index = {}, {} -- by index; dock name -> index
+for i, n in ipairs(names) do
+  docks[i], index[n] = module.dock(n), i
+end
 local me = module.id
 
 local db = {}          -- origin id -> record
@@ -121,12 +123,9 @@ function on_dock(dock, event)
   local n = dock:name()
   if event == "engaged" then
     -- Say hello and hand over everything known: the other side may be a whole new part.
-    for i, d in ipairs(docks) do
-      if names[i] == n then
-        hello[i] = true
-        for _, rec in pairs(db) do queue(i, rec) end
-      end
-    end
+    local i = index[n]
+    hello[i] = true
+    for _, rec in pairs(db) do queue(i, rec) end
   elseif neighbours[n] then
     neighbours[n] = nil
     announce()
@@ -140,6 +139,25 @@ function init()
   announce()
 end
 
+--- One message: who is at the other end of its dock, and the records it carries. Returns true
+--- when the neighbour there is new (this module's own links changed).
+local function handle(msg)
+  local m = msg.data
+  if type(m) ~= "table" or type(m.via) ~= "table" or type(m.records) ~= "table" then return false end
+  local i = index[msg.dock]
+  local nb, changed = neighbours[msg.dock], false
+  if not nb or nb.peer ~= m.via[1] or nb.dock ~= m.via[2] then
+    neighbours[msg.dock] = {peer = m.via[1], dock = m.via[2]}
+    changed = true
+    -- A new neighbour gets the whole database (its own record comes back to it, and is dropped).
+    for _, rec in pairs(db) do queue(i, rec) end
+  end
+  for _, rec in ipairs(m.records) do
+    if learn(rec) then flood(rec, i) end
+  end
+  return changed
+end
+
 function step(dt)
   if params.leave_at and not left and sim.time() >= params.leave_at then
     left = true
@@ -151,25 +169,7 @@ function step(dt)
   while true do
     local msg = module.receive()
     if not msg then break end
-    local m = msg.data
-    local nb = neighbours[msg.dock]
-    if not nb or nb.peer ~= m.via[1] or nb.dock ~= m.via[2] then
-      neighbours[msg.dock] = {peer = m.via[1], dock = m.via[2]}
-      changed = true
-      -- A new neighbour gets the whole database (its own record comes back to it, and is dropped).
-      for i, d in ipairs(docks) do
-        if names[i] == msg.dock then
-          for _, rec in pairs(db) do queue(i, rec) end
-        end
-      end
-    end
-    local from
-    for i, n in ipairs(names) do
-      if n == msg.dock then from = i end
-    end
-    for _, rec in ipairs(m.records) do
-      if learn(rec) then flood(rec, from) end
-    end
+    changed = handle(msg) or changed
   end
   if changed then announce() end
 

@@ -9,11 +9,15 @@
 --
 -- Checks: all maps right within (diameter + 3) steps of the start and of the undocking (the
 -- diameter, in hops, is measured on the graph), and still right at the end.
+-- Try: --param leave_at=1.5 (seconds, at least 0.5).
 -- Prints when the maps became right and how many messages it took.
 world.set{dt = 1 / 60, duration = 2}
 world.ground{friction = 0.8}
 
 local leave_at = args.leave_at or 1.0
+if type(leave_at) ~= "number" or leave_at < 0.5 then
+  error("--param leave_at: seconds, at least 0.5 (after the first discovery), got " .. tostring(leave_at))
+end
 local function spawn(name, params)
   return world.spawn("superbot", {name = name, behavior = "behaviors/discovery.lua", params = params})
 end

@@ -25,4 +25,14 @@ function atron.outer_pole(a, da)
   return {math.sqrt(2) * n[1] - s * z[1], math.sqrt(2) * n[2] - s * z[2], math.sqrt(2) * n[3] - s * z[3]}
 end
 
+--- World scripts: expect() that every connection recorded as {a = Module, da = dock, b = Module,
+--- db = dock} is still engaged between those two docks.
+function atron.expect_connected(connections)
+  for _, c in ipairs(connections) do
+    local s = c.a:dock_state(c.da)
+    expect(s.engaged and s.peer_module == c.b.id and s.peer_dock == c.db,
+           string.format("%s.%s is still docked to %s.%s", c.a.name, c.da, c.b.name, c.db))
+  end
+end
+
 return atron

@@ -35,21 +35,22 @@ end
 M.centroid = centroid
 
 --- Spawns the loop's modules and schedules the docking. opts: at = {x, y} (module 1's place),
---- name (prefix, default "track"), and the behaviour's params (direction, rate, verbose, ...).
+--- name (prefix, default "track"), behavior (default behaviors/rolling_track.lua, or one built on
+--- lua/rolling_gait.lua) and the behaviour's params (direction, rate, verbose, ...).
 function M.build(opts)
   opts = opts or {}
   local at = opts.at or {0, 0}
   local prefix = opts.name or "track"
   local params = {}
   for k, v in pairs(opts) do
-    if k ~= "at" and k ~= "name" then params[k] = v end
+    if k ~= "at" and k ~= "name" and k ~= "behavior" then params[k] = v end
   end
   local loop = {modules = {}, direction = opts.direction or 1, name = prefix}
   for i = 1, M.size do
     loop.modules[i] = world.spawn("superbot", {
       at = {at[1], at[2] + (i - 1) * 0.4, 0.053},
       name = prefix .. "_" .. i,
-      behavior = "behaviors/rolling_track.lua",
+      behavior = opts.behavior or "behaviors/rolling_track.lua",
       params = params,
     })
   end

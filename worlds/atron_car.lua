@@ -100,9 +100,5 @@ world.at(10, function()
   expect(math.abs(p[3] - start[3]) < 0.01, string.format("it stayed upright: chassis height %.3f m", p[3]))
   expect(worstSpread < 0.005, string.format("it stayed in one piece: distances between modules changed by %.4f m at most", worstSpread))
   for _, m in ipairs(mods) do expect(m:error() == nil, m.name .. " did not fault: " .. tostring(m:error())) end
-  for _, c in ipairs(connections) do
-    local s = c.a:dock_state(c.da)
-    expect(s.engaged and s.peer_module == c.b.id and s.peer_dock == c.db,
-           string.format("%s.%s is still docked to %s.%s", c.a.name, c.da, c.b.name, c.db))
-  end
+  atron.expect_connected(connections)
 end)

@@ -46,6 +46,10 @@ struct SensorReading {
   double proximity = -1;  ///< Dock: distance to the nearest free partner, < 0: none
 };
 
+/// module.publish limits: distinct keys per module, and bytes per value (as a message payload).
+constexpr size_t kMaxPublishedKeys = 256;
+constexpr size_t kMaxPublishedBytes = 64 * 1024;
+
 struct Module {
   int id = 0;
   std::string name;
@@ -79,6 +83,9 @@ struct Module {
   std::deque<std::string> recentLog;       ///< with keepHistory: the last 20 lines ("t: text")
   std::deque<std::string> recentMessages;  ///< with keepHistory: the last 20 messages read
   TraceSeries traces;                      ///< module.trace(name, value) series
+  /// module.publish(key, value): the latest value per key, in order of first use, for the world
+  /// script (m:published); written only by the module's own behaviour during the phase.
+  std::vector<std::pair<std::string, Value>> published;
 };
 /// A link's pose in the world.
 inline Pose linkPose(const PhysicsWorld& physics, const Module& m, int link) {

@@ -168,6 +168,32 @@ int moduleTrace(lua_State* L) {
   return recordSeries(L, self(L).traces, "module.trace", "one behaviour");
 }
 
+/// module.publish(key, value): makes a plain value (as a message payload, at most 64 KiB) readable
+/// by the world script as m:published(key), until published again; nil removes the key
+int modulePublish(lua_State* L) {
+  const char* key = checkSeriesName(L, 1, "module.publish");
+  auto& published = self(L).published;
+  auto it = published.begin();
+  while (it != published.end() && it->first != key) ++it;
+  if (lua_isnoneornil(L, 2)) {
+    if (it != published.end()) published.erase(it);
+    return 0;
+  }
+  Value v;
+  std::string err;
+  if (!readLuaValue(L, 2, v, kMaxPublishedBytes, err))
+    return luaL_error(L, "module.publish: %s", err.c_str());
+  if (it != published.end()) {
+    it->second = std::move(v);
+    return 0;
+  }
+  if (published.size() >= kMaxPublishedKeys)
+    return luaL_error(L, "module.publish: too many keys in one module (at most %d); '%s' is one more",
+                      int(kMaxPublishedKeys), key);
+  published.emplace_back(key, std::move(v));
+  return 0;
+}
+
 void setFunctions(lua_State* L, const luaL_Reg* fns) {
   luaL_setfuncs(L, fns, 0);
 }
@@ -223,8 +249,11 @@ void openModuleApi(lua_State* L, BehaviourContext& ctx) {
   ctx.dockTableRef = luaL_ref(L, LUA_REGISTRYINDEX);
   lua_pushcclosure(L, moduleDock, 1);
   lua_setfield(L, -2, "dock");
-  static const luaL_Reg moduleFns[] = {
-      {"joints", moduleJoints}, {"docks", moduleDocks}, {"receive", moduleReceive}, {nullptr, nullptr}};
+  static const luaL_Reg moduleFns[] = {{"joints", moduleJoints},
+                                       {"docks", moduleDocks},
+                                       {"receive", moduleReceive},
+                                       {"publish", modulePublish},
+                                       {nullptr, nullptr}};
   setFunctions(L, moduleFns);
   pushSeriesClosure(L, moduleTrace);
   lua_setfield(L, -2, "trace");

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "script/lua_options.h"
+#include "script/lua_value.h"
 #include "script/sensor_reading.h"
 #include "script/world_bindings.h"
 #include "world/world.h"
@@ -238,6 +239,29 @@ int moduleInjectFault(lua_State* L) {
   return 0;
 }
 
+/// m:published([key]) -> a copy of the value the module's behaviour last published under key
+/// (module.publish), or nil; without a key, a table of every key and value
+int modulePublished(lua_State* L) {
+  const Module& mod = world(L).module(checkModule(L, 1));
+  if (lua_isnoneornil(L, 2)) {
+    lua_createtable(L, 0, int(mod.published.size()));
+    for (const auto& [key, value] : mod.published) {
+      pushLuaValue(L, value);
+      lua_setfield(L, -2, key.c_str());
+    }
+    return 1;
+  }
+  const char* key = luaL_checkstring(L, 2);
+  for (const auto& [k, value] : mod.published) {
+    if (k == key) {
+      pushLuaValue(L, value);
+      return 1;
+    }
+  }
+  lua_pushnil(L);
+  return 1;
+}
+
 /// m:error() -> nil, or the module's fault text
 int moduleError(lua_State* L) {
   const Module& mod = world(L).module(checkModule(L, 1));
@@ -291,6 +315,7 @@ void openModuleHandle(lua_State* L) {
                                            {"dock_position", moduleDockPosition},
                                            {"dock_normal", moduleDockNormal},
                                            {"error", moduleError},
+                                           {"published", modulePublished},
                                            {"dock_load", moduleDockLoad},
                                            {"set_dock", moduleSetDock},
                                            {"push", modulePush},

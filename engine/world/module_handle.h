@@ -3,8 +3,8 @@
 // Behaviours run in parallel on worker threads, so their bindings never see a writable World.
 // Each behaviour VM holds a ModuleHandle, and the rule of the phase is what its type allows:
 //   - writes go only to the module's own records: its Module (joint commands, queued dock
-//     requests, log lines, random stream, sensor cache) and its Mailbox (the outbox it fills,
-//     the inbox it consumes);
+//     requests, log lines, random stream, sensor cache, published values) and its Mailbox (the
+//     outbox it fills, the inbox it consumes);
 //   - everything else is read through `const World&`, and all of it is frozen for the phase:
 //     dock states change only after the phase, when World::applyDockRequests() applies the queued
 //     requests in module order; the dock-proximity index is built before the phase; physics is

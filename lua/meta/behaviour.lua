@@ -92,6 +92,11 @@ function module.act(name, value) end
 ---@param name string
 ---@param value number
 function module.trace(name, value) end
+---Makes a plain value (at most 64 KiB) readable by the world script as m:published(key), until
+---published again; nil removes the key. Keys: 1 to 64 letters, digits, _ . -; at most 256.
+---@param key string
+---@param value any
+function module.publish(key, value) end
 
 ---@class RandomStream
 ---@field random fun(m?: integer, n?: integer): number

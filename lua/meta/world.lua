@@ -62,6 +62,11 @@ function Module:sensor(name, field) end
 function Module:inject_fault(fault) end
 ---@return string? fault text, nil when healthy
 function Module:error() end
+---A copy of what the module's behaviour last published under key (module.publish), or nil;
+---without a key, a table of every key and value.
+---@param key? string
+---@return any
+function Module:published(key) end
 
 ---An obstacle (world.box, sphere, cylinder, mesh).
 ---@class Body

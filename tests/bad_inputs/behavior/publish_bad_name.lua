@@ -1,0 +1,3 @@
+function step(dt)
+  module.publish("a b", 1)
+end

@@ -1,0 +1,3 @@
+function step(dt)
+  module.publish("f", {g = function() end})
+end

@@ -1,0 +1,3 @@
+-- m:published with a key that is not a string
+local m = world.spawn("superbot", {at = {0, 0, 0.053}})
+print(m:published({}))

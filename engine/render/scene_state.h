@@ -55,6 +55,12 @@ struct SceneLayout {
   std::vector<Range> ranges;
   std::vector<ModuleInfo> modules;
   std::vector<double> bodyRadius;  ///< per body: radius of a sphere around its shape (framing)
+  struct Cloth {                   ///< a cloth, drawn as a two-sided mesh whose vertices are its nodes now
+    int nodes = 0;
+    std::vector<uint32_t> triangles;
+    std::array<float, 4> color{0.8f, 0.3f, 0.25f, 1};
+  };
+  std::vector<Cloth> cloths;
   bool ground = true;
   double dt = 1.0 / 60;
   CameraDef camera;
@@ -65,12 +71,13 @@ struct SceneState {
   double time = 0;
   int64_t steps = 0;
   int faults = 0;
-  std::vector<Pose> links;        ///< every module's links, module after module
-  std::vector<double> joints;     ///< joint angles, rad, module after module
-  std::vector<uint8_t> docks;     ///< per dock: bit 0 enabled, bit 1 engaged
-  std::vector<uint8_t> faulted;   ///< per module: 1 when faulted
-  std::vector<double> rangeHits;  ///< per range sensor: distance past minRange to the hit, or -1
-  std::vector<Pose> bodies;       ///< per body (obstacle)
+  std::vector<Pose> links;                  ///< every module's links, module after module
+  std::vector<double> joints;               ///< joint angles, rad, module after module
+  std::vector<uint8_t> docks;               ///< per dock: bit 0 enabled, bit 1 engaged
+  std::vector<uint8_t> faulted;             ///< per module: 1 when faulted
+  std::vector<double> rangeHits;            ///< per range sensor: distance past minRange to the hit, or -1
+  std::vector<Pose> bodies;                 ///< per body (obstacle)
+  std::vector<Eigen::Vector3f> clothNodes;  ///< every cloth's nodes, cloth after cloth
 };
 
 SceneLayout sceneLayout(const World& world);

@@ -34,11 +34,11 @@ std::vector<uint32_t> clothTriangles(int nx, int ny) {
   for (int y = 0; y + 1 < ny; ++y)
     for (int x = 0; x + 1 < nx; ++x) {
       if ((x + y) & 1)
-        t.insert(t.end(), {idx(x, y), idx(x + 1, y), idx(x + 1, y + 1), idx(x, y), idx(x + 1, y + 1),
-                           idx(x, y + 1)});
+        t.insert(t.end(),
+                 {idx(x, y), idx(x + 1, y), idx(x + 1, y + 1), idx(x, y), idx(x + 1, y + 1), idx(x, y + 1)});
       else
-        t.insert(t.end(), {idx(x, y + 1), idx(x, y), idx(x + 1, y), idx(x, y + 1), idx(x + 1, y),
-                           idx(x + 1, y + 1)});
+        t.insert(t.end(),
+                 {idx(x, y + 1), idx(x, y), idx(x + 1, y), idx(x, y + 1), idx(x + 1, y), idx(x + 1, y + 1)});
     }
   return t;
 }
@@ -89,7 +89,8 @@ int ClothSystem::add(const ClothDesc& d) {
   for (int iy = 0; iy < ny; ++iy) {
     const double ty = double(iy) / (ny - 1);
     const Vec3 left = c1 + (c4 - c1) * ty, right = c2 + (c3 - c2) * ty;
-    for (int ix = 0; ix < nx; ++ix) x[size_t(iy * nx + ix)] = toBt(left + (right - left) * (double(ix) / (nx - 1)));
+    for (int ix = 0; ix < nx; ++ix)
+      x[size_t(iy * nx + ix)] = toBt(left + (right - left) * (double(ix) / (nx - 1)));
   }
   auto* sb = new btSoftBody(&m_world.getWorldInfo(), n, x.data(), m.data());
   btSoftBody::Material* stretch = sb->m_materials[0];
@@ -113,7 +114,8 @@ int ClothSystem::add(const ClothDesc& d) {
       if (iy + 2 < ny) sb->appendLink(idx(ix, iy), idx(ix, iy + 2), bend);
     }
   const std::vector<uint32_t> tris = clothTriangles(nx, ny);
-  for (size_t i = 0; i + 2 < tris.size(); i += 3) sb->appendFace(int(tris[i]), int(tris[i + 1]), int(tris[i + 2]));
+  for (size_t i = 0; i + 2 < tris.size(); i += 3)
+    sb->appendFace(int(tris[i]), int(tris[i + 1]), int(tris[i + 2]));
 
   btSoftBody::Config& cfg = sb->m_cfg;
   cfg.piterations = 10;  // stretch and contacts settle within a substep

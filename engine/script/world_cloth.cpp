@@ -33,10 +33,11 @@ int checkNode(lua_State* L, int arg, int cloth) {
 
 /// corners = {{x,y,z}, {x,y,z}, {x,y,z}, {x,y,z}}: the sheet's corners in order around its edge.
 void readCorners(lua_State* L, const char* fn, ClothDesc& d) {
-  const char* expected = "option 'corners' must be 4 points {{x,y,z}, {x,y,z}, {x,y,z}, {x,y,z}} in order around the edge";
-  if (lua_getfield(L, 1, "corners") != LUA_TTABLE) luaL_error(L, "%s: %s, got %s", fn, expected, luaL_typename(L, -1));
-  if (lua_rawlen(L, -1) != 4)
-    luaL_error(L, "%s: %s, got %d points", fn, expected, int(lua_rawlen(L, -1)));
+  const char* expected =
+      "option 'corners' must be 4 points {{x,y,z}, {x,y,z}, {x,y,z}, {x,y,z}} in order around the edge";
+  if (lua_getfield(L, 1, "corners") != LUA_TTABLE)
+    luaL_error(L, "%s: %s, got %s", fn, expected, luaL_typename(L, -1));
+  if (lua_rawlen(L, -1) != 4) luaL_error(L, "%s: %s, got %d points", fn, expected, int(lua_rawlen(L, -1)));
   for (int k = 0; k < 4; ++k) {
     lua_rawgeti(L, -1, k + 1);
     if (!lua_istable(L, -1) || lua_rawlen(L, -1) != 3)
@@ -61,16 +62,18 @@ void readCorners(lua_State* L, const char* fn, ClothDesc& d) {
       luaL_error(L, "%s: corner %d must lie within the world bounds (%s m from the origin)", fn, k + 1,
                  numText(bounds).s);
     if (!((b - a).norm() >= 1e-4))
-      luaL_error(L, "%s: corners %d and %d must be apart (at least 0.1 mm), got %s m", fn, k + 1, (k + 1) % 4 + 1,
-                 numText((b - a).norm()).s);
+      luaL_error(L, "%s: corners %d and %d must be apart (at least 0.1 mm), got %s m", fn, k + 1,
+                 (k + 1) % 4 + 1, numText((b - a).norm()).s);
   }
   const Vec3 area = (d.corners[2] - d.corners[0]).cross(d.corners[3] - d.corners[1]);
   if (!(area.norm() >= 1e-8))
-    luaL_error(L, "%s: corners must span an area (they are in a line; list them in order around the edge)", fn);
+    luaL_error(L, "%s: corners must span an area (they are in a line; list them in order around the edge)",
+               fn);
 }
 
 /// Reads an array of whole numbers in [1, max] at option `key` into out (0-based).
-void readIndices(lua_State* L, const char* fn, const char* key, int max, const char* what, std::vector<int>& out) {
+void readIndices(lua_State* L, const char* fn, const char* key, int max, const char* what,
+                 std::vector<int>& out) {
   const int t = lua_getfield(L, 1, key);
   if (t == LUA_TNIL) {
     lua_pop(L, 1);
@@ -204,7 +207,8 @@ int worldCloth(lua_State* L) {
   }
   lua_pop(L, 1);
   d.mass = optNumberField(L, 1, fn, "mass", 0.1);
-  if (!(d.mass > 0)) luaL_error(L, "%s: mass must be positive (kg, the whole sheet), got %s", fn, numText(d.mass).s);
+  if (!(d.mass > 0))
+    luaL_error(L, "%s: mass must be positive (kg, the whole sheet), got %s", fn, numText(d.mass).s);
   d.stiffness = optNumberField(L, 1, fn, "stiffness", 0.9);
   if (!(d.stiffness > 0 && d.stiffness <= 1))
     luaL_error(L, "%s: stiffness must be in (0, 1], got %s", fn, numText(d.stiffness).s);

@@ -93,7 +93,7 @@ nlohmann::json World::summary(double wallSeconds) const {
                    {"bounds", {{"min", vec(st.lo)}, {"max", vec(st.hi)}}},
                    {"nan", st.nan}});
   }
-  j["environment"] = env;
+  if (!env.empty()) j["environment"] = env;  // absent without any: older summaries stay as they were
   j["faults"] = faultCount();
   const std::string& error = m_scriptError.empty() ? m_divergence : m_scriptError;
   j["error"] = error.empty() ? json(nullptr) : json(error);

@@ -29,7 +29,7 @@ local car = world.spawn("wheelbot", {
 
 local sheet = world.cloth{
   corners = {{-0.55, -0.5, 0.3}, {0.45, -0.5, 0.3}, {0.45, 0.5, 0.3}, {-0.55, 0.5, 0.3}},
-  resolution = {32, 32}, mass = 0.1, stiffness = 0.9, friction = 0.6, color = {0.85, 0.35, 0.25},
+  resolution = {32, 32}, mass = 0.1, stiffness = 0.9, friction = 0.6, thickness = 0.01, color = {0.85, 0.35, 0.25},
 }
 
 -- Is any node of the sheet within `r` metres (horizontally) of p and above the ground there?
@@ -42,6 +42,11 @@ end
 
 world.at(1, function()
   expect(covered(car:position(), 0.08), "the sheet lies on the Wheelbot at first")
+end)
+world.at(1.9, function()
+  local b = sheet:bounds()
+  expect(b and b.max.x > 0.47, string.format("the Wheelbot drags the sheet's far edge along (x=%.3f m, from 0.45 m)",
+                                            b and b.max.x or 0 / 0))
 end)
 world.every(1, function(t)
   local b = sheet:bounds()

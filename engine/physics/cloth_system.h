@@ -6,6 +6,7 @@
 #include <BulletSoftBody/btSoftBody.h>
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -47,6 +48,7 @@ class ClothSystem {
   std::vector<Cloth> m_cloths;
   std::unique_ptr<btCollisionShape> m_groundShape;
   std::unique_ptr<btCollisionObject> m_ground;
+  int64_t m_steps = 0;
 };
 
 }  // namespace rm3d

@@ -60,7 +60,7 @@ TEST_CASE("cloth: identical with 1 and 2 threads, and two worlds side by side") 
   // It did something: the sheet fell onto the modules, and not through the ground.
   const rm3d::World::ClothStats st = a->clothStats(0);
   CHECK_FALSE(st.nan);
-  CHECK(st.hi.z() < 0.2501);                                // corner 4 is pinned at 0.25
+  CHECK(st.hi.z() < 0.2501);                                     // corner 4 is pinned at 0.25
   CHECK(a->physicsConst().clothNode(0, 8 * 20 + 10).z() < 0.2);  // the middle fell
   CHECK(st.lo.z() > -0.001);
 }

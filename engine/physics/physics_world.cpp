@@ -612,6 +612,16 @@ void PhysicsWorld::setClothNodePinned(int cloth, int node, bool pinned) {
   m->cloth->setPinned(cloth, node, pinned);
 }
 
+bool PhysicsWorld::clothFinite(int cloth) const {
+  double sum = 0;  // a sum of finite floats is finite in double
+  const btSoftBody::tNodeArray& nodes = m->cloth->body(cloth).m_nodes;
+  for (int i = 0; i < nodes.size(); ++i) {
+    const btSoftBody::Node& n = nodes[i];
+    sum += double(n.m_x.x()) + n.m_x.y() + n.m_x.z() + n.m_v.x() + n.m_v.y() + n.m_v.z();
+  }
+  return std::isfinite(sum);
+}
+
 bool PhysicsWorld::clothNodePinned(int cloth, int node) const {
   return m->cloth->pinned(cloth, node);
 }

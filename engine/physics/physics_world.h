@@ -120,6 +120,8 @@ class PhysicsWorld {
   /// A pinned node stays where it is (it keeps its place in space, not on a body).
   void setClothNodePinned(int cloth, int node, bool pinned);
   bool clothNodePinned(int cloth, int node) const;
+  /// False when some node's position or velocity is NaN or infinite (one pass, no allocation).
+  bool clothFinite(int cloth) const;
 
   void setMotor(int hinge, MotorMode mode, double value);
   /// Sets the linear velocity of the body holding the part (a thrown obstacle).

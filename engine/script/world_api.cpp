@@ -575,22 +575,36 @@ void openWorldApi(lua_State* L, WorldScript& s) {
   openModuleHandle(L);
   openBodyHandle(L);
   openClothHandle(L);
-  static const luaL_Reg fns[] = {{"set", worldSet},           {"ground", worldGround},
-                                 {"box", worldBox},           {"sphere", worldSphere},
-                                 {"cylinder", worldCylinder}, {"mesh", worldMesh},
-                                 {"cloth", worldCloth},       {"spawn", worldSpawn},
-                                 {"connect", worldConnect},   {"modules", worldModules},
-                                 {"module", worldModule},     {"components", worldComponents},
-                                 {"camera", worldCamera},     {"channel", worldChannel},
-                                 {"graph", worldGraph},       {"events", worldEvents},
-                                 {"messages", worldMessages}, {"on_step", worldOnStep},
-                                 {"on_end", worldOnEnd},      {"at", worldAt},
-                                 {"every", worldEvery},       {"stop", worldStop},
-                                 {"time", worldTime},         {"dt", worldDt},
-                                 {"metric", worldMetric},     {nullptr, nullptr}};
+  static const luaL_Reg fns[] = {{"set", worldSet},
+                                 {"ground", worldGround},
+                                 {"box", worldBox},
+                                 {"sphere", worldSphere},
+                                 {"cylinder", worldCylinder},
+                                 {"mesh", worldMesh},
+                                 {"spawn", worldSpawn},
+                                 {"connect", worldConnect},
+                                 {"modules", worldModules},
+                                 {"module", worldModule},
+                                 {"components", worldComponents},
+                                 {"camera", worldCamera},
+                                 {"channel", worldChannel},
+                                 {"graph", worldGraph},
+                                 {"events", worldEvents},
+                                 {"messages", worldMessages},
+                                 {"on_step", worldOnStep},
+                                 {"on_end", worldOnEnd},
+                                 {"at", worldAt},
+                                 {"every", worldEvery},
+                                 {"stop", worldStop},
+                                 {"time", worldTime},
+                                 {"dt", worldDt},
+                                 {"metric", worldMetric},
+                                 {nullptr, nullptr}};
   luaL_newlib(L, fns);
   pushSeriesClosure(L, worldTrace);
   lua_setfield(L, -2, "trace");
+  lua_pushcfunction(L, worldCloth);  // world.cloth{...}: world_cloth.cpp
+  lua_setfield(L, -2, "cloth");
   lua_setglobal(L, "world");
   lua_pushcfunction(L, expectFn);
   lua_setglobal(L, "expect");

@@ -829,6 +829,10 @@ double PhysicsWorld::rayCast(const Vec3& from, const Vec3& dir, double length, i
   // Bullet's default sub-simplex cast against convex shapes is off by millimetres at a metre or
   // two; the GJK cast is exact to well under a millimetre.
   cb.m_flags |= btTriangleRaycastCallback::kF_UseGjkConvexCastRaytest;
+  // Rays pass through cloth: Bullet's first ray test on a soft body builds its face tree (quadratic
+  // in the faces) and rebuilds its node tree, which reorders its contacts, so a range sensor read
+  // (or a picture taken) would change the run.
+  cb.m_collisionFilterMask = btBroadphaseProxy::AllFilter ^ kClothFilterGroup;
   {
     std::lock_guard<std::mutex> lock(m->rayMutex);
     m->world.rayTest(a, b, cb);

@@ -1,6 +1,7 @@
 // Cloth determinism: the same world gives bit-identical cloth nodes and module poses with 1 and
 // 2 behaviour threads, and two such worlds stepped side by side in one process agree too (no
-// state shared between worlds, such as Bullet's signed-distance cache, leaks into results).
+// state shared between worlds, such as Bullet's signed-distance cache, leaks into results), also
+// when one of them casts rays through the sheet every step.
 #include <doctest/doctest.h>
 
 #include <cstring>
@@ -49,6 +50,8 @@ TEST_CASE("cloth: identical with 1 and 2 threads, and two worlds side by side") 
   auto b = rm3d::test::makeWorld(kWorld, two);
   auto c = rm3d::test::makeWorld(kWorld, one);
   for (int i = 0; i < 90; ++i) {  // interleaved: the worlds live and step together
+    // A ray down through the sheet (a range sensor, a picture) must not change the run.
+    a->physicsConst().rayCast(rm3d::Vec3(0.05, 0.05, 1), rm3d::Vec3(0, 0, -1), 2, -1);
     a->step();
     b->step();
     c->step();

@@ -4,10 +4,12 @@
 #include "physics/physics_world.h"
 
 #include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
+#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <Eigen/Eigenvalues>
 
+#include "physics/cloth_system.h"
 #include "physics/exact_solver.h"
 
 #if defined(__SSE__)
@@ -17,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <optional>
 
 namespace rm3d {
 
@@ -147,14 +150,17 @@ struct PhysicsWorld::Impl {
   };
 
   PhysicsSettings settings;
-  btDefaultCollisionConfiguration config;
+  // A soft-rigid world always: with no cloth it costs nothing measurable (README, "Cloth").
+  btSoftBodyRigidBodyCollisionConfiguration config;
   btCollisionDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
   ExactSolver solver;
   bool forestDirty = true;
   int stepSubsteps = 1;  // substeps of the step being taken  // hinges or bodies changed: which hinges are
                          // tree and which close loops
-  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+  btSoftRigidDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+  std::unique_ptr<ClothSystem> cloth;  // made by the first cloth
+  std::optional<double> groundFriction;
   OwnerFilter filter;
   std::vector<Part> parts;
   std::vector<Body> bodies;
@@ -184,6 +190,7 @@ struct PhysicsWorld::Impl {
   }
 
   ~Impl() {
+    cloth.reset();
     for (Hinge& h : hinges) removeHinge(h);
     for (Body& b : bodies) destroyBody(b);
     for (btRigidBody* rb : extraBodies) {
@@ -559,6 +566,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
       m->makeHinge(h);
     }
   m->world.setGravity(toBt(s.gravity));
+  if (m->cloth) m->cloth->setGravity(toBt(s.gravity));
   m->world.getSolverInfo().m_numIterations = s.solverIterations;
   m->world.getSolverInfo().m_erp = btScalar(s.erp);
   for (Impl::Hinge& h : m->hinges)
@@ -573,8 +581,54 @@ void PhysicsWorld::addGroundPlane(double friction, double restitution) {
   ci.m_restitution = btScalar(restitution);
   auto* rb = new btRigidBody(ci);
   rb->setUserIndex(-1);
-  m->world.addRigidBody(rb);
+  // Bullet's own static filter, less cloth: cloth meets a stand-in box instead (ClothSystem).
+  m->world.addRigidBody(rb, btBroadphaseProxy::StaticFilter,
+                        btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter ^ kClothFilterGroup);
   m->extraBodies.push_back(rb);
+  m->groundFriction = friction;
+  if (m->cloth) m->cloth->setGround(friction);
+}
+
+int PhysicsWorld::addCloth(const ClothDesc& desc) {
+  if (!m->cloth) {
+    m->cloth = std::make_unique<ClothSystem>(m->world, toBt(m->settings.gravity));
+    if (m->groundFriction) m->cloth->setGround(*m->groundFriction);
+  }
+  return m->cloth->add(desc);
+}
+
+int PhysicsWorld::clothCount() const {
+  return m->cloth ? m->cloth->count() : 0;
+}
+
+int PhysicsWorld::clothNodeCount(int cloth) const {
+  return m->cloth->body(cloth).m_nodes.size();
+}
+
+Vec3 PhysicsWorld::clothNode(int cloth, int node) const {
+  return fromBt(m->cloth->body(cloth).m_nodes[node].m_x);
+}
+
+Vec3 PhysicsWorld::clothNodeVelocity(int cloth, int node) const {
+  return fromBt(m->cloth->body(cloth).m_nodes[node].m_v);
+}
+
+void PhysicsWorld::setClothNodePinned(int cloth, int node, bool pinned) {
+  m->cloth->setPinned(cloth, node, pinned);
+}
+
+bool PhysicsWorld::clothFinite(int cloth) const {
+  double sum = 0;  // a sum of finite floats is finite in double
+  const btSoftBody::tNodeArray& nodes = m->cloth->body(cloth).m_nodes;
+  for (int i = 0; i < nodes.size(); ++i) {
+    const btSoftBody::Node& n = nodes[i];
+    sum += double(n.m_x.x()) + n.m_x.y() + n.m_x.z() + n.m_v.x() + n.m_v.y() + n.m_v.z();
+  }
+  return std::isfinite(sum);
+}
+
+bool PhysicsWorld::clothNodePinned(int cloth, int node) const {
+  return m->cloth->pinned(cloth, node);
 }
 
 int PhysicsWorld::addPart(const PartDesc& desc) {
@@ -780,6 +834,10 @@ double PhysicsWorld::rayCast(const Vec3& from, const Vec3& dir, double length, i
   // Bullet's default sub-simplex cast against convex shapes is off by millimetres at a metre or
   // two; the GJK cast is exact to well under a millimetre.
   cb.m_flags |= btTriangleRaycastCallback::kF_UseGjkConvexCastRaytest;
+  // Rays pass through cloth: Bullet's first ray test on a soft body builds its face tree (quadratic
+  // in the faces) and rebuilds its node tree, which reorders its contacts, so a range sensor read
+  // (or a picture taken) would change the run.
+  cb.m_collisionFilterMask = btBroadphaseProxy::AllFilter ^ kClothFilterGroup;
   {
     std::lock_guard<std::mutex> lock(m->rayMutex);
     m->world.rayTest(a, b, cb);
@@ -880,6 +938,7 @@ void PhysicsWorld::step(double dt, int substeps) {
     }
   }
   m->forces.clear();
+  if (m->cloth) m->cloth->afterStep();
   if (m->tracking) {
     // Mean forces over the whole step: a contact's impulse spread over dt, not over one substep.
     m->lastH = dt;

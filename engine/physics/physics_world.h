@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "physics/cloth.h"
 #include "physics/shape_def.h"
 
 namespace rm3d {
@@ -112,6 +113,18 @@ class PhysicsWorld {
   /// Moves parts rigidly by `delta` (world frame), keeping their relative poses. For placing
   /// modules before they interact; velocities are kept.
   void transformParts(const std::vector<int>& parts, const Pose& delta);
+
+  /// A cloth (physics/cloth.h; the desc is checked by the caller); returns its index.
+  int addCloth(const ClothDesc& desc);
+  int clothCount() const;
+  int clothNodeCount(int cloth) const;
+  Vec3 clothNode(int cloth, int node) const;  ///< world frame, m
+  Vec3 clothNodeVelocity(int cloth, int node) const;
+  /// A pinned node stays where it is (it keeps its place in space, not on a body).
+  void setClothNodePinned(int cloth, int node, bool pinned);
+  bool clothNodePinned(int cloth, int node) const;
+  /// False when some node's position or velocity is NaN or infinite (one pass, no allocation).
+  bool clothFinite(int cloth) const;
 
   void setMotor(int hinge, MotorMode mode, double value);
   /// Sets the linear velocity of the body holding the part (a thrown obstacle).

@@ -109,9 +109,15 @@ void unshuffle(const uint8_t* in, uint8_t* out, size_t n) {
   for (size_t i = lanes * 8; i < n; ++i) out[i] = in[i];
 }
 
+size_t clothNodes(const SceneLayout& l) {
+  size_t n = 0;
+  for (const SceneLayout::Cloth& c : l.cloths) n += size_t(c.nodes);
+  return n;
+}
+
 size_t stateBytes(const SceneLayout& l) {
   return size_t(l.linkCount) * 56 + size_t(l.jointCount) * 8 + size_t(l.dockCount) + l.modules.size() +
-         l.ranges.size() * 8 + l.bodyRadius.size() * 56;
+         l.ranges.size() * 8 + l.bodyRadius.size() * 56 + clothNodes(l) * 12;
 }
 
 void putState(Out& o, const SceneState& s) {
@@ -121,6 +127,7 @@ void putState(Out& o, const SceneState& s) {
   o.b.insert(o.b.end(), s.faulted.begin(), s.faulted.end());
   for (double r : s.rangeHits) o.put(r);
   for (const Pose& p : s.bodies) o.pose(p);
+  for (const Eigen::Vector3f& v : s.clothNodes) o.put(v.x()), o.put(v.y()), o.put(v.z());
 }
 
 void getState(In& in, const SceneLayout& l, SceneState& s) {
@@ -136,6 +143,9 @@ void getState(In& in, const SceneLayout& l, SceneState& s) {
   for (uint8_t& f : s.faulted) f = in.get<uint8_t>();
   for (double& r : s.rangeHits) r = in.get<double>();
   for (Pose& p : s.bodies) p = in.pose();
+  s.clothNodes.resize(clothNodes(l));
+  for (Eigen::Vector3f& v : s.clothNodes)
+    for (int i = 0; i < 3; ++i) v[i] = in.get<float>();
 }
 
 void putLayout(Out& o, const SceneLayout& l) {
@@ -190,6 +200,14 @@ void putLayout(Out& o, const SceneLayout& l) {
   for (int i = 0; i < 3; ++i) o.put(target[i]);
   o.put(int32_t(c.follow));
   o.put(c.fovDeg);
+  // Cloth, after everything a layout without it has (files from before cloth simply end here).
+  o.put(uint32_t(l.cloths.size()));
+  for (const SceneLayout::Cloth& cl : l.cloths) {
+    o.put(int32_t(cl.nodes));
+    o.put(uint32_t(cl.triangles.size()));
+    for (uint32_t t : cl.triangles) o.put(t);
+    for (float f : cl.color) o.put(f);
+  }
 }
 
 /// Reads a layout and checks every index in it, so drawing from it cannot go out of bounds.
@@ -257,6 +275,16 @@ bool getLayout(In& in, SceneLayout& l, std::string& why) {
   if (has & 2) l.camera.target = target;
   l.camera.follow = in.get<int32_t>();
   l.camera.fovDeg = in.get<double>();
+  l.cloths.resize(in.at < in.n ? in.count(8) : 0);
+  for (SceneLayout::Cloth& cl : l.cloths) {
+    cl.nodes = in.get<int32_t>();
+    cl.triangles.resize(in.count(4));
+    for (uint32_t& t : cl.triangles) t = in.get<uint32_t>();
+    for (float& f : cl.color) f = in.get<float>();
+    if (cl.nodes < 0 || cl.nodes > (1 << 24)) return why = "a cloth with a bad node count", false;
+    for (uint32_t t : cl.triangles)
+      if (t >= uint32_t(cl.nodes)) return why = "a cloth triangle past its nodes", false;
+  }
   if (in.bad) return why = "it ends early", false;
   if (!(l.dt > 0 && l.dt <= 1)) return why = "a bad dt", false;
   const int modules = int(l.modules.size()), bodies = int(l.bodyRadius.size());

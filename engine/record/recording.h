@@ -5,7 +5,8 @@
 //   chunks   u32 tag, u32 CRC-32 of the unpacked payload, u64 unpacked size, u64 packed size,
 //            then the payload packed with zlib (deflate)
 // Chunks, in order: META (JSON: world file, project root, seed, params, dt, arguments, version),
-// LAYO (the scene layout: meshes, items, module names, joints, docks, camera: render/scene_state.h),
+// LAYO (the scene layout: meshes, items, module names, joints, docks, camera, then cloth, which
+// files from before cloth lack: render/scene_state.h),
 // then one FRAM per step from step 0 (the state before the first step), then SRCS (every Lua
 // text the run read: world script, module types, behaviours, required modules) and END_ (frame
 // count). A frame is its clock, the new dock events and faults of that step, and the state

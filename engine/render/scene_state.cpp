@@ -200,6 +200,8 @@ SceneLayout sceneLayout(const World& w) {
     lay.items.push_back(item);
     lay.bodyRadius.push_back(shapeRadius(o.shape));
   }
+  for (const World::Cloth& c : w.cloths())
+    lay.cloths.push_back({c.nx * c.ny, clothTriangles(c.nx, c.ny), c.color});
   lay.ground = w.hasGround();
   lay.dt = w.settings().dt;
   const World::CameraDef& c = w.camera();
@@ -234,6 +236,13 @@ void captureState(const World& w, const SceneLayout& lay, SceneState& out) {
     out.rangeHits[r] =
         w.physicsConst().rayCast(from + dir * s.minRange, dir, s.maxRange - s.minRange, s.module);
   }
+  size_t nodes = 0;
+  for (const SceneLayout::Cloth& c : lay.cloths) nodes += size_t(c.nodes);
+  out.clothNodes.resize(nodes);
+  size_t at = 0;
+  for (size_t c = 0; c < lay.cloths.size(); ++c)
+    for (int i = 0; i < lay.cloths[c].nodes; ++i)
+      out.clothNodes[at++] = f3(w.physicsConst().clothNode(int(c), i));
   out.bodies.resize(w.obstacles().size());
   for (size_t b = 0; b < w.obstacles().size(); ++b) out.bodies[b] = w.obstaclePose(w.obstacles()[b].part);
 }
@@ -261,6 +270,22 @@ Snapshot buildSnapshot(const SceneLayout& lay, const SceneState& st) {
       frame = st.links[size_t(info.firstLink + it.link)];
     }
     item.transform = toMatrix(frame * it.local, it.scale);
+    snap.items.push_back(item);
+  }
+  // Cloth: a mesh per cloth with this frame's node positions (the renderer uploads meshes every
+  // frame and shades both sides). A recording without cloth nodes draws none.
+  size_t first = 0;
+  for (const SceneLayout::Cloth& c : lay.cloths) {
+    if (first + size_t(c.nodes) > st.clothNodes.size()) break;
+    RenderMesh mesh;
+    mesh.vertices.assign(st.clothNodes.begin() + long(first),
+                         st.clothNodes.begin() + long(first + size_t(c.nodes)));
+    mesh.indices = c.triangles;
+    first += size_t(c.nodes);
+    RenderItem item;
+    item.mesh = int(snap.meshes.size());
+    item.color = c.color;
+    snap.meshes.push_back(std::move(mesh));
     snap.items.push_back(item);
   }
   // Range sensors as lines: to the hit (red) or over their whole range (yellow).

@@ -55,6 +55,12 @@ struct SceneLayout {
   std::vector<Range> ranges;
   std::vector<ModuleInfo> modules;
   std::vector<double> bodyRadius;  ///< per body: radius of a sphere around its shape (framing)
+  struct Cloth {                   ///< a cloth, drawn as a two-sided mesh whose vertices are its nodes now
+    int nodes = 0;
+    std::vector<uint32_t> triangles;
+    std::array<float, 4> color{0.8f, 0.3f, 0.25f, 1};
+  };
+  std::vector<Cloth> cloths;
   bool ground = true;
   double dt = 1.0 / 60;
   CameraDef camera;
@@ -74,6 +80,7 @@ struct SceneState {
   /// Per particle set (fluid, debris): the box holding its spheres (centres grown by the
   /// radius), framed by the automatic camera like a body. Empty boxes are skipped.
   std::vector<Eigen::AlignedBox3d> particleBounds;
+  std::vector<Eigen::Vector3f> clothNodes;  ///< every cloth's nodes, cloth after cloth
 };
 
 SceneLayout sceneLayout(const World& world);

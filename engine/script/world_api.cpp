@@ -574,6 +574,7 @@ void seedWorldRandom(lua_State* L, uint64_t seed) {
 void openWorldApi(lua_State* L, WorldScript& s) {
   openModuleHandle(L);
   openBodyHandle(L);
+  openClothHandle(L);
   static const luaL_Reg fns[] = {{"set", worldSet},
                                  {"ground", worldGround},
                                  {"box", worldBox},
@@ -602,6 +603,8 @@ void openWorldApi(lua_State* L, WorldScript& s) {
   luaL_newlib(L, fns);
   pushSeriesClosure(L, worldTrace);
   lua_setfield(L, -2, "trace");
+  lua_pushcfunction(L, worldCloth);  // world.cloth{...}: world_cloth.cpp
+  lua_setfield(L, -2, "cloth");
   lua_setglobal(L, "world");
   lua_pushcfunction(L, expectFn);
   lua_setglobal(L, "expect");

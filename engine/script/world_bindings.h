@@ -1,8 +1,8 @@
 // World side: registration of the Lua types and tables the world script sees, one file each:
 // world_api.cpp (`world`, `expect`, `args`, `log`), world_module.cpp (the Module handle, a
-// spawned module), world_body.cpp (the Body handle, an obstacle). Handles are userdata holding an
-// index. Also the bridge that turns C++ exceptions from World into Lua errors. The behaviour
-// side is behaviour_bindings.h.
+// spawned module), world_body.cpp (the Body handle, an obstacle), world_cloth.cpp (world.cloth, the Cloth
+// handle). Handles are userdata holding an index. Also the bridge that turns C++ exceptions from World into
+// Lua errors. The behaviour side is behaviour_bindings.h.
 #pragma once
 
 #include <exception>
@@ -24,6 +24,9 @@ int checkModule(lua_State* L, int arg);
 /// A dock of module `module` named by the string at arg (errors listing the docks otherwise).
 int checkDockName(lua_State* L, int arg, int module);
 void pushBody(lua_State* L, int part);
+void openClothHandle(lua_State* L);
+/// world.cloth{...} (world_cloth.cpp)
+int worldCloth(lua_State* L);
 /// Fills a Hull shape from a mesh file (resolved like other world paths). Throws InputError.
 void loadHullShape(World& world, const char* file, double scale, ShapeDef& out);
 

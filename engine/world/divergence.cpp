@@ -52,7 +52,19 @@ bool checkDivergence(const World& w, std::string& message) {
   if (!message.empty()) return true;
   const DivergenceLimits& lim = w.settings().limits;
   const BodyDivergence d = w.physicsConst().divergenceScan(lim.maxSpeed, lim.maxAngularSpeed, lim.bounds);
-  if (d.kind == BodyDivergence::Kind::None) return false;
+  char when[96];
+  std::snprintf(when, sizeof when, "physics diverged at t=%.4g s (step %lld): ", w.time(),
+                (long long)w.steps());
+  if (d.kind == BodyDivergence::Kind::None) {
+    for (size_t c = 0; c < w.cloths().size(); ++c)
+      if (!w.physicsConst().clothFinite(int(c))) {
+        message = std::string(when) + "cloth " + std::to_string(c + 1) +
+                  " (cloths count from 1 in the order the world script made them): NaN or infinite node "
+                  "position or velocity (smaller dt or more substeps, a lower stiffness, more nodes)";
+        return true;
+      }
+    return false;
+  }
   char what[256];
   switch (d.kind) {
     case BodyDivergence::Kind::Position:
@@ -76,9 +88,6 @@ bool checkDivergence(const World& w, std::string& message) {
                     d.value, lim.bounds);
       break;
   }
-  char when[96];
-  std::snprintf(when, sizeof when, "physics diverged at t=%.4g s (step %lld): ", w.time(),
-                (long long)w.steps());
   message =
       std::string(when) + whereIs(w, d.part, d.partsInBody) + ": " + what +
       " (smaller dt or more substeps, smaller forces, or world.set{max_speed=, max_angular_speed=, bounds=})";

@@ -82,6 +82,18 @@ nlohmann::json World::summary(double wallSeconds) const {
   json metrics = json::object();
   for (const auto& [name, value] : m_metrics) metrics[name] = value;
   j["metrics"] = metrics;
+  // Environment: kind, count, bounds and whether any node is not finite, per cloth.
+  json env = json::array();
+  for (size_t c = 0; c < m_cloths.size(); ++c) {
+    const ClothStats st = clothStats(int(c));
+    auto vec = [&](const Vec3& v) { return json{number(v.x()), number(v.y()), number(v.z())}; };
+    env.push_back({{"kind", "cloth"},
+                   {"count", st.nodes},
+                   {"resolution", {m_cloths[c].nx, m_cloths[c].ny}},
+                   {"bounds", {{"min", vec(st.lo)}, {"max", vec(st.hi)}}},
+                   {"nan", st.nan}});
+  }
+  if (!env.empty()) j["environment"] = env;  // absent without any: older summaries stay as they were
   j["faults"] = faultCount();
   const std::string& error = m_scriptError.empty() ? m_divergence : m_scriptError;
   j["error"] = error.empty() ? json(nullptr) : json(error);

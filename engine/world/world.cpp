@@ -143,6 +143,32 @@ int World::addObstacle(const ShapeDef& shape, const Pose& pose, double mass, dou
   return part;
 }
 
+int World::addCloth(const ClothDesc& desc, const std::array<float, 4>& color) {
+  ensurePhysics();
+  const int c = m_physics->addCloth(desc);
+  m_cloths.push_back({desc.nx, desc.ny, color});
+  return c;
+}
+
+World::ClothStats World::clothStats(int c) const {
+  ClothStats st;
+  st.nodes = m_physics->clothNodeCount(c);
+  int finite = 0;
+  for (int i = 0; i < st.nodes; ++i) {
+    const Vec3 p = m_physics->clothNode(c, i), v = m_physics->clothNodeVelocity(c, i);
+    if (!p.allFinite() || !v.allFinite()) {
+      st.nan = true;
+      continue;
+    }
+    st.lo = finite ? st.lo.cwiseMin(p) : p;
+    st.hi = finite ? st.hi.cwiseMax(p) : p;
+    st.meanVelocity += v;
+    ++finite;
+  }
+  if (finite) st.meanVelocity /= finite;
+  return st;
+}
+
 Pose World::obstaclePose(int part) const {
   return m_physics->partPose(part);
 }

@@ -5,6 +5,7 @@
 // and the scripts are reached through world/programs.h, so nothing here includes Lua.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <deque>
@@ -165,6 +166,20 @@ class World {
     double mass;
   };
   const std::vector<Obstacle>& obstacles() const { return m_obstacles; }
+  /// world.cloth{...}: a cloth (physics/cloth.h; checked by the caller) and its colour.
+  struct Cloth {
+    int nx = 2, ny = 2;
+    std::array<float, 4> color{0.8f, 0.3f, 0.25f, 1};
+  };
+  int addCloth(const ClothDesc& desc, const std::array<float, 4>& color);
+  const std::vector<Cloth>& cloths() const { return m_cloths; }
+  struct ClothStats {
+    int nodes = 0;
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  ///< bounds of the finite nodes
+    Vec3 meanVelocity = Vec3::Zero();
+    bool nan = false;  ///< some node's position or velocity is NaN or infinite
+  };
+  ClothStats clothStats(int cloth) const;
   /// world.camera{...}: where pictures are taken from.
   struct CameraDef {
     std::optional<Vec3> eye, target;  ///< with `follow`, eye is an offset from the module
@@ -284,6 +299,7 @@ class World {
   TraceSeries m_traces;
   std::map<std::string, double> m_metrics;
   std::vector<Obstacle> m_obstacles;
+  std::vector<Cloth> m_cloths;
   CameraDef m_camera;
   // Dock proximity (dock sensors): free docks sorted by x. Built before the behaviour phase once
   // any dock sensor has been read (the first read builds it under the mutex: dock states are

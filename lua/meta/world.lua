@@ -78,6 +78,31 @@ function Body:orientation() end
 ---@return Vec3
 function Body:velocity() end
 
+---A cloth (world.cloth): nodes on an nx x ny grid; node (ix, iy) from 0 is index iy * nx + ix + 1.
+---@class Cloth
+local Cloth = {}
+---@return integer nodes
+function Cloth:count() end
+---@return integer nx, integer ny
+function Cloth:resolution() end
+---@return {min: Vec3, max: Vec3}? bounds of the nodes, nil when a node is NaN
+function Cloth:bounds() end
+---@return Vec3 mean node velocity
+function Cloth:velocity() end
+---@param i integer node index, 1..count
+---@return Vec3
+function Cloth:node(i) end
+---@return Vec3[] every node, node 1 first
+function Cloth:positions() end
+---Node i stays where it is now.
+---@param i integer
+function Cloth:pin(i) end
+---@param i integer
+function Cloth:unpin(i) end
+---@param i integer
+---@return boolean
+function Cloth:pinned(i) end
+
 ---@class ShapeOptions
 ---@field at? number[] {x, y, z}
 ---@field rot? number[] {roll, pitch, yaw}
@@ -103,6 +128,10 @@ function world.cylinder(o) end
 ---@param o ShapeOptions|{file: string, scale: number?}
 ---@return Body
 function world.mesh(o) end
+---A cloth sheet through Bullet soft bodies; corners in order around the edge.
+---@param o {corners: number[][], resolution: integer[]?, mass: number?, stiffness: number?, pinned: integer[]?, pinned_nodes: integer[]?, friction: number?, thickness: number?, color: number[]?}
+---@return Cloth
+function world.cloth(o) end
 ---@param type string a module type name or a module-type file
 ---@param o? {at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?}
 ---@return Module

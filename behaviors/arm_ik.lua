@@ -3,15 +3,22 @@
 --   - each SuperBot puts its measured joint angles, stamped with the time, into a table it floods
 --     along the chain (`front` and `back` docks) every step; the elongated docks only relay, so
 --     news travels one hop per step;
---   - the controller (params.controller) runs the IK each step: forward kinematics of the latest
---     measured angles (lua/kinematics.lua, from the module types' data), the tip's error to the
---     current target, one DLS step with adaptive damping and joint limits, a null-space pull
---     towards the upright home pose (which keeps the gravity torques low), and the command
---     measured + step, clamped to the limits; the commands flood back the same way and each
---     SuperBot drives its servos to its own.
--- Closing the loop on measured angles, with an offset that integrates the step, makes up what the
--- servos do not reach (sag under load, latency): the command keeps moving until the measured tip
--- is on target.
+--   - the controller (params.controller) runs the IK each step on one consistent snapshot of
+--     the measured angles (its own taken from the time the others' were): forward kinematics
+--     (lua/kinematics.lua, from the module types' data), the tip's error to the current target
+--     (clipped to 3 cm), and one damped-least-squares step (linalg's A:dls) whose damping grows
+--     as the tip Jacobian's smallest singular value falls (near a singularity). Servos whose
+--     static gravity torque (from the model's masses) is above 30% of their rating add rows
+--     asking for it to come down, solved with the tip's rows (9 joints leave room for both), so
+--     the arm stays where the servos hold it easily. Joints that would pass a limit are taken
+--     out and the step solved again;
+--   - the command integrates the step (command += 0.1 x step, at most 0.3 rad/s, at most
+--     0.15 rad ahead of the measured angle, within the limits). Because the step comes from the
+--     measured pose, whatever the servos leave undone (sag under load, latency) keeps moving the
+--     command until the measured tip is on target. Commanding "measured + step" directly fed
+--     the late angles back into the servos and chattered; faster commands made the lower servos
+--     saturate accelerating the arm (2.2 kg above them) and let it fall;
+--   - the commands flood back the same way and each SuperBot drives its servos to its own.
 -- params: structure = {modules = {{name=, type=}}, connections = {...}, base=, base_pose=} (as
 -- kinematics.structure, with type names), tip = {module, dock}, controller = module name,
 -- targets = {{x, y, z}, ...}, start = s, slot = s (target k is active from start + (k-1) slot).
@@ -23,7 +30,7 @@ local kLambdaMax = 0.04    -- m: damping at a singularity
 local kSigmaZone = 0.04    -- m: damping grows as the smallest singular value falls below this
 local kMaxError = 0.03     -- m: larger errors are clipped (the linearisation holds)
 local kLoadFree = 0.3      -- fraction of a servo's rating its static gravity load should stay under
-local kLoadWeight = 0.2    -- m per unit of rating: weight of the load rows against the tip's
+local kLoadWeight = 0.5    -- m per unit of rating: weight of the load rows against the tip's
 local kMaxLoadStep = 0.05  -- fraction of a rating: largest load correction asked in one step
 local kLimitMargin = 0.05  -- rad kept clear of the joint limits
 local kStepGain = 0.1      -- fraction of the DLS step added to the command per control step
@@ -39,8 +46,8 @@ for _, d in ipairs({ "front", "back" }) do
   if module.has_sensor("dock:" .. d) then chainDocks[#chainDocks + 1] = module.dock(d) end
 end
 
-local angles, commands = {}, {}
-local history = {}                -- the controller's own angles, newest first (a few steps)   -- module name -> {t = time, name = angle, ...}
+local angles, commands = {}, {}  -- module name -> {t = time, joint name = angle, ...}
+local history = {}                -- the controller's own angles, newest first (a few steps)
 
 local function merge(into, from)
   for name, rec in pairs(from or {}) do
@@ -193,11 +200,6 @@ function step(dt)
       local q = {}
       for i, d in ipairs(ctl.s.dofs) do q[i] = (d.module == me and own or angles[d.module])[d.joint] end
       local cmd, err, lambda, gravityLoad = ikStep(q, target, dt)
-      if params.debug and math.abs(t - 4.45) < 0.009 then
-        local parts = {}
-        for i = 1, #q do parts[i] = string.format("%.5f", q[i]) end
-        log("ctl q " .. table.concat(parts, " ") .. string.format(" err %.3f target %.4f %.4f %.4f", err * 1000, target[1], target[2], target[3]))
-      end
       for i, d in ipairs(ctl.s.dofs) do
         local c = commands[d.module]
         if not c or c.t ~= t then

@@ -25,11 +25,11 @@ namespace {
 constexpr const char* kMatrixMeta = "linalg.matrix";
 constexpr const char* kQuatMeta = "linalg.quat";
 constexpr const char* kTransformMeta = "linalg.transform";
-constexpr lua_Integer kMaxDim = 1 << 16;        ///< rows or columns
-constexpr lua_Integer kMaxEntries = 1 << 24;    ///< rows * columns (128 MiB of doubles)
-constexpr int kMaxShownEntries = 64;            ///< __tostring prints larger ones by shape only
-constexpr int kFlopsPerInstruction = 16;        ///< budget charge for cubic work
-constexpr int kSmall = 16;                      ///< DLS systems up to this size stay on the stack
+constexpr lua_Integer kMaxDim = 1 << 16;      ///< rows or columns
+constexpr lua_Integer kMaxEntries = 1 << 24;  ///< rows * columns (128 MiB of doubles)
+constexpr int kMaxShownEntries = 64;          ///< __tostring prints larger ones by shape only
+constexpr int kFlopsPerInstruction = 16;      ///< budget charge for cubic work
+constexpr int kSmall = 16;                    ///< DLS systems up to this size stay on the stack
 
 /// The userdata header; the entries (column-major doubles) follow it.
 struct alignas(16) MatHeader {
@@ -130,7 +130,9 @@ const char* kindName(lua_State* L, int i) {
 
 MatHeader* checkMat(lua_State* L, int i, const char* fn) {
   auto* h = static_cast<MatHeader*>(luaL_testudata(L, i, kMatrixMeta));
-  if (!h) luaL_error(L, "linalg: %s: argument %d: expected a linalg matrix or vector, got %s", fn, i, kindName(L, i));
+  if (!h)
+    luaL_error(L, "linalg: %s: argument %d: expected a linalg matrix or vector, got %s", fn, i,
+               kindName(L, i));
   return h;
 }
 
@@ -142,14 +144,16 @@ QuatUd* checkQuat(lua_State* L, int i, const char* fn) {
 
 TransformUd* checkTransform(lua_State* L, int i, const char* fn) {
   auto* t = static_cast<TransformUd*>(luaL_testudata(L, i, kTransformMeta));
-  if (!t) luaL_error(L, "linalg: %s: argument %d: expected a linalg transform, got %s", fn, i, kindName(L, i));
+  if (!t)
+    luaL_error(L, "linalg: %s: argument %d: expected a linalg transform, got %s", fn, i, kindName(L, i));
   return t;
 }
 
 double checkEntry(lua_State* L, int idx, const char* fn, const char* what, int i, int j) {
   if (lua_type(L, idx) != LUA_TNUMBER) {
     if (j > 0)
-      luaL_error(L, "linalg: %s: %s (%d, %d): expected a number, got %s", fn, what, i, j, luaL_typename(L, idx));
+      luaL_error(L, "linalg: %s: %s (%d, %d): expected a number, got %s", fn, what, i, j,
+                 luaL_typename(L, idx));
     luaL_error(L, "linalg: %s: %s %d: expected a number, got %s", fn, what, i, luaL_typename(L, idx));
   }
   return lua_tonumber(L, idx);
@@ -164,8 +168,8 @@ Vec3 check3(lua_State* L, int i, const char* fn) {
     return Vec3(h->data()[0], h->data()[1], h->data()[2]);
   }
   if (lua_type(L, i) != LUA_TTABLE)
-    luaL_error(L, "linalg: %s: argument %d: expected a 3-vector (a linalg vector or {x, y, z}), got %s", fn, i,
-               kindName(L, i));
+    luaL_error(L, "linalg: %s: argument %d: expected a 3-vector (a linalg vector or {x, y, z}), got %s", fn,
+               i, kindName(L, i));
   if (lua_rawlen(L, i) != 3)
     luaL_error(L, "linalg: %s: argument %d: expected {x, y, z}, got a table of %d entries", fn, i,
                int(lua_rawlen(L, i)));
@@ -192,7 +196,8 @@ int needSquare(lua_State* L, const char* fn, const MatHeader* a) {
 int linalgMatrix(lua_State* L) {
   const char* fn = "matrix";
   if (lua_type(L, 1) != LUA_TTABLE)
-    return luaL_error(L, "linalg: matrix: expected a table of rows ({{1, 2}, {3, 4}}), got %s", kindName(L, 1));
+    return luaL_error(L, "linalg: matrix: expected a table of rows ({{1, 2}, {3, 4}}), got %s",
+                      kindName(L, 1));
   const lua_Integer rows = lua_Integer(lua_rawlen(L, 1));
   if (rows < 1) return luaL_error(L, "linalg: matrix: expected at least one row, got an empty table");
   lua_rawgeti(L, 1, 1);
@@ -210,8 +215,8 @@ int linalgMatrix(lua_State* L) {
       return luaL_error(L, "linalg: matrix: row %d: expected a table of numbers, got %s", int(i),
                         luaL_typename(L, -1));
     if (lua_Integer(lua_rawlen(L, -1)) != cols)
-      return luaL_error(L, "linalg: matrix: row %d has %d entries, row 1 has %d", int(i), int(lua_rawlen(L, -1)),
-                        int(cols));
+      return luaL_error(L, "linalg: matrix: row %d has %d entries, row 1 has %d", int(i),
+                        int(lua_rawlen(L, -1)), int(cols));
     for (lua_Integer j = 1; j <= cols; ++j) {
       lua_rawgeti(L, -1, j);
       d[(j - 1) * rows + (i - 1)] = checkEntry(L, -1, fn, "entry", int(i), int(j));
@@ -264,8 +269,8 @@ int linalgZeros(lua_State* L) {
 Quat checkedUnit(lua_State* L, const Quat& q, const char* fn) {
   const double n = q.norm();
   if (!std::isfinite(n) || n < 1e-12)
-    luaL_error(L, "linalg: %s: expected a non-zero finite quaternion, got (%f, %f, %f, %f)", fn, q.w(), q.x(), q.y(),
-               q.z());
+    luaL_error(L, "linalg: %s: expected a non-zero finite quaternion, got (%f, %f, %f, %f)", fn, q.w(), q.x(),
+               q.y(), q.z());
   return Quat(q.coeffs() / n);
 }
 
@@ -274,7 +279,8 @@ int linalgQuat(lua_State* L) {
   double c[4];
   if (lua_type(L, 1) == LUA_TTABLE) {
     if (lua_rawlen(L, 1) != 4)
-      return luaL_error(L, "linalg: quat: expected {w, x, y, z}, got a table of %d entries", int(lua_rawlen(L, 1)));
+      return luaL_error(L, "linalg: quat: expected {w, x, y, z}, got a table of %d entries",
+                        int(lua_rawlen(L, 1)));
     for (int k = 0; k < 4; ++k) {
       lua_rawgeti(L, 1, k + 1);
       c[k] = checkEntry(L, -1, "quat", "entry", k + 1, 0);
@@ -283,8 +289,8 @@ int linalgQuat(lua_State* L) {
   } else {
     for (int k = 0; k < 4; ++k) {
       if (lua_type(L, k + 1) != LUA_TNUMBER)
-        return luaL_error(L, "linalg: quat: expected quat(w, x, y, z) or quat{w, x, y, z}, argument %d is %s", k + 1,
-                          kindName(L, k + 1));
+        return luaL_error(L, "linalg: quat: expected quat(w, x, y, z) or quat{w, x, y, z}, argument %d is %s",
+                          k + 1, kindName(L, k + 1));
       c[k] = lua_tonumber(L, k + 1);
     }
   }
@@ -308,11 +314,13 @@ Quat checkRotation(lua_State* L, int i, const char* fn) {
   if (auto* q = static_cast<QuatUd*>(luaL_testudata(L, i, kQuatMeta))) return toQuat(q);
   auto* h = static_cast<MatHeader*>(luaL_testudata(L, i, kMatrixMeta));
   if (!h || h->rows != 3 || h->cols != 3)
-    luaL_error(L, "linalg: %s: argument %d: expected a quat or a 3x3 rotation matrix, got %s", fn, i, kindName(L, i));
+    luaL_error(L, "linalg: %s: argument %d: expected a quat or a 3x3 rotation matrix, got %s", fn, i,
+               kindName(L, i));
   const Eigen::Matrix3d r = Eigen::Map<Eigen::Matrix3d>(h->data());
   const double err = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (!(err < 1e-6) || !(r.determinant() > 0))
-    luaL_error(L, "linalg: %s: argument %d: the matrix is not a rotation (orthonormal, determinant 1)", fn, i);
+    luaL_error(L, "linalg: %s: argument %d: the matrix is not a rotation (orthonormal, determinant 1)", fn,
+               i);
   return Quat(r).normalized();
 }
 
@@ -351,8 +359,10 @@ lua_Integer checkIndex(lua_State* L, MatHeader* h, const char* fn, int values, i
   }
   if (i < 1 || i > h->rows || j < 1 || j > h->cols) {
     if (h->vector && indices < 2)
-      luaL_error(L, "linalg: %s: index %d out of range (the vector has %d entries)", fn, int(i), int(h->rows));
-    luaL_error(L, "linalg: %s: index (%d, %d) out of range for a %dx%d matrix", fn, int(i), int(j), h->rows, h->cols);
+      luaL_error(L, "linalg: %s: index %d out of range (the vector has %d entries)", fn, int(i),
+                 int(h->rows));
+    luaL_error(L, "linalg: %s: index (%d, %d) out of range for a %dx%d matrix", fn, int(i), int(j), h->rows,
+               h->cols);
   }
   return (j - 1) * h->rows + (i - 1);
 }
@@ -369,10 +379,12 @@ int matGet(lua_State* L) {
 int matSet(lua_State* L) {
   MatHeader* h = checkMat(L, 1, "set");
   int next = 0;
-  if (lua_gettop(L) < 3) return luaL_error(L, "linalg: set: expected set(i, j, value) or, for a vector, set(i, value)");
+  if (lua_gettop(L) < 3)
+    return luaL_error(L, "linalg: set: expected set(i, j, value) or, for a vector, set(i, value)");
   const lua_Integer k = checkIndex(L, h, "set", 1, next);
   if (lua_type(L, next) != LUA_TNUMBER)
-    return luaL_error(L, "linalg: set: the value (argument %d) must be a number, got %s", next, kindName(L, next));
+    return luaL_error(L, "linalg: set: the value (argument %d) must be a number, got %s", next,
+                      kindName(L, next));
   h->data()[k] = lua_tonumber(L, next);
   lua_settop(L, 1);
   return 1;
@@ -439,10 +451,12 @@ int matSolve(lua_State* L) {
   MatHeader* a = checkMat(L, 1, "solve");
   MatHeader* b = checkMat(L, 2, "solve");
   if (a->rows != b->rows) {
-    return luaL_error(L, "linalg: shape mismatch: solve of %dx%d with a right-hand side of %dx%d (expected %d rows)",
-                      a->rows, a->cols, b->rows, b->cols, a->rows);
+    return luaL_error(
+        L, "linalg: shape mismatch: solve of %dx%d with a right-hand side of %dx%d (expected %d rows)",
+        a->rows, a->cols, b->rows, b->cols, a->rows);
   }
-  chargeFlops(L, double(a->rows) * a->cols * std::min(a->rows, a->cols) + double(a->rows) * a->cols * b->cols);
+  chargeFlops(L,
+              double(a->rows) * a->cols * std::min(a->rows, a->cols) + double(a->rows) * a->cols * b->cols);
   MatHeader* x = newMat(L, a->cols, b->cols, b->vector != 0, "solve");
   int rank = 0;
   const int st = guarded([&] {
@@ -458,9 +472,11 @@ int matSolve(lua_State* L) {
   });
   if (st == kNoMemory) return noMemory(L, "solve");
   if (st == kFailed)
-    return luaL_error(L, "linalg: solve: singular matrix (%dx%d, rank %d); A:pinv() * b or A:dls(b, lambda) give a "
-                      "least-squares answer",
-                      a->rows, a->cols, rank);
+    return luaL_error(
+        L,
+        "linalg: solve: singular matrix (%dx%d, rank %d); A:pinv() * b or A:dls(b, lambda) give a "
+        "least-squares answer",
+        a->rows, a->cols, rank);
   return 1;
 }
 
@@ -534,24 +550,28 @@ int matDls(lua_State* L) {
   MatHeader* a = checkMat(L, 1, "dls");
   MatHeader* b = checkMat(L, 2, "dls");
   if (lua_type(L, 3) != LUA_TNUMBER)
-    return luaL_error(L, "linalg: dls: the damping lambda (argument 2) must be a number, got %s", kindName(L, 3));
+    return luaL_error(L, "linalg: dls: the damping lambda (argument 2) must be a number, got %s",
+                      kindName(L, 3));
   const double lambda = lua_tonumber(L, 3);
   if (!(lambda >= 0) || !std::isfinite(lambda))
     return luaL_error(L, "linalg: dls: the damping lambda must be finite and >= 0, got %f", lambda);
   if (a->rows != b->rows)
-    return luaL_error(L, "linalg: shape mismatch: dls of %dx%d with a right-hand side of %dx%d (expected %d rows)",
-                      a->rows, a->cols, b->rows, b->cols, a->rows);
+    return luaL_error(
+        L, "linalg: shape mismatch: dls of %dx%d with a right-hand side of %dx%d (expected %d rows)", a->rows,
+        a->cols, b->rows, b->cols, a->rows);
   const int small = std::min(a->rows, a->cols);
   chargeFlops(L, double(a->rows) * a->cols * small + double(small) * small * small);
   MatHeader* x = newMat(L, a->cols, b->cols, b->vector != 0, "dls");
   const int st = guarded([&] {
     if (small <= kSmall && b->cols <= kSmall)
-      return dlsSolve<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kSmall, kSmall>>(a, b, lambda, x);
+      return dlsSolve<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kSmall, kSmall>>(a, b, lambda,
+                                                                                                x);
     return dlsSolve<Eigen::MatrixXd>(a, b, lambda, x);
   });
   if (st == kNoMemory) return noMemory(L, "dls");
   if (st == kFailed)
-    return luaL_error(L, "linalg: dls: singular system (%dx%d, lambda %f); use lambda > 0", a->rows, a->cols, lambda);
+    return luaL_error(L, "linalg: dls: singular system (%dx%d, lambda %f); use lambda > 0", a->rows, a->cols,
+                      lambda);
   return 1;
 }
 
@@ -575,7 +595,8 @@ int matNormalized(lua_State* L) {
 int matDot(lua_State* L) {
   MatHeader* a = checkMat(L, 1, "dot");
   MatHeader* b = checkMat(L, 2, "dot");
-  if (a->rows * a->cols != b->rows * b->cols || (a->cols != 1 && a->rows != 1) || (b->cols != 1 && b->rows != 1))
+  if (a->rows * a->cols != b->rows * b->cols || (a->cols != 1 && a->rows != 1) ||
+      (b->cols != 1 && b->rows != 1))
     return shapeMismatch(L, "dot", a, b);
   double s = 0;
   for (int k = 0; k < a->rows * a->cols; ++k) s += a->data()[k] * b->data()[k];
@@ -847,8 +868,8 @@ int transformEq(lua_State* L) {
 int transformToString(lua_State* L) {
   TransformUd* t = checkTransform(L, 1, "tostring");
   char s[256];
-  std::snprintf(s, sizeof s, "transform{quat{%.6g, %.6g, %.6g, %.6g}, {%.6g, %.6g, %.6g}}", t->q[0], t->q[1], t->q[2],
-                t->q[3], t->p[0], t->p[1], t->p[2]);
+  std::snprintf(s, sizeof s, "transform{quat{%.6g, %.6g, %.6g, %.6g}, {%.6g, %.6g, %.6g}}", t->q[0], t->q[1],
+                t->q[2], t->q[3], t->p[0], t->p[1], t->p[2]);
   lua_pushstring(L, s);
   return 1;
 }
@@ -870,22 +891,32 @@ void newMeta(lua_State* L, const char* name, const luaL_Reg* metamethods, const 
 
 int openLinalg(lua_State* L) {
   // Operators (metamethods) are written &fn: they are not functions scripts call by name.
-  static const luaL_Reg matMeta[] = {{"__add", &matAdd},     {"__sub", &matSub}, {"__mul", &anyMul},
-                                     {"__div", &matDiv},     {"__unm", &matUnm}, {"__eq", &matEq},
-                                     {"__len", &matLen},     {"__tostring", &matToString}, {nullptr, nullptr}};
-  static const luaL_Reg matMethods[] = {{"rows", matRows},     {"cols", matCols},
-                                        {"get", matGet},       {"set", matSet},
-                                        {"t", matT},           {"inv", matInv},
-                                        {"det", matDet},       {"solve", matSolve},
-                                        {"pinv", matPinv},     {"svd", matSvd},
-                                        {"dls", matDls},       {"norm", matNorm},
-                                        {"dot", matDot},       {"cross", matCross},
-                                        {"copy", matCopy},     {"normalized", matNormalized},
-                                        {"totable", matToTable}, {nullptr, nullptr}};
+  static const luaL_Reg matMeta[] = {{"__add", &matAdd}, {"__sub", &matSub},           {"__mul", &anyMul},
+                                     {"__div", &matDiv}, {"__unm", &matUnm},           {"__eq", &matEq},
+                                     {"__len", &matLen}, {"__tostring", &matToString}, {nullptr, nullptr}};
+  static const luaL_Reg matMethods[] = {{"rows", matRows},
+                                        {"cols", matCols},
+                                        {"get", matGet},
+                                        {"set", matSet},
+                                        {"t", matT},
+                                        {"inv", matInv},
+                                        {"det", matDet},
+                                        {"solve", matSolve},
+                                        {"pinv", matPinv},
+                                        {"svd", matSvd},
+                                        {"dls", matDls},
+                                        {"norm", matNorm},
+                                        {"dot", matDot},
+                                        {"cross", matCross},
+                                        {"copy", matCopy},
+                                        {"normalized", matNormalized},
+                                        {"totable", matToTable},
+                                        {nullptr, nullptr}};
   static const luaL_Reg quatMeta[] = {
       {"__mul", &anyMul}, {"__eq", &quatEq}, {"__tostring", &quatToString}, {nullptr, nullptr}};
-  static const luaL_Reg quatMethods[] = {{"rotate", quatRotate}, {"inv", quatInv},         {"matrix", quatMatrix},
-                                         {"angle", quatAngle},   {"totable", quatToTable}, {nullptr, nullptr}};
+  static const luaL_Reg quatMethods[] = {{"rotate", quatRotate},   {"inv", quatInv},
+                                         {"matrix", quatMatrix},   {"angle", quatAngle},
+                                         {"totable", quatToTable}, {nullptr, nullptr}};
   static const luaL_Reg transformMeta[] = {
       {"__mul", &anyMul}, {"__eq", &transformEq}, {"__tostring", &transformToString}, {nullptr, nullptr}};
   static const luaL_Reg transformMethods[] = {{"inv", transformInv},
@@ -896,14 +927,10 @@ int openLinalg(lua_State* L) {
   newMeta(L, kMatrixMeta, matMeta, matMethods);
   newMeta(L, kQuatMeta, quatMeta, quatMethods);
   newMeta(L, kTransformMeta, transformMeta, transformMethods);
-  static const luaL_Reg fns[] = {{"matrix", linalgMatrix},
-                                 {"vector", linalgVector},
-                                 {"identity", linalgIdentity},
-                                 {"zeros", linalgZeros},
-                                 {"quat", linalgQuat},
-                                 {"quat_axis_angle", linalgQuatAxisAngle},
-                                 {"transform", linalgTransform},
-                                 {nullptr, nullptr}};
+  static const luaL_Reg fns[] = {{"matrix", linalgMatrix},       {"vector", linalgVector},
+                                 {"identity", linalgIdentity},   {"zeros", linalgZeros},
+                                 {"quat", linalgQuat},           {"quat_axis_angle", linalgQuatAxisAngle},
+                                 {"transform", linalgTransform}, {nullptr, nullptr}};
   luaL_newlib(L, fns);
   return 1;
 }

@@ -176,6 +176,7 @@ TEST_CASE("linalg: a 6 x 9 DLS step costs microseconds") {
   )";
   const auto t0 = std::chrono::steady_clock::now();
   CHECK(run(vm, code) == "");
-  const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / 1e5;
+  const double us =
+      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / 1e5;
   MESSAGE("one 6x9 J:dls(e, lambda) from Lua: " << us << " us");
 }

@@ -8,7 +8,7 @@
 --     (lua/kinematics.lua, from the module types' data), the tip's error to the current target
 --     (clipped to 3 cm), and one damped-least-squares step (linalg's A:dls) whose damping grows
 --     as the tip Jacobian's smallest singular value falls (near a singularity). Servos whose
---     static gravity torque (from the model's masses) is above 30% of their rating add rows
+--     static gravity torque (from the model's masses) is above 35% of their rating add rows
 --     asking for it to come down, solved with the tip's rows (9 joints leave room for both), so
 --     the arm stays where the servos hold it easily. Joints that would pass a limit are taken
 --     out and the step solved again;
@@ -29,7 +29,7 @@ local kLambdaMin = 0.002   -- m: damping always present
 local kLambdaMax = 0.04    -- m: damping at a singularity
 local kSigmaZone = 0.04    -- m: damping grows as the smallest singular value falls below this
 local kMaxError = 0.03     -- m: larger errors are clipped (the linearisation holds)
-local kLoadFree = 0.3      -- fraction of a servo's rating its static gravity load should stay under
+local kLoadFree = 0.35      -- fraction of a servo's rating its static gravity load should stay under
 local kLoadWeight = 0.5    -- m per unit of rating: weight of the load rows against the tip's
 local kMaxLoadStep = 0.05  -- fraction of a rating: largest load correction asked in one step
 local kLimitMargin = 0.05  -- rad kept clear of the joint limits

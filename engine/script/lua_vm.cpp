@@ -500,8 +500,9 @@ int LuaVm::require(lua_State* L) {
   lua_pushvalue(L, 1);
   if (lua_rawget(L, loaded) != LUA_TNIL) return 1;
   lua_pop(L, 1);
-  // Modules built into the engine come before any file of the same name.
-  static const luaL_Reg builtins[] = {{"linalg", openLinalg}};
+  // Modules built into the engine come before any file of the same name (loaders for
+  // `require`, documented as modules in the README, hence &fn).
+  static const luaL_Reg builtins[] = {{"linalg", &openLinalg}};
   for (const luaL_Reg& b : builtins)
     if (std::strcmp(name, b.name) == 0) {
       lua_pushcfunction(L, b.func);

@@ -10,8 +10,9 @@
 --     as the tip Jacobian's smallest singular value falls (near a singularity). Servos whose
 --     static gravity torque (from the model's masses) is above 35% of their rating add rows
 --     asking for it to come down, solved with the tip's rows (9 joints leave room for both), so
---     the arm stays where the servos hold it easily. Joints that would pass a limit are taken
---     out and the step solved again;
+--     the arm stays where the servos hold it easily (a move that stalls, the two kinds of rows
+--     pulling against each other, may go up to 50% until it progresses again). Joints that
+--     would pass a limit are taken out and the step solved again;
 --   - the command integrates the step (command += 0.1 x step, at most 0.3 rad/s, at most
 --     0.15 rad ahead of the measured angle, within the limits). Because the step comes from the
 --     measured pose, whatever the servos leave undone (sag under load, latency) keeps moving the
@@ -29,7 +30,9 @@ local kLambdaMin = 0.002   -- m: damping always present
 local kLambdaMax = 0.04    -- m: damping at a singularity
 local kSigmaZone = 0.04    -- m: damping grows as the smallest singular value falls below this
 local kMaxError = 0.03     -- m: larger errors are clipped (the linearisation holds)
-local kLoadFree = 0.35      -- fraction of a servo's rating its static gravity load should stay under
+local kLoadFree = 0.35     -- fraction of a servo's rating its static gravity load should stay under
+local kLoadStalled = 0.5   -- ... or under this, while a move is stalled
+local kStallTime = 0.5     -- s without the error falling by a fifth: stalled
 local kLoadWeight = 0.5    -- m per unit of rating: weight of the load rows against the tip's
 local kMaxLoadStep = 0.05  -- fraction of a rating: largest load correction asked in one step
 local kLimitMargin = 0.05  -- rad kept clear of the joint limits
@@ -69,7 +72,7 @@ if me == params.controller then
     lo[i] = d.continuous and -math.huge or d.lower + kLimitMargin
     hi[i] = d.continuous and math.huge or d.upper - kLimitMargin
   end
-  ctl = { s = s, n = n, lo = lo, hi = hi, cmd = {} }
+  ctl = { s = s, n = n, lo = lo, hi = hi, cmd = {}, best = math.huge, since = 0 }
 end
 
 local function currentTarget(t)
@@ -96,13 +99,18 @@ local function ikStep(q, target, dt)
   -- rating adds a row asking for it to come back under, solved together with the tip's rows
   -- (with 9 joints and 3 tip coordinates there is room for both); its gradient comes from
   -- finite differences of the model.
+  -- A move that makes no progress for kStallTime (the tip and the load rows pulling against
+  -- each other) may load the servos up to kLoadStalled until it does.
+  local now = sim.time()
+  if en < 0.8 * ctl.best or en > ctl.best + 0.05 then ctl.best, ctl.since = en, now end
+  local loadFree = (now - ctl.since > kStallTime and en > 0.002) and kLoadStalled or kLoadFree
   local tau = ctl.s:gravity(q)
   local rows, rhs = { Jt[1], Jt[2], Jt[3] }, { e[1], e[2], e[3] }
   local worst, active = 0, {}
   for i = 1, ctl.n do
     local frac = tau[i] / ctl.s.dofs[i].torque
     worst = math.max(worst, math.abs(frac))
-    if math.abs(frac) > kLoadFree then active[#active + 1] = { i, frac } end
+    if math.abs(frac) > loadFree then active[#active + 1] = { i, frac } end
   end
   if #active > 0 then
     local dtau = {}
@@ -117,7 +125,7 @@ local function ikStep(q, target, dt)
       local rating = ctl.s.dofs[i].torque
       local row = {}
       for j = 1, ctl.n do row[j] = kLoadWeight * (dtau[j][i] - tau[i]) / 1e-5 / rating end
-      local over = frac - (frac > 0 and kLoadFree or -kLoadFree)
+      local over = frac - (frac > 0 and loadFree or -loadFree)
       rows[#rows + 1] = row
       rhs[#rhs + 1] = -kLoadWeight * math.max(-kMaxLoadStep, math.min(kMaxLoadStep, over))
     end

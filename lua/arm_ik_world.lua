@@ -2,7 +2,7 @@
 -- tests/worlds/arm_ik.lua share it), draws its targets and measures how well it reaches them.
 --
 --   local arm = require("arm_ik_world")
---   local a = arm.build{targets = 50, slot = 4}       -- or target = {x, y, z}; before the run
+--   local a = arm.build{targets = 50, slot = 5}       -- or target = {x, y, z}; before the run
 --   ... a.results() -> {errors = {m...}, settles = {s...}} once the run is over
 --   arm.report(a)                                      -- metrics and a printed line (in on_end)
 --
@@ -80,10 +80,10 @@ function M.draw_targets(model, n)
 end
 
 --- Spawns the arm (exact solver) and sets up the measurement. opts: targets = N or target =
---- {x, y, z}, slot = seconds per target (default 4). Sets the world's duration.
+--- {x, y, z}, slot = seconds per target (default 5). Sets the world's duration.
 function M.build(opts)
   world.set{solver = "exact"}
-  local slot = opts.slot or 4
+  local slot = opts.slot or 5
   local model, structure = M.model()
   local targets = opts.target and { opts.target } or M.draw_targets(model, opts.targets or 5)
   local mods = {}

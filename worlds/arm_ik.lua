@@ -6,10 +6,10 @@
 -- exact joint solver. lua/arm_ik_world.lua builds it and says how targets are drawn (reachable
 -- and statically feasible, from the world's seed).
 --
---   rm3d run worlds/arm_ik.lua --param targets=50 [--seed N] [--param slot=4]
+--   rm3d run worlds/arm_ik.lua --param targets=50 [--seed N] [--param slot=5]
 --   rm3d run worlds/arm_ik.lua --param target=0.1,0.05,0.7
 --
--- Each target holds for `slot` seconds (default 4). Reported as metrics in the JSON summary and
+-- Each target holds for `slot` seconds (default 5). Reported as metrics in the JSON summary and
 -- printed at the end: ik_error_mm_max and ik_error_mm_mean (the tip's distance to each target at
 -- the end of its slot), settle_time_s and settle_time_s_max (when it came within 1 mm for good),
 -- reached_1mm, and the peak joint torque and dock loads.
@@ -17,7 +17,7 @@ local arm = require("arm_ik_world")
 
 world.ground{}
 local opts = { slot = tonumber(args.slot) }
-if opts.slot ~= nil and not (opts.slot >= 0.1 and opts.slot <= 600) then
+if args.slot ~= nil and not (opts.slot and opts.slot >= 0.1 and opts.slot <= 600) then
   error("--param slot=S: expected seconds per target, 0.1 .. 600, got " .. tostring(args.slot))
 end
 if args.target then

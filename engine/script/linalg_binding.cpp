@@ -31,13 +31,15 @@ constexpr int kMaxShownEntries = 64;          ///< __tostring prints larger ones
 constexpr int kFlopsPerInstruction = 16;      ///< budget charge for cubic work
 constexpr int kSmall = 16;                    ///< DLS systems up to this size stay on the stack
 
-/// The userdata header; the entries (column-major doubles) follow it.
-struct alignas(16) MatHeader {
+/// The userdata header; the entries (column-major doubles) follow it. 16 bytes, so the entries
+/// keep the 8-byte alignment Lua gives userdata (Eigen maps them unaligned).
+struct MatHeader {
   int32_t rows = 0, cols = 0;
   int32_t vector = 0;  ///< 1: made as a vector (n x 1): get(i), #v, products stay vectors
   int32_t pad = 0;
   double* data() { return reinterpret_cast<double*>(this + 1); }
 };
+static_assert(sizeof(MatHeader) == 16);
 
 struct QuatUd {
   double w, x, y, z;

@@ -11,6 +11,7 @@
 #include "script/behaviour_bindings.h"
 #include "script/lua_options.h"
 #include "script/lua_value.h"
+#include "script/module_type_data.h"
 #include "script/sensor_reading.h"
 #include "script/trace_binding.h"
 #include "world/world.h"
@@ -65,6 +66,26 @@ int moduleJoints(lua_State* L) {
     lua_pushstring(L, t.joints[i].name.c_str());
     lua_rawseti(L, -2, lua_Integer(i + 1));
   }
+  return 1;
+}
+
+/// module.type_data([name]) -> the data of this module's type, or of another type the world has
+/// spawned (script/module_type_data.h)
+int moduleTypeData(lua_State* L) {
+  const ModuleTypeDef* type = self(L).type;
+  if (!lua_isnoneornil(L, 1)) {
+    size_t len = 0;
+    const char* name = luaL_checklstring(L, 1, &len);
+    {
+      const std::string key(name, len);
+      type = behaviourContext(L).module.world().loadedModuleType(key);
+    }
+    if (!type)
+      return luaL_error(
+          L, "module.type_data: no module type '%s' in this world (expected the type of a spawned module)",
+          name);
+  }
+  pushModuleTypeData(L, *type);
   return 1;
 }
 
@@ -253,6 +274,7 @@ void openModuleApi(lua_State* L, BehaviourContext& ctx) {
                                        {"docks", moduleDocks},
                                        {"receive", moduleReceive},
                                        {"publish", modulePublish},
+                                       {"type_data", moduleTypeData},
                                        {nullptr, nullptr}};
   setFunctions(L, moduleFns);
   pushSeriesClosure(L, moduleTrace);

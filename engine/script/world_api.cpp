@@ -13,6 +13,7 @@
 #include "docking/dock_frame.h"
 #include "script/lua_options.h"
 #include "script/lua_value.h"
+#include "script/module_type_data.h"
 #include "script/trace_binding.h"
 #include "script/world_bindings.h"
 #include "script/world_script.h"
@@ -392,6 +393,18 @@ int worldModule(lua_State* L) {
   return 0;
 }
 
+/// world.module_type(name) -> the type's data (links, joints, docks; script/module_type_data.h)
+int worldModuleType(lua_State* L) {
+  const char* name = luaL_checkstring(L, 1);
+  const ModuleTypeDef* type = nullptr;
+  callWorld(L, "world.module_type", [&] {
+    type = &world(L).moduleType(name);
+    return 0;
+  });
+  pushModuleTypeData(L, *type);
+  return 1;
+}
+
 /// world.components() -> array of arrays of Module handles (connected by docks)
 int worldComponents(lua_State* L) {
   const auto comps = world(L).components();
@@ -586,6 +599,7 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"modules", worldModules},
                                  {"module", worldModule},
                                  {"components", worldComponents},
+                                 {"module_type", worldModuleType},
                                  {"camera", worldCamera},
                                  {"channel", worldChannel},
                                  {"graph", worldGraph},

@@ -57,6 +57,19 @@ int moduleLinkPosition(lua_State* L) {
   return 1;
 }
 
+/// m:link_pose(name) -> {x,y,z}, {w,x,y,z}: a link frame in the world (the module frame at
+/// zero joint angles, carried by the link)
+int moduleLinkPose(lua_State* L) {
+  const int m = checkModule(L, 1);
+  const char* name = luaL_checkstring(L, 2);
+  const int link = world(L).module(m).type->findLink(name);
+  if (link < 0) return luaL_error(L, "no link named '%s'", name);
+  const Pose p = world(L).linkPose(m, link);
+  pushVec3(L, p.pos);
+  pushQuat(L, p.rot);
+  return 2;
+}
+
 /// m:joint_angle(name) -> radians
 int moduleJointAngle(lua_State* L) {
   const int m = checkModule(L, 1);
@@ -308,6 +321,7 @@ void openModuleHandle(lua_State* L) {
                                            {"orientation", moduleOrientation},
                                            {"velocity", moduleVelocity},
                                            {"link_position", moduleLinkPosition},
+                                           {"link_pose", moduleLinkPose},
                                            {"joint_angle", moduleJointAngle},
                                            {"joint_angles", moduleJointAngles},
                                            {"joint_torque", moduleJointTorque},

@@ -238,6 +238,14 @@ const ModuleTypeDef& World::moduleType(const std::string& name) {
   return ref;
 }
 
+const ModuleTypeDef* World::loadedModuleType(const std::string& name) const {
+  auto it = m_types.find(name);
+  if (it != m_types.end()) return it->second.get();
+  for (const auto& [key, def] : m_types)
+    if (def->name == name) return def.get();
+  return nullptr;
+}
+
 int World::spawn(const SpawnDef& def) {
   if (m_started) throw InputError("modules are spawned while the world script runs, before the first step");
   const ModuleTypeDef& type = moduleType(def.type);

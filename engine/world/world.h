@@ -192,6 +192,9 @@ class World {
   Pose obstaclePose(int body) const;
   Vec3 obstacleVelocity(int body) const;
   const ModuleTypeDef& moduleType(const std::string& name);
+  /// A type this world has already loaded, by the name it was spawned with or its own name;
+  /// nullptr otherwise (never loads: safe from behaviours).
+  const ModuleTypeDef* loadedModuleType(const std::string& name) const;
   struct SpawnDef {
     std::string type;
     Pose pose;

@@ -62,6 +62,10 @@ module = {}
 function module.joint(name) end
 ---@return string[]
 function module.joints() end
+---This module's type as data, or that of another type spawned in the world.
+---@param name? string
+---@return ModuleTypeData
+function module.type_data(name) end
 ---@param name string
 ---@return Dock
 function module.dock(name) end

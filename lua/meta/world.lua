@@ -21,6 +21,11 @@ function Module:velocity() end
 ---@param link string
 ---@return Vec3
 function Module:link_position(link) end
+---A link's frame in the world: position and orientation.
+---@param link string
+---@return Vec3
+---@return Quat
+function Module:link_pose(link) end
 ---@param joint string
 ---@return number radians
 function Module:joint_angle(joint) end
@@ -156,6 +161,10 @@ function world.channel(c) end
 ---@param format? "json"|"dot"
 ---@return string
 function world.graph(format) end
+---A module type's data (links, joints, docks; README, World scripts), loading it if needed.
+---@param name string
+---@return ModuleTypeData
+function world.module_type(name) end
 ---@param since? number
 ---@return {time: number, event: string, module_a: integer, dock_a: string, module_b: integer, dock_b: string, force: number?, torque: number?}[]
 function world.events(since) end

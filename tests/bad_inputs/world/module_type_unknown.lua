@@ -1,0 +1,1 @@
+local t = world.module_type("superbott") --!

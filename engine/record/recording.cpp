@@ -190,6 +190,11 @@ void putLayout(Out& o, const SceneLayout& l) {
   for (int i = 0; i < 3; ++i) o.put(target[i]);
   o.put(int32_t(c.follow));
   o.put(c.fovDeg);
+  // Added later, at the end so older readers stop before it: each mesh's grid (terrain).
+  for (const RenderMesh& m : l.meshes) {
+    o.put(m.grid.x());
+    o.put(m.grid.y());
+  }
 }
 
 /// Reads a layout and checks every index in it, so drawing from it cannot go out of bounds.
@@ -258,6 +263,13 @@ bool getLayout(In& in, SceneLayout& l, std::string& why) {
   l.camera.follow = in.get<int32_t>();
   l.camera.fovDeg = in.get<double>();
   if (in.bad) return why = "it ends early", false;
+  if (in.n - in.at >= l.meshes.size() * 8)  // mesh grids (absent in older recordings)
+    for (RenderMesh& m : l.meshes) {
+      m.grid.x() = in.get<float>();
+      m.grid.y() = in.get<float>();
+      if (!(m.grid.x() >= 0 && m.grid.y() >= 0 && m.grid.x() < 1e7f && m.grid.y() < 1e7f))
+        return why = "a bad mesh grid", false;
+    }
   if (!(l.dt > 0 && l.dt <= 1)) return why = "a bad dt", false;
   const int modules = int(l.modules.size()), bodies = int(l.bodyRadius.size());
   for (const SceneLayout::Item& it : l.items) {

@@ -14,6 +14,9 @@ namespace rm3d {
 struct RenderMesh {
   std::vector<Eigen::Vector3f> vertices;
   std::vector<uint32_t> indices;  ///< three per triangle, counter-clockwise seen from outside
+  /// Grid lines drawn on the mesh where its local x or y is a whole number of these (terrain
+  /// cells); 0: none.
+  Eigen::Vector2f grid{0, 0};
 };
 
 /// One drawn instance of a mesh.
@@ -49,8 +52,8 @@ struct Snapshot {
   std::vector<RenderItem> items;
   std::vector<RenderLine> lines;
   std::vector<RenderSpheres> spheres;  ///< particle systems
-  bool ground = true;                ///< draw the plane z = 0 with a 0.1 m / 1 m grid
-  std::vector<std::string> overlay;  ///< text lines drawn top-left (sim time, modules, ...)
+  bool ground = true;                  ///< draw the plane z = 0 with a 0.1 m / 1 m grid
+  std::vector<std::string> overlay;    ///< text lines drawn top-left (sim time, modules, ...)
 };
 
 }  // namespace rm3d

@@ -359,7 +359,10 @@ struct PhysicsWorld::Impl {
     ci.m_startWorldTransform = toBt(frame);
     ci.m_friction = btScalar(parts[ids[0]].friction);
     ci.m_restitution = btScalar(parts[ids[0]].restitution);
+    // Rolling resistance, and the same against spinning about the contact normal: without it a
+    // ball set spinning in place spins for ever and keeps everything near it awake.
     ci.m_rollingFriction = btScalar(parts[ids[0]].rollingFriction);
+    ci.m_spinningFriction = btScalar(parts[ids[0]].rollingFriction);
     b.rb = new btRigidBody(ci);
     b.rb->setUserIndex(index);
     for (int id : ids)

@@ -40,8 +40,10 @@ void sizeField(lua_State* L, const char* fn, double bounds, double& sx, double& 
     ok = isnum && v[i] > 0 && v[i] <= bounds;
   }
   if (!ok)
-    luaL_error(L, "%s: option 'size' must be {sx, sy}: two positive numbers (metres) at most the world bounds (%s m)",
-               fn, numText(bounds).s);
+    luaL_error(
+        L,
+        "%s: option 'size' must be {sx, sy}: two positive numbers (metres) at most the world bounds (%s m)",
+        fn, numText(bounds).s);
   lua_pop(L, 1);
   sx = v[0];
   sy = v[1];
@@ -130,8 +132,7 @@ int worldHeightfield(lua_State* L) {
   lua_getfield(L, 1, "height");
   const bool haveHeight = !lua_isnil(L, -1);
   lua_pop(L, 1);
-  if (!haveHeight)
-    return luaL_error(L, "%s: option 'height' (metres from black to white) is required", fn);
+  if (!haveHeight) return luaL_error(L, "%s: option 'height' (metres from black to white) is required", fn);
   const double height = optNumberField(L, 1, fn, "height", 0);
   if (!(height >= 0 && height <= bounds))
     return luaL_error(L, "%s: height must be 0 or more metres, at most the world bounds (%s m), got %s", fn,
@@ -165,8 +166,9 @@ int worldHeightfield(lua_State* L) {
 }
 
 void openHeightfieldHandle(lua_State* L) {
-  static const luaL_Reg methods[] = {{"height_at", hfHeightAt}, {"position", hfPosition}, {"count", hfCount},
-                                     {"resolution", hfResolution}, {"bounds", hfBounds}, {nullptr, nullptr}};
+  static const luaL_Reg methods[] = {{"height_at", hfHeightAt}, {"position", hfPosition},
+                                     {"count", hfCount},        {"resolution", hfResolution},
+                                     {"bounds", hfBounds},      {nullptr, nullptr}};
   luaL_newmetatable(L, kHeightfieldMeta);
   luaL_newlib(L, methods);
   lua_setfield(L, -2, "__index");

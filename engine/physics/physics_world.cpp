@@ -246,6 +246,9 @@ struct PhysicsWorld::Impl {
     world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     filter.bodies = &bodies;
     world.getPairCache()->setOverlapFilterCallback(&filter);
+    // Bounding boxes of static and sleeping bodies stay as they are (transformParts updates a
+    // moved one itself): hundreds of resting obstacles then cost the broadphase nothing.
+    world.setForceUpdateAllAabbs(false);
   }
 
   ~Impl() {

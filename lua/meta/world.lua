@@ -103,6 +103,7 @@ function Heightfield:bounds() end
 ---@field rot? number[] {roll, pitch, yaw}
 ---@field mass? number 0 (default): static
 ---@field friction? number
+---@field rolling_friction? number m: rolling and spinning resistance (default 0.0005 for dynamic bodies)
 ---@field velocity? number[]
 
 ---@class world

@@ -142,7 +142,8 @@ int worldHeightfield(lua_State* L) {
   const double friction = optNumberField(L, 1, fn, "friction", 0.8);
   if (friction < 0)
     return luaL_error(L, "%s: friction must not be negative, got %s", fn, numText(friction).s);
-  return callWorld(L, fn, [&] {
+  int index = -1;
+  callWorld(L, fn, [&] {  // raises the Lua error after every C++ object is gone
     World& w = world(L);
     const std::string path = w.resolvePath(image);
     if (path.empty()) throw InputError(std::string("image '") + image + "' not found " + w.resolveLookedIn());
@@ -159,10 +160,12 @@ int worldHeightfield(lua_State* L) {
     Pose pose;
     pose.pos = at;
     w.addObstacle(s, pose, 0, friction);
-    *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = int(w.obstacles().size()) - 1;
-    luaL_setmetatable(L, kHeightfieldMeta);
-    return 1;
+    index = int(w.obstacles().size()) - 1;
+    return 0;
   });
+  *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = index;
+  luaL_setmetatable(L, kHeightfieldMeta);
+  return 1;
 }
 
 void openHeightfieldHandle(lua_State* L) {

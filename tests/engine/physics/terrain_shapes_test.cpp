@@ -75,7 +75,8 @@ TEST_CASE("a box rests inside a concave mesh, on its floor") {
   ShapeDef tray;
   tray.kind = ShapeKind::TriMesh;
   const double h = 0.5;
-  tray.points = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}, {-h, -h, 0.2}, {h, -h, 0.2}, {h, h, 0.2}, {-h, h, 0.2}};
+  tray.points = {{-h, -h, 0},   {h, -h, 0},   {h, h, 0},   {-h, h, 0},
+                 {-h, -h, 0.2}, {h, -h, 0.2}, {h, h, 0.2}, {-h, h, 0.2}};
   tray.triangles = {0, 1, 2, 0, 2, 3, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
   PartDesc t;
   t.shapes = {tray};
@@ -89,7 +90,7 @@ TEST_CASE("a box rests inside a concave mesh, on its floor") {
   const int part = w.addPart(b);
   run(w, 2);
   CHECK(std::abs(w.partPose(part).pos.z() - 0.05) < 0.002);  // its convex hull would hold it at 0.25
-  CHECK(std::abs(w.partPose(part).pos.x() - 0.1) < 0.01);  // a little skid on landing
+  CHECK(std::abs(w.partPose(part).pos.x() - 0.1) < 0.01);    // a little skid on landing
 }
 
 TEST_CASE("still obstacles fall asleep; a module part never does; a push wakes one") {

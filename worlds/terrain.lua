@@ -48,7 +48,7 @@ local function free(x, y)
   end
   return true
 end
-for _ = 1, 20 * obstacles do
+for _ = 1, 100 * obstacles do
   if placed >= obstacles then break end
   local x, y = rand(-kSize / 2 + 0.1, kSize / 2 - 0.1), rand(-kSize / 2 + 0.1, kSize / 2 - 0.1)
   if math.abs(y) > 0.35 and free(x, y) then

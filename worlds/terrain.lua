@@ -35,7 +35,7 @@ for i = 1, n do
   if i > 1 then world.connect(chain[i - 1], "back", chain[i], "front") end
 end
 
--- Obstacles, scattered over the terrain off the snake's lane (|y| < 0.35), dropped onto it. The
+-- Obstacles, scattered over the terrain off the snake's lane (|y| < 0.45), dropped onto it. The
 -- stones and balls roll as on grass (rolling_friction), so they come to rest on the slopes.
 local function rand(a, b) return a + (b - a) * math.random() end
 local placed, spots = 0, {}
@@ -51,7 +51,7 @@ end
 for _ = 1, 100 * obstacles do
   if placed >= obstacles then break end
   local x, y = rand(-kSize / 2 + 0.1, kSize / 2 - 0.1), rand(-kSize / 2 + 0.1, kSize / 2 - 0.1)
-  if math.abs(y) > 0.35 and free(x, y) then
+  if math.abs(y) > 0.45 and free(x, y) then
     spots[#spots + 1] = {x, y}
     placed = placed + 1
     local ground = hf:height_at(x, y)

@@ -42,12 +42,11 @@ Pose fromBt(const btTransform& t) {
   return {fromBt(t.getOrigin()), Quat(q.w(), q.x(), q.y(), q.z()).normalized()};
 }
 
-constexpr btScalar kHullMargin = 0.001f;
+constexpr btScalar kHullMargin = 0.001f;  // Bullet's 0.04 m default would lift small links off the ground
 // Below these an obstacle counts as still (Bullet's defaults, 0.8 m/s and 1 rad/s, would put a
 // slowly rolling ball to sleep).
-constexpr double kSleepSpeed = 0.01;  // m/s
-constexpr double kSleepAngularSpeed =
-    0.05;  // rad/s  // Bullet's 0.04 m default would lift small links off the ground
+constexpr double kSleepSpeed = 0.01;         // m/s
+constexpr double kSleepAngularSpeed = 0.05;  // rad/s
 
 /// What a Bullet shape reads in place and must outlive it: a triangle mesh's arrays, a
 /// heightfield's grid.

@@ -88,6 +88,19 @@ int hfPosition(lua_State* L) {
   return 1;
 }
 
+/// hf:orientation() -> {w, x, y, z}: always upright (terrain is axis-aligned)
+int hfOrientation(lua_State* L) {
+  pushQuat(L, world(L).obstaclePose(checkHeightfield(L).part).rot);
+  return 1;
+}
+
+/// hf:velocity() -> {0, 0, 0}: terrain is static
+int hfVelocity(lua_State* L) {
+  checkHeightfield(L);
+  pushVec3(L, Vec3::Zero());
+  return 1;
+}
+
 /// hf:count() -> the number of height samples (image pixels)
 int hfCount(lua_State* L) {
   const HeightGrid& g = *checkHeightfield(L).shape.grid;
@@ -169,9 +182,10 @@ int worldHeightfield(lua_State* L) {
 }
 
 void openHeightfieldHandle(lua_State* L) {
-  static const luaL_Reg methods[] = {{"height_at", hfHeightAt}, {"position", hfPosition},
-                                     {"count", hfCount},        {"resolution", hfResolution},
-                                     {"bounds", hfBounds},      {nullptr, nullptr}};
+  static const luaL_Reg methods[] = {
+      {"height_at", hfHeightAt}, {"position", hfPosition}, {"orientation", hfOrientation},
+      {"velocity", hfVelocity},  {"count", hfCount},       {"resolution", hfResolution},
+      {"bounds", hfBounds},      {nullptr, nullptr}};
   luaL_newmetatable(L, kHeightfieldMeta);
   luaL_newlib(L, methods);
   lua_setfield(L, -2, "__index");

@@ -87,6 +87,12 @@ function Heightfield:height_at(x, y) end
 ---The centre of the terrain in x and y; its base (black) in z.
 ---@return Vec3
 function Heightfield:position() end
+---Always upright: terrain is axis-aligned.
+---@return Quat
+function Heightfield:orientation() end
+---Always zero: terrain is static.
+---@return Vec3
+function Heightfield:velocity() end
 ---The number of height samples (the image's pixels).
 ---@return integer
 function Heightfield:count() end

@@ -37,6 +37,8 @@ for _, t in ipairs(terraces) do
   expect(math.abs(h - t.z) < 1e-6, string.format("height_at(%.2f) = %.6f, the image says %.6f", t.x, h, t.z))
 end
 expect(hf:height_at(3, 0) == nil, "height_at off the terrain is nil")
+local c, q = hf:position(), hf:orientation()
+expect(math.abs(c.z - kBase) < 1e-6 and math.abs(c.x) < 1e-6 and math.abs(q[1] - 1) < 1e-6, "position and orientation")
 local b = hf:bounds()
 expect(math.abs(b.min.x + 1.45) < 1e-6 and math.abs(b.max.z - (kBase + kHeight)) < 1e-6,
        string.format("bounds from x=%.6f to z=%.6f", b.min.x, b.max.z))

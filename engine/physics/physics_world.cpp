@@ -487,7 +487,10 @@ struct PhysicsWorld::Impl {
     bodyOmegaBefore.resize(bodies.size());
     for (size_t b = 0; b < bodies.size(); ++b)
       if (bodies[b].rb) bodyOmegaBefore[b] = fromBt(bodies[b].rb->getAngularVelocity());
-    for (size_t p = 0; p < parts.size(); ++p) partVelBefore[p] = partComVelocity(int(p));
+    // Static and sleeping bodies do not move: their parts' velocities are zero (and unused).
+    for (size_t p = 0; p < parts.size(); ++p)
+      partVelBefore[p] =
+          bodies[size_t(parts[p].body)].rb->isActive() ? partComVelocity(int(p)) : Vec3::Zero();
   }
 
   int partOfChild(int body, int child) const {
@@ -511,6 +514,8 @@ struct PhysicsWorld::Impl {
     };
     for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
       const btPersistentManifold* man = dispatcher.getManifoldByIndexInternal(m);
+      // Contacts among sleeping and static bodies were not solved (a module body is always active).
+      if (!man->getBody0()->isActive() && !man->getBody1()->isActive()) continue;
       const int b0 = man->getBody0()->getUserIndex(), b1 = man->getBody1()->getUserIndex();
       for (int k = 0; k < man->getNumContacts(); ++k) {
         const btManifoldPoint& pt = man->getContactPoint(k);

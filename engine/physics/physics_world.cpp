@@ -3,6 +3,9 @@
 // with itself.
 #include "physics/physics_world.h"
 
+#include <BulletCollision/CollisionDispatch/btInternalEdgeUtility.h>
+#include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleInfoMap.h>
 #include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
 #include <btBulletDynamicsCommon.h>
@@ -18,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <optional>
 
@@ -42,8 +46,32 @@ Pose fromBt(const btTransform& t) {
 }
 
 constexpr btScalar kHullMargin = 0.001f;  // Bullet's 0.04 m default would lift small links off the ground
+// Below these an obstacle counts as still (Bullet's defaults, 0.8 m/s and 1 rad/s, would put a
+// slowly rolling ball to sleep).
+constexpr double kSleepSpeed = 0.01;         // m/s
+constexpr double kSleepAngularSpeed = 0.05;  // rad/s
 
-btCollisionShape* makeShape(const ShapeDef& s) {
+/// What a Bullet shape reads in place and must outlive it: a triangle mesh's arrays, a
+/// heightfield's grid.
+struct ShapeData {
+  std::unique_ptr<btTriangleMesh> mesh;
+  std::shared_ptr<const HeightGrid> grid;
+  std::unique_ptr<btTriangleInfoMap> edges;  // which triangle edges are internal (see below)
+};
+
+/// Contacts with a triangle mesh or heightfield near an edge shared with a coplanar (or
+/// convex-joined) neighbour get the face's normal, not one tilted towards the edge: otherwise a
+/// ball resting on flat terrain near a cell edge is kicked sideways and rolls off (Bullet's
+/// "internal edge" problem). Bullet calls this for bodies flagged CF_CUSTOM_MATERIAL_CALLBACK;
+/// the mesh is always the manifold's second body.
+bool adjustInternalEdges(btManifoldPoint& cp, const btCollisionObjectWrapper* wrap0, int, int,
+                         const btCollisionObjectWrapper* wrap1, int partId1, int index1) {
+  if (wrap1->getCollisionShape()->getShapeType() == TRIANGLE_SHAPE_PROXYTYPE)
+    btAdjustInternalEdgeContacts(cp, wrap1, wrap0, partId1, index1);
+  return true;
+}
+
+btCollisionShape* makeShape(const ShapeDef& s, ShapeData& data) {
   switch (s.kind) {
     case ShapeKind::Box:
       return new btBoxShape(toBt(s.size / 2));
@@ -51,6 +79,8 @@ btCollisionShape* makeShape(const ShapeDef& s) {
       return new btSphereShape(btScalar(s.radius));
     case ShapeKind::Cylinder:
       return new btCylinderShapeZ(btVector3(btScalar(s.radius), btScalar(s.radius), btScalar(s.length / 2)));
+    case ShapeKind::Capsule:
+      return new btCapsuleShapeZ(btScalar(s.radius), btScalar(s.length));
     case ShapeKind::Hull: {
       auto* h = new btConvexHullShape();
       for (const Vec3& p : s.points) h->addPoint(toBt(p), false);
@@ -58,8 +88,38 @@ btCollisionShape* makeShape(const ShapeDef& s) {
       h->setMargin(kHullMargin);
       return h;
     }
+    case ShapeKind::TriMesh: {
+      data.mesh = std::make_unique<btTriangleMesh>();
+      for (size_t t = 0; t + 2 < s.triangles.size(); t += 3)
+        data.mesh->addTriangle(toBt(s.points[s.triangles[t]]), toBt(s.points[s.triangles[t + 1]]),
+                               toBt(s.points[s.triangles[t + 2]]), false);
+      auto* shape = new btBvhTriangleMeshShape(data.mesh.get(), true);
+      data.edges = std::make_unique<btTriangleInfoMap>();
+      btGenerateInternalEdgeInfo(shape, data.edges.get());
+      return shape;
+    }
+    case ShapeKind::Heightfield: {
+      // Bullet centres the shape between the given minimum and maximum height, and its samples
+      // one unit apart; addPart lifts the shape by half the range and the scaling sets the cells.
+      data.grid = s.grid;
+      const HeightGrid& g = *s.grid;
+      auto* h = new btHeightfieldTerrainShape(g.nx, g.ny, g.heights.data(), btScalar(0),
+                                              btScalar(g.maxHeight), 2, false);
+      h->setLocalScaling(btVector3(btScalar(g.cellX()), btScalar(g.cellY()), 1));
+      h->setFlipTriangleWinding(true);  // z up: Bullet's default winding faces its triangles down
+      data.edges = std::make_unique<btTriangleInfoMap>();
+      btGenerateInternalEdgeInfo(h, data.edges.get());
+      return h;
+    }
   }
   return nullptr;
+}
+
+/// Where Bullet's shape sits in the ShapeDef's frame (see makeShape).
+Pose bulletShapeOffset(const ShapeDef& s) {
+  Pose p;
+  if (s.kind == ShapeKind::Heightfield) p.pos.z() = s.grid->maxHeight / 2;
+  return p;
 }
 
 /// Sets flush-to-zero and denormals-are-zero for its lifetime (x86 SSE control register).
@@ -92,8 +152,9 @@ struct PhysicsWorld::Impl {
     Vec3 com = Vec3::Zero();                            // part frame
     Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about com, part frame
     std::vector<btCollisionShape*> shapes;              // owned
+    std::vector<ShapeData> shapeData;                   // what the shapes read in place
     std::vector<Pose> shapePoses;                       // in part frame
-    double friction = 0.8, restitution = 0;
+    double friction = 0.8, restitution = 0, rollingFriction = 0;
     int owner = -1;
     std::vector<int> hinges;
     std::vector<int> locks;  // parts locked to this one
@@ -179,6 +240,9 @@ struct PhysicsWorld::Impl {
   mutable std::mutex rayMutex;  // Debian's Bullet shares one ray-test stack per broadphase
 
   explicit Impl(const PhysicsSettings& s) : settings(s) {
+    // Bullet's one process-wide hook, set once to the same stateless function for every world.
+    static std::once_flag edgeHook;
+    std::call_once(edgeHook, [] { gContactAddedCallback = adjustInternalEdges; });
     world.setGravity(toBt(s.gravity));
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);
@@ -187,6 +251,9 @@ struct PhysicsWorld::Impl {
     world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     filter.bodies = &bodies;
     world.getPairCache()->setOverlapFilterCallback(&filter);
+    // Bounding boxes of static and sleeping bodies stay as they are (transformParts updates a
+    // moved one itself): hundreds of resting obstacles then cost the broadphase nothing.
+    world.setForceUpdateAllAabbs(false);
   }
 
   ~Impl() {
@@ -232,6 +299,10 @@ struct PhysicsWorld::Impl {
       com += p.mass * (world_[i] * p.com);
     }
     Pose frame = world_[0];
+    // A static obstacle of one shape set off in its part (a heightfield, lifted by half its
+    // range) takes the shape's frame as the body's, so it needs no compound.
+    if (isStatic && ids.size() == 1 && parts[ids[0]].owner < 0 && parts[ids[0]].shapes.size() == 1)
+      frame = world_[0] * parts[ids[0]].shapePoses[0];
     Eigen::Vector3d principal = Eigen::Vector3d::Zero();
     if (!isStatic) {
       com /= mass;
@@ -297,10 +368,23 @@ struct PhysicsWorld::Impl {
     ci.m_startWorldTransform = toBt(frame);
     ci.m_friction = btScalar(parts[ids[0]].friction);
     ci.m_restitution = btScalar(parts[ids[0]].restitution);
+    // Rolling resistance, and the same against spinning about the contact normal: without it a
+    // ball set spinning in place spins for ever and keeps everything near it awake.
+    ci.m_rollingFriction = btScalar(parts[ids[0]].rollingFriction);
+    ci.m_spinningFriction = btScalar(parts[ids[0]].rollingFriction);
     b.rb = new btRigidBody(ci);
     b.rb->setUserIndex(index);
+    for (int id : ids)
+      for (const ShapeData& d : parts[id].shapeData)
+        if (d.edges)
+          b.rb->setCollisionFlags(b.rb->getCollisionFlags() | btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
     if (!isStatic) {
-      b.rb->setActivationState(DISABLE_DEACTIVATION);
+      // Modules never sleep (their motors act every step); obstacles do, once still for
+      // Bullet's 2 s, and cost nothing until something touches them.
+      if (!b.owners.empty())
+        b.rb->setActivationState(DISABLE_DEACTIVATION);
+      else
+        b.rb->setSleepingThresholds(btScalar(kSleepSpeed), btScalar(kSleepAngularSpeed));
       b.rb->setLinearVelocity(toBt(linMomentum / mass));
       // world inertia = R diag R^T
       const Eigen::Matrix3d r = frame.rot.toRotationMatrix();
@@ -410,7 +494,10 @@ struct PhysicsWorld::Impl {
     bodyOmegaBefore.resize(bodies.size());
     for (size_t b = 0; b < bodies.size(); ++b)
       if (bodies[b].rb) bodyOmegaBefore[b] = fromBt(bodies[b].rb->getAngularVelocity());
-    for (size_t p = 0; p < parts.size(); ++p) partVelBefore[p] = partComVelocity(int(p));
+    // Static and sleeping bodies do not move: their parts' velocities are zero (and unused).
+    for (size_t p = 0; p < parts.size(); ++p)
+      partVelBefore[p] =
+          bodies[size_t(parts[p].body)].rb->isActive() ? partComVelocity(int(p)) : Vec3::Zero();
   }
 
   int partOfChild(int body, int child) const {
@@ -434,6 +521,8 @@ struct PhysicsWorld::Impl {
     };
     for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
       const btPersistentManifold* man = dispatcher.getManifoldByIndexInternal(m);
+      // Contacts among sleeping and static bodies were not solved (a module body is always active).
+      if (!man->getBody0()->isActive() && !man->getBody1()->isActive()) continue;
       const int b0 = man->getBody0()->getUserIndex(), b1 = man->getBody1()->getUserIndex();
       for (int k = 0; k < man->getNumContacts(); ++k) {
         const btManifoldPoint& pt = man->getContactPoint(k);
@@ -638,6 +727,7 @@ int PhysicsWorld::addPart(const PartDesc& desc) {
   p.mass = desc.mass;
   p.friction = desc.friction;
   p.restitution = desc.restitution;
+  p.rollingFriction = desc.rollingFriction;
   p.owner = desc.owner;
 
   // Mass properties: each shape gets its given mass, the rest is shared by volume.
@@ -647,8 +737,9 @@ int PhysicsWorld::addPart(const PartDesc& desc) {
     p.inertia = mp.inertia;
   }
   for (const ShapeDef& s : desc.shapes) {
-    p.shapes.push_back(makeShape(s));
-    p.shapePoses.push_back(s.pose);
+    p.shapeData.emplace_back();
+    p.shapes.push_back(makeShape(s, p.shapeData.back()));
+    p.shapePoses.push_back(s.pose * bulletShapeOffset(s));
   }
   m->buildBody({id}, {desc.pose}, Vec3::Zero(), Vec3::Zero());
   return id;
@@ -870,7 +961,21 @@ void PhysicsWorld::transformParts(const std::vector<int>& parts, const Pose& del
 }
 
 void PhysicsWorld::setPartVelocity(int part, const Vec3& v) {
-  m->bodies[size_t(m->parts[size_t(part)].body)].rb->setLinearVelocity(toBt(v));
+  btRigidBody* rb = m->bodies[size_t(m->parts[size_t(part)].body)].rb;
+  rb->activate(true);
+  rb->setLinearVelocity(toBt(v));
+}
+
+bool PhysicsWorld::partSleeping(int part) const {
+  const btRigidBody* rb = m->bodies[size_t(m->parts[size_t(part)].body)].rb;
+  return rb->isStaticOrKinematicObject() || rb->getActivationState() == ISLAND_SLEEPING;
+}
+
+int PhysicsWorld::activeBodyCount() const {
+  int n = 0;
+  const btAlignedObjectArray<btRigidBody*>& rbs = m->world.getNonStaticRigidBodies();
+  for (int i = 0; i < rbs.size(); ++i) n += rbs[i]->isActive() ? 1 : 0;
+  return n;
 }
 
 void PhysicsWorld::setMotor(int hinge, MotorMode mode, double value) {
@@ -1009,7 +1114,7 @@ BodyDivergence PhysicsWorld::divergenceScan(double maxSpeed, double maxAngularSp
   auto sum = [](const btVector3& a) { return double(a.x()) + double(a.y()) + double(a.z()); };
   for (int i = 0, n = rbs.size(); i < n; ++i) {
     const btRigidBody* rb = rbs[i];
-    if (rb->isStaticOrKinematicObject()) continue;
+    if (rb->isStaticOrKinematicObject() || !rb->isActive()) continue;  // asleep: checked when it moved
     const btTransform& t = rb->getWorldTransform();
     const btVector3& p = t.getOrigin();
     const btMatrix3x3& r = t.getBasis();

@@ -38,6 +38,8 @@ struct PartDesc {
   Pose pose;                     ///< part frame in the world
   double friction = 0.8;
   double restitution = 0.0;
+  /// m: the lever arm of rolling resistance (Bullet's rolling friction; 0: a ball rolls forever)
+  double rollingFriction = 0.0;
   int owner = -1;  ///< module index, or -1; parts sharing an owner never collide
 };
 
@@ -127,8 +129,13 @@ class PhysicsWorld {
   bool clothFinite(int cloth) const;
 
   void setMotor(int hinge, MotorMode mode, double value);
-  /// Sets the linear velocity of the body holding the part (a thrown obstacle).
+  /// Sets the linear velocity of the body holding the part (a thrown obstacle), waking it.
   void setPartVelocity(int part, const Vec3& v);
+  /// True when the body holding the part is static or asleep. Obstacles (parts of no module)
+  /// fall asleep once still for 2 s and wake when touched; module bodies never sleep.
+  bool partSleeping(int part) const;
+  /// Dynamic bodies awake now (the others cost a step nothing).
+  int activeBodyCount() const;
   /// Advances by dt in `substeps` equal steps, updating servos before each one.
   void step(double dt, int substeps);
 

@@ -76,10 +76,37 @@ MassProps shapeMassProps(const ShapeDef& s) {
       mp.inertia = Eigen::Vector3d(ixy, ixy, mp.volume * r * r / 2.0).asDiagonal();
       break;
     }
+    case ShapeKind::Capsule: {
+      // A cylinder of length h plus two hemispheres (each 2/3 pi r^3, its centre of mass 3r/8
+      // from the flat face), inertia about the capsule's centre.
+      const double r = s.radius, h = s.length;
+      const double vc = kPi * r * r * h, vh = 2.0 / 3.0 * kPi * r * r * r;
+      mp.volume = vc + 2 * vh;
+      const double ixy =
+          vc * (3 * r * r + h * h) / 12.0 + 2 * vh * (2.0 * r * r / 5.0 + h * h / 4.0 + 3.0 * h * r / 8.0);
+      const double iz = vc * r * r / 2.0 + 2 * vh * 2.0 * r * r / 5.0;
+      mp.inertia = Eigen::Vector3d(ixy, ixy, iz).asDiagonal();
+      break;
+    }
     case ShapeKind::Hull:
       return hullMassProps(s);
+    case ShapeKind::TriMesh:
+    case ShapeKind::Heightfield:
+      break;  // static only: no mass
   }
   return mp;
+}
+
+double HeightGrid::heightAt(double x, double y) const {
+  if (nx < 2 || ny < 2 || heights.size() != size_t(nx) * size_t(ny)) return 0;
+  const double fx = std::clamp((x + sx / 2) / cellX(), 0.0, double(nx - 1));
+  const double fy = std::clamp((y + sy / 2) / cellY(), 0.0, double(ny - 1));
+  const int i = std::min(int(fx), nx - 2), j = std::min(int(fy), ny - 2);
+  const double u = fx - i, v = fy - j;
+  const double h00 = at(i, j), h10 = at(i + 1, j), h01 = at(i, j + 1), h11 = at(i + 1, j + 1);
+  // The cell's two triangles share the diagonal (i+1, j)-(i, j+1).
+  if (u + v <= 1) return h00 + u * (h10 - h00) + v * (h01 - h00);
+  return h11 + (1 - u) * (h01 - h11) + (1 - v) * (h10 - h11);
 }
 
 // The same sums as PhysicsWorld::addPart, which builds a part's body from its shapes.

@@ -208,6 +208,11 @@ void putLayout(Out& o, const SceneLayout& l) {
     for (uint32_t t : cl.triangles) o.put(t);
     for (float f : cl.color) o.put(f);
   }
+  // Added later, at the end so older readers stop before it: each mesh's grid (terrain).
+  for (const RenderMesh& m : l.meshes) {
+    o.put(m.grid.x());
+    o.put(m.grid.y());
+  }
 }
 
 /// Reads a layout and checks every index in it, so drawing from it cannot go out of bounds.
@@ -286,6 +291,13 @@ bool getLayout(In& in, SceneLayout& l, std::string& why) {
       if (t >= uint32_t(cl.nodes)) return why = "a cloth triangle past its nodes", false;
   }
   if (in.bad) return why = "it ends early", false;
+  if (in.n - in.at >= l.meshes.size() * 8)  // mesh grids (absent in older recordings)
+    for (RenderMesh& m : l.meshes) {
+      m.grid.x() = in.get<float>();
+      m.grid.y() = in.get<float>();
+      if (!(m.grid.x() >= 0 && m.grid.y() >= 0 && m.grid.x() < 1e7f && m.grid.y() < 1e7f))
+        return why = "a bad mesh grid", false;
+    }
   if (!(l.dt > 0 && l.dt <= 1)) return why = "a bad dt", false;
   const int modules = int(l.modules.size()), bodies = int(l.bodyRadius.size());
   for (const SceneLayout::Item& it : l.items) {

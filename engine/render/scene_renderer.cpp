@@ -72,16 +72,17 @@ layout(location = 0) in vec3 aPos;
 layout(location = 1) in vec3 aNormal;
 uniform mat4 uModel, uViewProj;
 uniform mat3 uNormalMat;
-out vec3 vWorld, vNormal;
+out vec3 vWorld, vNormal, vLocal;
 void main() {
   vec4 w = uModel * vec4(aPos, 1.0);
-  vWorld = w.xyz; vNormal = uNormalMat * aNormal;
+  vWorld = w.xyz; vNormal = uNormalMat * aNormal; vLocal = aPos;
   gl_Position = uViewProj * w;
 })";
 
 const char* kMeshFs = R"(#version 330 core
-in vec3 vWorld, vNormal;
+in vec3 vWorld, vNormal, vLocal;
 uniform vec4 uColor;
+uniform vec2 uCell;
 uniform vec3 uSunDir, uEye, uFog;
 uniform mat4 uLightViewProj;
 uniform sampler2DShadow uShadow;
@@ -99,7 +100,7 @@ float shadow(vec3 n) {
 }
 // Coverage of grid lines `spacing` apart, about `px` pixels wide, faded out where cells
 // shrink below a few pixels so the far ground does not turn into moire.
-float grid(vec2 p, float spacing, float px) {
+float grid(vec2 p, vec2 spacing, float px) {
   vec2 c = p / spacing, w = max(fwidth(c), vec2(1e-6));
   vec2 d = abs(fract(c - 0.5) - 0.5) / w;
   float line = 1.0 - clamp(min(d.x, d.y) - 0.5 * px + 0.5, 0.0, 1.0);
@@ -110,9 +111,10 @@ void main() {
   if (dot(n, uEye - vWorld) < 0.0) n = -n;  // any winding, mirrored transforms, open meshes
   vec3 base = uColor.rgb;
   if (uGround == 1) {
-    base *= 1.0 - 0.25 * grid(vWorld.xy, 0.1, 1.0);
-    base *= 1.0 - 0.5 * grid(vWorld.xy, 1.0, 1.6);
+    base *= 1.0 - 0.25 * grid(vWorld.xy, vec2(0.1), 1.0);
+    base *= 1.0 - 0.5 * grid(vWorld.xy, vec2(1.0), 1.6);
   }
+  if (uCell.x > 0.0) base *= 1.0 - 0.35 * grid(vLocal.xy, uCell, 1.0);  // a mesh's own grid (terrain)
   float ndl = max(dot(n, uSunDir), 0.0);
   float lit = 0.30 + 0.08 * n.z + 0.62 * ndl * (ndl > 0.0 ? shadow(n) : 1.0);
   vec3 c = pow(base * lit, vec3(1.0 / 2.2));
@@ -641,7 +643,8 @@ void SceneRenderer::draw(const Snapshot& s, const Camera& cam, int width, int he
   gl.ActiveTexture(GL_TEXTURE0);
   gl.BindTexture(GL_TEXTURE_2D, r.shadowTex);
   auto drawMesh = [&](const Eigen::Matrix4f& model, const std::array<float, 4>& color, int first, int count,
-                      int ground) {
+                      int ground, const Eigen::Vector2f& cell = Eigen::Vector2f::Zero()) {
+    gl.Uniform2f(r.loc(mp, "uCell"), cell.x(), cell.y());
     r.setMat4(mp, "uModel", model);
     const Eigen::Matrix3f normalMat = model.topLeftCorner<3, 3>().inverse().transpose();
     gl.UniformMatrix3fv(r.loc(mp, "uNormalMat"), 1, GL_FALSE, normalMat.data());
@@ -682,7 +685,8 @@ void SceneRenderer::draw(const Snapshot& s, const Camera& cam, int width, int he
     gl.BindVertexArray(r.meshVao);
     for (const RenderItem& it : s.items)
       if (validItem(it) && (it.color[3] < 1.0f) == (pass == 1))
-        drawMesh(it.transform, it.color, ranges[it.mesh].first, ranges[it.mesh].second, 0);
+        drawMesh(it.transform, it.color, ranges[it.mesh].first, ranges[it.mesh].second, 0,
+                 s.meshes[it.mesh].grid);
     r.drawSpheres(s.spheres, pass == 1);
   }
   gl.DepthMask(GL_TRUE);

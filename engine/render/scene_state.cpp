@@ -63,11 +63,60 @@ RenderMesh sphereMesh(int rings = 12, int segments = 24) {
   return m;
 }
 
-/// Mesh index and scale for a shape; hull meshes are added once per distinct point set.
+/// A capsule of the given radius with a straight part `length` long along z, centred.
+RenderMesh capsuleMesh(double radius, double length, int rings = 6, int segments = 24) {
+  RenderMesh m;
+  // Rings from the bottom pole to the top pole; the two equator rings are `length` apart.
+  std::vector<std::pair<double, double>> rz;  // ring radius, ring z
+  for (int r = 0; r <= rings; ++r) {
+    const double th = kPi / 2 * r / rings;
+    rz.emplace_back(radius * std::sin(th), -length / 2 - radius * std::cos(th));
+  }
+  for (int r = rings; r >= 0; --r) {
+    const double th = kPi / 2 * r / rings;
+    rz.emplace_back(radius * std::sin(th), length / 2 + radius * std::cos(th));
+  }
+  for (const auto& [rr, z] : rz)
+    for (int s = 0; s < segments; ++s) {
+      const double ph = 2 * kPi * s / segments;
+      m.vertices.emplace_back(float(rr * std::cos(ph)), float(rr * std::sin(ph)), float(z));
+    }
+  for (size_t r = 0; r + 1 < rz.size(); ++r)
+    for (int s = 0; s < segments; ++s) {
+      const uint32_t a = uint32_t(r * size_t(segments) + size_t(s)),
+                     b = uint32_t(r * size_t(segments) + size_t((s + 1) % segments));
+      const uint32_t c = a + uint32_t(segments), d = b + uint32_t(segments);
+      m.indices.insert(m.indices.end(), {a, b, c, b, d, c});
+    }
+  return m;
+}
+
+/// The terrain's triangles, split as the physics splits them (HeightGrid), in a frame whose
+/// origin is the grid's first sample at the base: x, y from 0 to the extent, so the grid lines
+/// fall on whole numbers of cells.
+RenderMesh heightfieldMesh(const HeightGrid& g) {
+  RenderMesh m;
+  const double cx = g.cellX(), cy = g.cellY();
+  m.vertices.reserve(size_t(g.nx) * size_t(g.ny));
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) m.vertices.emplace_back(float(i * cx), float(j * cy), g.at(i, j));
+  m.indices.reserve(size_t(g.nx - 1) * size_t(g.ny - 1) * 6);
+  for (int j = 0; j + 1 < g.ny; ++j)
+    for (int i = 0; i + 1 < g.nx; ++i) {
+      const uint32_t a = uint32_t(j * g.nx + i), b = a + 1, c = a + uint32_t(g.nx), d = c + 1;
+      m.indices.insert(m.indices.end(), {a, b, c, b, d, c});  // diagonal b-c: (i+1, j)-(i, j+1)
+    }
+  m.grid = Eigen::Vector2f(float(cx), float(cy));
+  return m;
+}
+
+/// Mesh index and scale for a shape; hull, trimesh and heightfield meshes are added once per
+/// shape, capsules once per size.
 struct MeshTable {
   std::vector<RenderMesh>& meshes;
   int box = -1, cylinder = -1, sphere = -1;
   std::map<const ShapeDef*, int> hulls;
+  std::map<std::pair<double, double>, int> capsules;
 
   int add(RenderMesh m) {
     meshes.push_back(std::move(m));
@@ -87,13 +136,32 @@ struct MeshTable {
         scale = Eigen::Vector3f::Constant(float(s.radius));
         if (sphere < 0) sphere = add(sphereMesh());
         return sphere;
-      case ShapeKind::Hull: {
+      case ShapeKind::Capsule: {
+        scale = Eigen::Vector3f::Ones();
+        const std::pair<double, double> key{s.radius, s.length};
+        auto it = capsules.find(key);
+        if (it != capsules.end()) return it->second;
+        return capsules[key] = add(capsuleMesh(s.radius, s.length));
+      }
+      case ShapeKind::Hull:
+      case ShapeKind::TriMesh:
+      case ShapeKind::Heightfield: {
         scale = Eigen::Vector3f::Ones();
         auto it = hulls.find(&s);
         if (it != hulls.end()) return it->second;
+        // Obstacles made from one file at one scale share a mesh.
+        if (!s.source.empty() && s.kind != ShapeKind::Heightfield)
+          for (const auto& [other, index] : hulls)
+            if (other->source == s.source && other->kind == s.kind && other->points == s.points &&
+                other->triangles == s.triangles)
+              return hulls[&s] = index;
         RenderMesh m;
-        for (const Vec3& p : s.points) m.vertices.push_back(f3(p));
-        m.indices = s.triangles;
+        if (s.kind == ShapeKind::Heightfield) {
+          m = heightfieldMesh(*s.grid);
+        } else {
+          for (const Vec3& p : s.points) m.vertices.push_back(f3(p));
+          m.indices = s.triangles;
+        }
         return hulls[&s] = add(std::move(m));
       }
     }
@@ -121,8 +189,15 @@ double shapeRadius(const ShapeDef& s) {
     case ShapeKind::Sphere:
       r = s.radius;
       break;
+    case ShapeKind::Capsule:
+      r = s.radius + s.length / 2;
+      break;
     case ShapeKind::Hull:
+    case ShapeKind::TriMesh:
       for (const Vec3& p : s.points) r = std::max(r, p.norm());
+      break;
+    case ShapeKind::Heightfield:
+      r = std::hypot(s.grid->sx / 2, s.grid->sy / 2, s.grid->maxHeight);
       break;
   }
   return r + s.pose.pos.norm();
@@ -131,13 +206,14 @@ double shapeRadius(const ShapeDef& s) {
 constexpr std::array<float, 4> kFaultColor{0.85f, 0.1f, 0.1f, 1.0f};
 constexpr std::array<float, 4> kDockDisabled{0.9f, 0.15f, 0.1f, 1}, kDockEngaged{0.2f, 0.8f, 0.3f, 1},
     kDockFree{0.55f, 0.55f, 0.6f, 1};
+constexpr std::array<float, 4> kTerrainColor{0.52f, 0.47f, 0.36f, 1};
 constexpr double kSceneryRadius = 5.0;  // bodies larger than 10 m across are scenery, not framed
 
 }  // namespace
 
 SceneLayout sceneLayout(const World& w) {
   SceneLayout lay;
-  MeshTable table{lay.meshes, -1, -1, -1, {}};
+  MeshTable table{lay.meshes, -1, -1, -1, {}, {}};
   for (size_t i = 0; i < w.modules().size(); ++i) {
     const Module& m = w.modules()[i];
     SceneLayout::ModuleInfo info;
@@ -197,6 +273,12 @@ SceneLayout sceneLayout(const World& w) {
     item.local = o.shape.pose;
     item.color = o.mass > 0 ? std::array<float, 4>{0.35f, 0.55f, 0.85f, 1}
                             : std::array<float, 4>{0.6f, 0.6f, 0.62f, 1};
+    if (o.shape.kind == ShapeKind::Heightfield) {
+      // The mesh starts at the grid's first sample; the shape frame sits at its centre.
+      item.local =
+          o.shape.pose * Pose{Vec3(-o.shape.grid->sx / 2, -o.shape.grid->sy / 2, 0), Quat::Identity()};
+      item.color = kTerrainColor;
+    }
     lay.items.push_back(item);
     lay.bodyRadius.push_back(shapeRadius(o.shape));
   }

@@ -14,6 +14,9 @@ namespace rm3d {
 struct RenderMesh {
   std::vector<Eigen::Vector3f> vertices;
   std::vector<uint32_t> indices;  ///< three per triangle, counter-clockwise seen from outside
+  /// Grid lines drawn on the mesh where its local x or y is a whole number of these (terrain
+  /// cells); 0: none.
+  Eigen::Vector2f grid{0, 0};
 };
 
 /// One drawn instance of a mesh.

@@ -31,10 +31,11 @@ World& world(lua_State* L) {
 }
 
 /// Bounds on settings: below or above these a run cannot make progress or cannot mean anything.
-constexpr double kMinDt = 1e-6;      ///< s; also the shortest world.every period
-constexpr double kMaxDt = 1.0;       ///< s
-constexpr double kMaxGravity = 1e4;  ///< m/s^2 (1000 g)
-constexpr double kMaxBounds = 1e7;   ///< m; single-precision positions out there are 1 m apart
+constexpr double kMinDt = 1e-6;              ///< s; also the shortest world.every period
+constexpr double kMaxDt = 1.0;               ///< s
+constexpr double kMaxGravity = 1e4;          ///< m/s^2 (1000 g)
+constexpr double kMaxBounds = 1e7;           ///< m; single-precision positions out there are 1 m apart
+constexpr double kRollingFriction = 0.0005;  ///< m: default rolling resistance of dynamic obstacles
 
 /// world.set{solver=, dt=, substeps=, gravity={x,y,z}, seed=, duration=, solver_iterations=,
 /// joint_iterations=, erp=, max_speed=, max_angular_speed=, bounds=, expect_faults=}
@@ -126,7 +127,8 @@ int worldSet(lua_State* L) {
   return 0;
 }
 
-/// Errors unless `at` lies within the world bounds (world.set{bounds=}).
+}  // namespace
+
 void checkInBounds(lua_State* L, const char* fn, const Vec3& at) {
   const double bounds = world(L).settings().limits.bounds;
   if (!(at.norm() <= bounds))
@@ -135,6 +137,8 @@ void checkInBounds(lua_State* L, const char* fn, const Vec3& at) {
                "{%s, %s, %s}",
                fn, numText(bounds).s, numText(at.x()).s, numText(at.y()).s, numText(at.z()).s);
 }
+
+namespace {
 
 /// world.ground{friction=, restitution=}: the infinite plane z = 0
 int worldGround(lua_State* L) {
@@ -151,9 +155,13 @@ int worldGround(lua_State* L) {
 }
 
 int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
-  checkOptionKeys(
-      L, 1, fn,
-      {"size", "radius", "length", "file", "scale", "at", "rot", "quat", "mass", "friction", "velocity"});
+  checkOptionKeys(L, 1, fn,
+                  {"size", "radius", "length", "file", "scale", "concave", "at", "rot", "quat", "mass",
+                   "friction", "rolling_friction", "velocity"});
+  const bool concave = optBoolField(L, 1, fn, "concave", false);
+  if (concave && kind != ShapeKind::Hull)
+    return luaL_error(L, "%s: option 'concave' is world.mesh's (a static triangle mesh)", fn);
+  if (concave) kind = ShapeKind::TriMesh;
   const Vec3 velocity = optVec3Field(L, 1, fn, "velocity", Vec3::Zero());
   const Pose pose = optPoseFields(L, 1, fn);
   checkInBounds(L, fn, pose.pos);
@@ -163,6 +171,11 @@ int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
     return luaL_error(L, "%s: mass must not be negative (0 is static), got %s", fn, numText(mass).s);
   if (friction < 0)
     return luaL_error(L, "%s: friction must not be negative, got %s", fn, numText(friction).s);
+  // A dynamic body's rolling resistance (m): a ball of radius r slows as on a surface of rolling
+  // coefficient rolling_friction / r (0.0005 m: a 5 cm ball rolls to a stop like one on carpet).
+  const double rolling = optNumberField(L, 1, fn, "rolling_friction", mass > 0 ? kRollingFriction : 0.0);
+  if (!(rolling >= 0 && rolling <= 1))
+    return luaL_error(L, "%s: rolling_friction must be 0 to 1 metres, got %s", fn, numText(rolling).s);
   const double maxSpeed = world(L).settings().limits.maxSpeed;
   if (!(velocity.norm() <= maxSpeed))
     return luaL_error(L, "%s: velocity must be at most max_speed (%s m/s; world.set{max_speed=}), got %s m/s",
@@ -181,16 +194,21 @@ int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
   if (bad(radius)) return luaL_error(L, range, fn, "radius", numText(bounds).s, numText(radius).s);
   if (bad(length)) return luaL_error(L, range, fn, "length", numText(bounds).s, numText(length).s);
   if (bad(scale)) return luaL_error(L, range, fn, "scale", numText(bounds).s, numText(scale).s);
-  if (kind == ShapeKind::Hull && !file)
-    return luaL_error(L, "%s: option 'file' (a mesh file) is required", fn);
+  const bool fromFile = kind == ShapeKind::Hull || kind == ShapeKind::TriMesh;
+  if (fromFile && !file) return luaL_error(L, "%s: option 'file' (a mesh file) is required", fn);
+  if (concave && (mass > 0 || velocity.squaredNorm() > 0))
+    return luaL_error(L,
+                      "%s: a concave mesh (concave = true) is static: leave out mass and velocity (for a "
+                      "dynamic mesh use its convex hull, concave = false)",
+                      fn);
   return callWorld(L, fn, [&] {
     ShapeDef s;
     s.kind = kind;
     s.size = size;
     s.radius = radius;
     s.length = length;
-    if (kind == ShapeKind::Hull) loadHullShape(world(L), file, scale, s);
-    const int part = world(L).addObstacle(s, pose, mass, friction);
+    if (fromFile) loadMeshShape(world(L), file, scale, kind, s);
+    const int part = world(L).addObstacle(s, pose, mass, friction, rolling);
     if (mass > 0 && velocity.squaredNorm() > 0) world(L).physics().setPartVelocity(part, velocity);
     pushBody(L, part);
     return 1;
@@ -209,7 +227,13 @@ int worldSphere(lua_State* L) {
 int worldCylinder(lua_State* L) {
   return addObstacle(L, "world.cylinder", ShapeKind::Cylinder);
 }
-/// world.mesh{file=, scale=, at=, rot=, mass=, friction=} -> Body (convex hull of the mesh)
+/// world.capsule{radius=, length=, at=, rot=, mass=, friction=} -> Body (a cylinder of `length`
+/// along local z with hemispherical caps: length + 2 radius overall)
+int worldCapsule(lua_State* L) {
+  return addObstacle(L, "world.capsule", ShapeKind::Capsule);
+}
+/// world.mesh{file=, scale=, concave=, at=, rot=, mass=, friction=} -> Body (the mesh's convex
+/// hull; concave = true: the triangles themselves, static)
 int worldMesh(lua_State* L) {
   return addObstacle(L, "world.mesh", ShapeKind::Hull);
 }
@@ -588,11 +612,14 @@ void openWorldApi(lua_State* L, WorldScript& s) {
   openModuleHandle(L);
   openBodyHandle(L);
   openClothHandle(L);
+  openHeightfieldHandle(L);
   static const luaL_Reg fns[] = {{"set", worldSet},
                                  {"ground", worldGround},
+                                 {"heightfield", worldHeightfield},
                                  {"box", worldBox},
                                  {"sphere", worldSphere},
                                  {"cylinder", worldCylinder},
+                                 {"capsule", worldCapsule},
                                  {"mesh", worldMesh},
                                  {"spawn", worldSpawn},
                                  {"connect", worldConnect},

@@ -1,17 +1,18 @@
 // World side: registration of the Lua types and tables the world script sees, one file each:
 // world_api.cpp (`world`, `expect`, `args`, `log`), world_module.cpp (the Module handle, a
 // spawned module), world_body.cpp (the Body handle, an obstacle), world_cloth.cpp (world.cloth, the Cloth
-// handle). Handles are userdata holding an index. Also the bridge that turns C++ exceptions from World into
-// Lua errors. The behaviour side is behaviour_bindings.h.
+// handle), world_heightfield.cpp (terrain). Handles are userdata holding an index. Also the bridge that
+// turns C++ exceptions from World into Lua errors. The behaviour side is behaviour_bindings.h.
 #pragma once
 
 #include <exception>
 #include <lua.hpp>
 
+#include "physics/shape_def.h"
+
 namespace rm3d {
 
 class World;
-struct ShapeDef;
 
 /// The World of the world script running in L (world_api.cpp).
 World& scriptWorld(lua_State* L);
@@ -27,8 +28,14 @@ void pushBody(lua_State* L, int part);
 void openClothHandle(lua_State* L);
 /// world.cloth{...} (world_cloth.cpp)
 int worldCloth(lua_State* L);
-/// Fills a Hull shape from a mesh file (resolved like other world paths). Throws InputError.
-void loadHullShape(World& world, const char* file, double scale, ShapeDef& out);
+/// Fills a Hull (or TriMesh) shape from a mesh file (resolved like other world paths). Throws
+/// InputError.
+void loadMeshShape(World& world, const char* file, double scale, ShapeKind kind, ShapeDef& out);
+/// world.heightfield{...} and its handle (world_heightfield.cpp).
+int worldHeightfield(lua_State* L);
+void openHeightfieldHandle(lua_State* L);
+/// Errors unless `at` lies within the world bounds (world.set{bounds=}).
+void checkInBounds(lua_State* L, const char* fn, const Vec3& at);
 
 /// Runs f() (which may throw but must not raise Lua errors) and turns an exception into a Lua
 /// error "file:line: fn: message" raised after every C++ object is gone.

@@ -1,5 +1,6 @@
-// World side: the Body handle (rm3d.Body) of an obstacle made by world.box/sphere/cylinder/mesh,
-// and the convex-hull shape world.mesh reads from a mesh file.
+// World side: the Body handle (rm3d.Body) of an obstacle made by world.box/sphere/cylinder/
+// capsule/mesh, and the shape world.mesh reads from a mesh file (its convex hull, or the triangles
+// themselves for a static concave mesh).
 #include <string>
 
 #include "assets/mesh_loader.h"
@@ -40,12 +41,19 @@ int bodyVelocity(lua_State* L) {
   return 1;
 }
 
+/// b:sleeping() -> true when the body is static or asleep (still for 2 s; it wakes when touched)
+int bodySleeping(lua_State* L) {
+  lua_pushboolean(L, world(L).obstacleSleeping(checkBody(L)));
+  return 1;
+}
+
 }  // namespace
 
 void openBodyHandle(lua_State* L) {
   static const luaL_Reg bodyMethods[] = {{"position", bodyPosition},
                                          {"orientation", bodyOrientation},
                                          {"velocity", bodyVelocity},
+                                         {"sleeping", bodySleeping},
                                          {nullptr, nullptr}};
   luaL_newmetatable(L, kBodyMeta);
   luaL_newlib(L, bodyMethods);
@@ -58,14 +66,14 @@ void pushBody(lua_State* L, int part) {
   luaL_setmetatable(L, kBodyMeta);
 }
 
-void loadHullShape(World& w, const char* file, double scale, ShapeDef& out) {
+void loadMeshShape(World& w, const char* file, double scale, ShapeKind kind, ShapeDef& out) {
   const std::string path = w.resolvePath(file);
   if (path.empty())
     throw InputError(std::string("mesh file '") + file + "' not found " + w.resolveLookedIn());
   MeshData mesh;
   std::string err;
   if (!loadMesh(path, scale, mesh, err)) throw InputError(err);
-  out.kind = ShapeKind::Hull;
+  out.kind = kind;
   out.points = std::move(mesh.points);
   out.triangles = std::move(mesh.triangles);
   out.source = file;

@@ -20,6 +20,12 @@ const char* shapeName(ShapeKind k) {
       return "cylinder";
     case ShapeKind::Hull:
       return "mesh";
+    case ShapeKind::Capsule:
+      return "capsule";
+    case ShapeKind::TriMesh:
+      return "concave mesh";
+    case ShapeKind::Heightfield:
+      return "heightfield";
   }
   return "body";
 }

@@ -131,13 +131,21 @@ void World::addGround(double friction, double restitution) {
   m_physics->addGroundPlane(friction, restitution);
 }
 
-int World::addObstacle(const ShapeDef& shape, const Pose& pose, double mass, double friction) {
+int World::addObstacle(const ShapeDef& shape, const Pose& pose, double mass, double friction,
+                       double rollingFriction) {
+  if (mass > 0 && staticOnly(shape.kind))
+    throw InputError("a concave mesh or a heightfield is static: mass must be 0 (the default)");
+  if (shape.kind == ShapeKind::Heightfield &&
+      (!shape.grid || shape.grid->nx < 2 || shape.grid->ny < 2 ||
+       shape.grid->heights.size() != size_t(shape.grid->nx) * size_t(shape.grid->ny)))
+    throw InputError("a heightfield needs a grid of at least 2 x 2 heights");
   ensurePhysics();
   PartDesc d;
   d.shapes = {shape};
   d.mass = mass;
   d.pose = pose;
   d.friction = friction;
+  d.rollingFriction = rollingFriction;
   const int part = m_physics->addPart(d);
   m_obstacles.push_back({part, shape, mass});
   return part;
@@ -174,6 +182,9 @@ Pose World::obstaclePose(int part) const {
 }
 Vec3 World::obstacleVelocity(int part) const {
   return m_physics->partLinearVelocity(part);
+}
+bool World::obstacleSleeping(int part) const {
+  return m_physics->partSleeping(part);
 }
 
 std::string World::resolvePath(const std::string& path) const {

@@ -159,7 +159,10 @@ class World {
   // --- building (world scripts, tests) ---
   void setSettings(const WorldSettings& s);
   void addGround(double friction, double restitution);
-  int addObstacle(const ShapeDef& shape, const Pose& pose, double mass, double friction);
+  /// An obstacle: any shape, static (mass 0) or dynamic; a TriMesh or Heightfield only static.
+  /// Returns its physics part. Throws InputError.
+  int addObstacle(const ShapeDef& shape, const Pose& pose, double mass, double friction,
+                  double rollingFriction = 0);
   struct Obstacle {
     int part;
     ShapeDef shape;
@@ -191,6 +194,8 @@ class World {
   void setCamera(const CameraDef& c) { m_camera = c; }
   Pose obstaclePose(int body) const;
   Vec3 obstacleVelocity(int body) const;
+  /// True when the obstacle is static or asleep (still for 2 s; it wakes when touched).
+  bool obstacleSleeping(int body) const;
   const ModuleTypeDef& moduleType(const std::string& name);
   /// A type this world has already loaded, by the name it was spawned with or its own name;
   /// nullptr otherwise (never loads: safe from behaviours).

@@ -73,7 +73,7 @@ function Module:error() end
 ---@return any
 function Module:published(key) end
 
----An obstacle (world.box, sphere, cylinder, mesh).
+---An obstacle (world.box, sphere, cylinder, capsule, mesh).
 ---@class Body
 local Body = {}
 ---@return Vec3
@@ -82,6 +82,37 @@ function Body:position() end
 function Body:orientation() end
 ---@return Vec3
 function Body:velocity() end
+---True when the body is static or asleep (a dynamic obstacle still for 2 s; it wakes when touched).
+---@return boolean
+function Body:sleeping() end
+
+---Terrain made by world.heightfield.
+---@class Heightfield
+local Heightfield = {}
+---The surface's z over the world point (x, y), on the triangles bodies collide with; nil off the terrain.
+---@param x number
+---@param y number
+---@return number?
+function Heightfield:height_at(x, y) end
+---The centre of the terrain in x and y; its base (black) in z.
+---@return Vec3
+function Heightfield:position() end
+---Always upright: terrain is axis-aligned.
+---@return Quat
+function Heightfield:orientation() end
+---Always zero: terrain is static.
+---@return Vec3
+function Heightfield:velocity() end
+---The number of height samples (the image's pixels).
+---@return integer
+function Heightfield:count() end
+---Samples along x and y (the image's width and height).
+---@return integer nx
+---@return integer ny
+function Heightfield:resolution() end
+---The box the terrain can fill (its base to base + height).
+---@return {min: Vec3, max: Vec3}
+function Heightfield:bounds() end
 
 ---A cloth (world.cloth): nodes on an nx x ny grid; node (ix, iy) from 0 is index iy * nx + ix + 1.
 ---@class Cloth
@@ -113,6 +144,7 @@ function Cloth:pinned(i) end
 ---@field rot? number[] {roll, pitch, yaw}
 ---@field mass? number 0 (default): static
 ---@field friction? number
+---@field rolling_friction? number m: rolling and spinning resistance (default 0.0005 for dynamic bodies)
 ---@field velocity? number[]
 
 ---@class world
@@ -130,13 +162,23 @@ function world.sphere(o) end
 ---@param o ShapeOptions|{radius: number, length: number}
 ---@return Body
 function world.cylinder(o) end
----@param o ShapeOptions|{file: string, scale: number?}
+---A cylinder of `length` along its local z with hemispherical caps (length + 2 radius overall).
+---@param o ShapeOptions|{radius: number, length: number}
+---@return Body
+function world.capsule(o) end
+---The mesh's convex hull; with concave = true the triangles themselves (static only).
+---@param o ShapeOptions|{file: string, scale: number?, concave: boolean?}
 ---@return Body
 function world.mesh(o) end
 ---A cloth sheet through Bullet soft bodies; corners in order around the edge.
 ---@param o {corners: number[][], resolution: integer[]?, mass: number?, stiffness: number?, pinned: integer[]?, pinned_nodes: integer[]?, friction: number?, thickness: number?, color: number[]?}
 ---@return Cloth
 function world.cloth(o) end
+
+---Static terrain from a grayscale image: black at at.z, white at at.z + height, centred on (at.x, at.y).
+---@param o {image: string, size: number[], height: number, at: number[]?, friction: number?}
+---@return Heightfield
+function world.heightfield(o) end
 ---@param type string a module type name or a module-type file
 ---@param o? {at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?}
 ---@return Module

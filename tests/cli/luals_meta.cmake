@@ -21,7 +21,7 @@ function(need what)
 endfunction()
 
 # Handle methods and library functions, from the binding tables.
-foreach(pair "behaviour_joint.cpp:Joint:" "behaviour_dock.cpp:Dock:" "world_body.cpp:Body:" "world_cloth.cpp:Cloth:"
+foreach(pair "behaviour_joint.cpp:Joint:" "behaviour_dock.cpp:Dock:" "world_body.cpp:Body:" "world_cloth.cpp:Cloth:" "world_heightfield.cpp:Heightfield:"
              "world_module.cpp:Module:" "world_api.cpp:world." "behaviour_sim.cpp:sim.")
   string(REGEX REPLACE ":.*" "" file "${pair}")
   string(REGEX MATCH "[A-Za-z]+[:.]$" owner "${pair}")

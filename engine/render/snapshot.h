@@ -49,8 +49,8 @@ struct Snapshot {
   std::vector<RenderItem> items;
   std::vector<RenderLine> lines;
   std::vector<RenderSpheres> spheres;  ///< particle systems
-  bool ground = true;                ///< draw the plane z = 0 with a 0.1 m / 1 m grid
-  std::vector<std::string> overlay;  ///< text lines drawn top-left (sim time, modules, ...)
+  bool ground = true;                  ///< draw the plane z = 0 with a 0.1 m / 1 m grid
+  std::vector<std::string> overlay;    ///< text lines drawn top-left (sim time, modules, ...)
 };
 
 }  // namespace rm3d

@@ -15,6 +15,9 @@ struct ContactParams {
   float dt = 1.0f / 60;
   float mus = 0, muk = 0;  ///< static and kinetic friction
   bool friction = false;
+  /// Debris: the least load friction is limited by (|g| dt^2: what gravity presses a resting
+  /// grain in by in a step, which the density constraint has mostly taken out by the contact).
+  float minLoad = 0;
 };
 
 /// Friction on q's motion since p along a surface of normal n that itself moved by `surface`,
@@ -22,6 +25,7 @@ struct ContactParams {
 inline void contactFriction(const ContactParams& cp, const float* p, const float* n, const float* surface,
                             float depth, float* q, float* push) {
   if (!cp.friction) return;
+  depth = std::max(depth, cp.minLoad);
   float t[3];
   const float rn = (q[0] - p[0] - surface[0]) * n[0] + (q[1] - p[1] - surface[1]) * n[1] +
                    (q[2] - p[2] - surface[2]) * n[2];
@@ -37,8 +41,8 @@ inline void contactFriction(const ContactParams& cp, const float* p, const float
 
 /// The plane z = 0 (q is below the particle's radius).
 inline void groundContact(const ContactParams& cp, const float* p, float* q) {
-  const float depth = cp.radius - q[2];
-  q[2] = cp.radius;
+  const float depth = std::max(cp.radius - q[2], 0.0f);
+  q[2] += depth;
   const float n[3] = {0, 0, 1}, still[3] = {0, 0, 0};
   float push[3] = {0, 0, depth};
   contactFriction(cp, p, n, still, depth, q, push);
@@ -46,8 +50,8 @@ inline void groundContact(const ContactParams& cp, const float* p, float* q) {
 
 /// Signed distance from q to the shape's surface and the outward normal (world), when below
 /// `limit`; false otherwise. `p` (the start of the step) picks the face a particle came in by.
-inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const float* p, const float* q, float limit,
-                          float& sd, float* n) {
+inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const float* p, const float* q,
+                          float limit, float& sd, float* n) {
   const float* R = s.rot;
   const float d0 = q[0] - s.pos[0], d1 = q[1] - s.pos[1], d2 = q[2] - s.pos[2];
   const float l[3] = {R[0] * d0 + R[3] * d1 + R[6] * d2, R[1] * d0 + R[4] * d1 + R[7] * d2,
@@ -168,9 +172,9 @@ inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const 
 
 /// Pushes q out to the particle's radius from a surface at signed distance sd < radius with
 /// normal n, then applies friction against the surface's motion; `push` gets the change of q.
-inline void shapeContact(const ContactParams& cp, const ColliderSet& set, const ColliderShape& s, const float* p,
-                         float sd, const float* n, float* q, float* push) {
-  const float depth = cp.radius - sd;
+inline void shapeContact(const ContactParams& cp, const ColliderSet& set, const ColliderShape& s,
+                         const float* p, float sd, const float* n, float* q, float* push) {
+  const float depth = std::max(cp.radius - sd, 0.0f);
   for (int a = 0; a < 3; ++a) {
     q[a] += depth * n[a];
     push[a] = depth * n[a];

@@ -15,7 +15,8 @@ namespace rm3d {
 
 namespace {
 
-constexpr int kBlock = 512;  // particles per unit of parallel work
+constexpr int kBlock = 512;    // particles per unit of parallel work
+constexpr int kRowChunk = 64;  // candidates tested at a time in the neighbour scan
 constexpr float kPiF = 3.14159265358979f;
 
 using Clock = std::chrono::steady_clock;
@@ -53,9 +54,11 @@ ParticleSystem::ParticleSystem(const ParticleDef& def) : m_def(def) {
   m_spacing = float(def.spacing);
   m_radius = 0.5f * m_spacing;
   m_mass = def.density * def.spacing * def.spacing * def.spacing;
-  const bool fluid = def.kind == ParticleDef::Kind::Fluid;
-  m_h = fluid ? float(def.kernel) * m_spacing : 1.5f * m_spacing;
-  if (fluid) {
+  // Debris shares the fluid's density constraint (it keeps grains from overlapping, and a heap
+  // from sinking into itself, far better than pairwise contacts under Jacobi iterations), with
+  // no tension or viscosity and with friction between grains.
+  m_h = float(def.kernel) * m_spacing;
+  {
     // Density in units of the rest density: the kernel sum of a particle inside a cubic lattice
     // at the spacing. Gradients of C_i = S_i / S_0 - 1 with spiky's gradient.
     const float h2 = m_h * m_h;
@@ -116,7 +119,8 @@ void ParticleSystem::fill() {
   Vec3 start;
   for (int a = 0; a < 3; ++a) start[a] = m_def.min[a] + 0.5 * (e[a] - (n[a] - 1) * m_def.spacing);
   const size_t N = size_t(m_n);
-  for (auto* v : {&m_px, &m_py, &m_pz, &m_vx, &m_vy, &m_vz, &m_qx, &m_qy, &m_qz, &m_dx, &m_dy, &m_dz, &m_lambda})
+  for (auto* v :
+       {&m_px, &m_py, &m_pz, &m_vx, &m_vy, &m_vz, &m_qx, &m_qy, &m_qz, &m_dx, &m_dy, &m_dz, &m_lambda})
     v->assign(N, 0.0f);
   m_id.resize(N);
   m_cell.assign(N, 0);
@@ -157,6 +161,7 @@ void ParticleSystem::step(double dt, const Vec3& gravity, const ColliderSet& col
   m_pushes.clear();
   if (m_n == 0 || !(dt > 0)) return;
   const float h = float(dt);
+  m_minLoad = float(gravity.norm() * dt * dt);
   auto t = Clock::now();
   predict(h, gravity, parallel);
   sortByCell(parallel);
@@ -166,21 +171,10 @@ void ParticleSystem::step(double dt, const Vec3& gravity, const ColliderSet& col
   markColliderCells(colliders);
   m_times.neighbours = msSince(t);
   t = Clock::now();
-  const bool fluid = m_def.kind == ParticleDef::Kind::Fluid;
-  if (!fluid) {
-    // Pre-stabilisation (Macklin et al. 2014, 4.4): overlaps already there at the start of the
-    // step are resolved in both positions, so they add no velocity.
-    debrisIteration(true, parallel);
-    applyAndCollide(h, true, true, colliders, parallel);
-  } else {
-    applyAndCollide(h, false, false, colliders, parallel);  // contacts and wall terms at the start
-  }
+  applyAndCollide(h, false, colliders, parallel);  // contacts and wall terms at the start
   for (int it = 0; it < m_def.iterations; ++it) {
-    if (fluid)
-      fluidIteration(colliders, parallel);
-    else
-      debrisIteration(false, parallel);
-    applyAndCollide(h, true, false, colliders, parallel);
+    fluidIteration(colliders, parallel);
+    applyAndCollide(h, true, colliders, parallel);
   }
   m_times.solve = msSince(t);
   t = Clock::now();
@@ -308,7 +302,8 @@ void ParticleSystem::sortByCell(const ParallelFor& parallel) {
     for (int i = b; i < e; ++i) tmpId[i] = id[perm[i]];
   });
   forBlocks(parallel, [&](int b, int e) {
-    for (int k = 0; k < 9; ++k) std::memcpy(arrays[k] + b, tmp + size_t(k) * N + size_t(b), sizeof(float) * size_t(e - b));
+    for (int k = 0; k < 9; ++k)
+      std::memcpy(arrays[k] + b, tmp + size_t(k) * N + size_t(b), sizeof(float) * size_t(e - b));
   });
   std::swap(m_id, m_tmpId);
   // Cells in the new order: ascending runs given by the starts.
@@ -332,16 +327,28 @@ void ParticleSystem::buildNeighbours(const ParallelFor& parallel) {
       const int cy = cellCoord(yi, m_origin[1], m_invCell, ny);
       const int cz = cellCoord(zi, m_origin[2], m_invCell, nz);
       const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nx - 1);
+      // Branch-free: every candidate is written, the count moves on only for a neighbour (a
+      // buffer with room for a full row keeps the writes in bounds).
       uint32_t* out = nbr + size_t(i) * kMaxNeighbours;
       int n = 0;
       for (int z = std::max(cz - 1, 0); z <= std::min(cz + 1, nz - 1); ++z)
         for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1); ++y) {
           const size_t row = (size_t(z) * size_t(ny) + size_t(y)) * size_t(nx);
-          const uint32_t jb = start[row + size_t(x0)], je = start[row + size_t(x1) + 1];
-          for (uint32_t j = jb; j < je; ++j) {
-            const float dx = xi - qx[j], dy = yi - qy[j], dz = zi - qz[j];
-            const float d2 = dx * dx + dy * dy + dz * dz;
-            if (d2 < r2max && j != uint32_t(i) && n < kMaxNeighbours) out[n++] = j;
+          uint32_t j = start[row + size_t(x0)];
+          const uint32_t je = start[row + size_t(x1) + 1];
+          while (j < je) {
+            uint32_t buf[kRowChunk];
+            const uint32_t end = std::min(je, j + uint32_t(kRowChunk));
+            int m = 0;
+            for (; j < end; ++j) {
+              const float dx = xi - qx[j], dy = yi - qy[j], dz = zi - qz[j];
+              const float d2 = dx * dx + dy * dy + dz * dz;
+              buf[m] = j;
+              m += int(d2 < r2max) & int(j != uint32_t(i));
+            }
+            const int take = std::min(m, kMaxNeighbours - n);
+            std::memcpy(out + n, buf, sizeof(uint32_t) * size_t(take));
+            n += take;
           }
         }
       count[i] = uint8_t(n);
@@ -399,13 +406,13 @@ void ParticleSystem::fluidIteration(const ColliderSet& colliders, const Parallel
       for (int k = 0, n = count[i]; k < n; ++k) {
         const uint32_t j = nb[k];
         const float dx = xi - qx[j], dy = yi - qy[j], dz = zi - qz[j];
+        // Branch-free: outside the kernel (moved away since the lists were built) t and w
+        // are 0; at zero distance the gradient is 0.
         const float r2 = dx * dx + dy * dy + dz * dz;
-        if (r2 >= h2) continue;
-        const float t = h2 - r2;
+        const float t = std::max(h2 - r2, 0.0f);
         sum += t * t * t;
         const float r = std::sqrt(r2);
-        if (r < 1e-9f) continue;
-        const float w = h - r, g = spiky * w * w / r;
+        const float w = std::max(h - r, 0.0f), g = spiky * w * w / std::max(r, 1e-9f);
         gx += g * dx;
         gy += g * dy;
         gz += g * dz;
@@ -425,31 +432,58 @@ void ParticleSystem::fluidIteration(const ColliderSet& colliders, const Parallel
   const float scorrK = m_scorrK, scorrW = m_scorrW, maxStep = 0.2f * m_spacing;
   const int32_t* touchBody = m_touchBody.data();
   const float* slotG = m_slotG.data();
+  const float *px = m_px.data(), *py = m_py.data(), *pz = m_pz.data();
+  const bool granular = m_def.kind == ParticleDef::Kind::Debris;
+  const float contact2 = 1.1025f * m_spacing * m_spacing;  // touching: within 1.05 spacings
+  const float mus = float(m_def.friction), muk = float(m_def.kineticFriction), minLoad = m_minLoad;
   float* touch = m_touch.data();
   forBlocks(parallel, [&](int b, int e) {
     for (int i = b; i < e; ++i) {
       const float xi = qx[i], yi = qy[i], zi = qz[i], li = lambda[i];
+      const float mx = xi - px[i], my = yi - py[i], mz = zi - pz[i];  // i's motion this step
       const uint32_t* nb = nbr + size_t(i) * kMaxNeighbours;
-      float ax = 0, ay = 0, az = 0;
+      float ax = 0, ay = 0, az = 0, fx = 0, fy = 0, fz = 0;
+      int touching = 0;
       for (int k = 0, n = count[i]; k < n; ++k) {
         const uint32_t j = nb[k];
         const float dx = xi - qx[j], dy = yi - qy[j], dz = zi - qz[j];
         const float r2 = dx * dx + dy * dy + dz * dz;
-        if (r2 >= h2) continue;
         const float r = std::sqrt(r2);
-        if (r < 1e-9f) continue;
-        const float t = h2 - r2, ratio = t * t * t * scorrW, ratio2 = ratio * ratio;
+        const float t = std::max(h2 - r2, 0.0f), ratio = t * t * t * scorrW, ratio2 = ratio * ratio;
         const float corr = -scorrK * ratio2 * ratio2;  // s_corr = -k (W / W(dq))^4
-        const float w = h - r, s = (li + lambda[j] + corr) * spiky * w * w / r;
+        const float w = std::max(h - r, 0.0f),
+                    s = (li + lambda[j] + corr) * spiky * w * w / std::max(r, 1e-9f);
         ax += s * dx;
         ay += s * dy;
         az += s * dz;
+        if (granular && r2 < contact2) {
+          // Friction between touching grains (Macklin et al. 2014, 6.1): their relative motion
+          // along the contact over the step is undone (static) or reduced (kinetic), limited by
+          // the pair's normal push.
+          const float load = std::max(std::abs(s) * r, minLoad), inv = 1.0f / std::max(r, 1e-9f);
+          const float rx = mx - (qx[j] - px[j]), ry = my - (qy[j] - py[j]), rz = mz - (qz[j] - pz[j]);
+          const float rn = (rx * dx + ry * dy + rz * dz) * inv * inv;
+          const float tx = rx - rn * dx, ty = ry - rn * dy, tz = rz - rn * dz;
+          const float t2 = tx * tx + ty * ty + tz * tz;
+          float f = 0.5f;
+          if (t2 > (mus * load) * (mus * load)) f *= std::min(muk * load / std::sqrt(t2), 1.0f);
+          fx -= f * tx;
+          fy -= f * ty;
+          fz -= f * tz;
+          ++touching;
+        }
       }
       // lambda < 0 pushes apart: C's gradient on i points away from j, and the step is
       // lambda times it, so the sign is the gradient's (-spiky (h-r)^2 r^).
       ax = -ax + li * wallGx[i];
       ay = -ay + li * wallGy[i];
       az = -az + li * wallGz[i];
+      if (touching) {  // the mean over the contacts (a sum would overshoot)
+        const float k = 1.0f / float(touching);
+        ax += fx * k;
+        ay += fy * k;
+        az += fz * k;
+      }
       // The bodies' share of that push, for their reaction.
       for (int slot = 0; slot < 2; ++slot) {
         if (touchBody[2 * i + slot] < 0 || li == 0) continue;
@@ -479,58 +513,6 @@ void ParticleSystem::fluidIteration(const ColliderSet& colliders, const Parallel
   });
 }
 
-void ParticleSystem::debrisIteration(bool stabilise, const ParallelFor& parallel) {
-  const float* qx = stabilise ? m_px.data() : m_qx.data();
-  const float* qy = stabilise ? m_py.data() : m_qy.data();
-  const float* qz = stabilise ? m_pz.data() : m_qz.data();
-  const float *px = m_px.data(), *py = m_py.data(), *pz = m_pz.data();
-  const uint32_t* nbr = m_nbr.data();
-  const uint8_t* count = m_nbrCount.data();
-  float *dxo = m_dx.data(), *dyo = m_dy.data(), *dzo = m_dz.data();
-  const float d0 = m_spacing, d02 = d0 * d0;
-  const float mus = float(m_def.friction), muk = float(m_def.kineticFriction);
-  const float omega = 1.5f;  // over-relaxation of the averaged corrections (Macklin et al. 2014, 4.2)
-  forBlocks(parallel, [&](int b, int e) {
-    for (int i = b; i < e; ++i) {
-      const float xi = qx[i], yi = qy[i], zi = qz[i];
-      const float mxi = xi - px[i], myi = yi - py[i], mzi = zi - pz[i];  // i's motion this step
-      const uint32_t* nb = nbr + size_t(i) * kMaxNeighbours;
-      float ax = 0, ay = 0, az = 0;
-      int contacts = 0;
-      for (int k = 0, n = count[i]; k < n; ++k) {
-        const uint32_t j = nb[k];
-        const float dx = xi - qx[j], dy = yi - qy[j], dz = zi - qz[j];
-        const float r2 = dx * dx + dy * dy + dz * dz;
-        if (r2 >= d02 || r2 < 1e-18f) continue;
-        const float r = std::sqrt(r2), inv = 1.0f / r;
-        const float nx = dx * inv, ny = dy * inv, nz = dz * inv;
-        const float pen = d0 - r;
-        float cx = 0.5f * pen * nx, cy = 0.5f * pen * ny, cz = 0.5f * pen * nz;
-        if (!stabilise && mus > 0) {
-          // Relative tangential motion over the step, undone (static) or reduced (kinetic).
-          const float rx = mxi - (qx[j] - px[j]), ry = myi - (qy[j] - py[j]), rz = mzi - (qz[j] - pz[j]);
-          const float rn = rx * nx + ry * ny + rz * nz;
-          const float tx = rx - rn * nx, ty = ry - rn * ny, tz = rz - rn * nz;
-          const float t2 = tx * tx + ty * ty + tz * tz;
-          float f = 0.5f;
-          if (t2 > (mus * pen) * (mus * pen)) f *= std::min(muk * pen / std::sqrt(t2), 1.0f);
-          cx -= f * tx;
-          cy -= f * ty;
-          cz -= f * tz;
-        }
-        ax += cx;
-        ay += cy;
-        az += cz;
-        ++contacts;
-      }
-      const float s = contacts ? omega / float(contacts) : 0.0f;
-      dxo[i] = ax * s;
-      dyo[i] = ay * s;
-      dzo[i] = az * s;
-    }
-  });
-}
-
 void ParticleSystem::wallTerm(float sd, float& share, float& slope) const {
   float x = sd * (float(kWallTable) / m_h);
   if (!(x > 0)) x = 0;  // inside: as at the surface (the contact pushes it out)
@@ -544,26 +526,32 @@ void ParticleSystem::wallTerm(float sd, float& share, float& slope) const {
   slope = m_wallSlope[k] + f * (m_wallSlope[k + 1] - m_wallSlope[k]);
 }
 
-void ParticleSystem::applyAndCollide(float dt, bool move, bool stabilise, const ColliderSet& colliders,
+void ParticleSystem::applyAndCollide(float dt, bool move, const ColliderSet& colliders,
                                      const ParallelFor& parallel) {
   float *qx = m_qx.data(), *qy = m_qy.data(), *qz = m_qz.data();
-  float *px = m_px.data(), *py = m_py.data(), *pz = m_pz.data();
+  const float *px = m_px.data(), *py = m_py.data(), *pz = m_pz.data();
   const float *dxi = m_dx.data(), *dyi = m_dy.data(), *dzi = m_dz.data();
   const uint32_t* cell = m_cell.data();
   const uint8_t* shapeCount = m_cellShapeCount.data();
   const int32_t* shapes = m_cellShapes.data();
   int32_t* touchBody = m_touchBody.data();
   float* touch = m_touch.data();
-  float *wallS = m_wallS.data(), *wallGx = m_wallGx.data(), *wallGy = m_wallGy.data(), *wallGz = m_wallGz.data();
+  float *wallS = m_wallS.data(), *wallGx = m_wallGx.data(), *wallGy = m_wallGy.data(),
+        *wallGz = m_wallGz.data();
   float* slotG = m_slotG.data();
-  const bool fluid = m_def.kind == ParticleDef::Kind::Fluid;
+  const bool fluid = true;  // both kinds have the bodies' share of density
+  const bool granular = m_def.kind == ParticleDef::Kind::Debris;
   ContactParams cp;
   cp.radius = m_radius;
   cp.dt = dt;
   cp.mus = float(m_def.friction);
   cp.muk = float(m_def.kineticFriction);
-  cp.friction = !stabilise && m_def.friction > 0;
-  const float reach = fluid ? m_h : m_radius;  // fluids feel bodies within the kernel
+  cp.friction = m_def.friction > 0;
+  cp.minLoad = granular ? m_minLoad : 0.0f;
+  const float reach = m_h;  // particles feel bodies within the kernel
+  // Grains resting on a surface sit a little off it (the density constraint holds them): they
+  // still touch it for friction.
+  const float touchAt = granular ? 1.15f * m_radius : m_radius;
   forBlocks(parallel, [&](int b, int e) {
     for (int i = b; i < e; ++i) {
       float q[3] = {qx[i], qy[i], qz[i]};
@@ -571,11 +559,6 @@ void ParticleSystem::applyAndCollide(float dt, bool move, bool stabilise, const 
         q[0] += dxi[i];
         q[1] += dyi[i];
         q[2] += dzi[i];
-      }
-      if (stabilise) {
-        px[i] += dxi[i];
-        py[i] += dyi[i];
-        pz[i] += dzi[i];
       }
       const float p[3] = {px[i], py[i], pz[i]};
       float ws = 0, wg[3] = {0, 0, 0}, sg[6] = {0, 0, 0, 0, 0, 0};
@@ -585,14 +568,9 @@ void ParticleSystem::applyAndCollide(float dt, bool move, bool stabilise, const 
         const ColliderShape& shape = colliders.shapes[size_t(s)];
         float sd, nrm[3], push[3] = {0, 0, 0};
         if (!shapeDistance(colliders, shape, p, q, reach, sd, nrm)) continue;
-        if (sd < cp.radius) {
+        if (sd < touchAt) {
           shapeContact(cp, colliders, shape, p, sd, nrm, q, push);
-          if (stabilise) {
-            px[i] += push[0];
-            py[i] += push[1];
-            pz[i] += push[2];
-          }
-          sd = cp.radius;
+          sd = std::max(sd, cp.radius);
         }
         float share = 0, slope = 0;
         if (fluid) {
@@ -613,7 +591,8 @@ void ParticleSystem::applyAndCollide(float dt, bool move, bool stabilise, const 
         }
         for (int a = 0; a < 3; ++a) sg[3 * slot + a] += slope * nrm[a];
         const ColliderBody& body = colliders.bodies[size_t(shape.body)];
-        const float lx = q[0] - float(body.com[0]), ly = q[1] - float(body.com[1]), lz = q[2] - float(body.com[2]);
+        const float lx = q[0] - float(body.com[0]), ly = q[1] - float(body.com[1]),
+                    lz = q[2] - float(body.com[2]);
         acc[0] += push[0];
         acc[1] += push[1];
         acc[2] += push[2];
@@ -622,7 +601,7 @@ void ParticleSystem::applyAndCollide(float dt, bool move, bool stabilise, const 
         acc[5] += lx * push[1] - ly * push[0];
       }
       if (colliders.ground) {  // last, so no body pushes a particle under the ground
-        if (q[2] < cp.radius) groundContact(cp, p, q);
+        if (q[2] < touchAt) groundContact(cp, p, q);
         if (fluid && q[2] < reach) {
           float share, slope;
           wallTerm(q[2], share, slope);
@@ -674,8 +653,7 @@ void ParticleSystem::finish(float dt, const ParallelFor& parallel) {
           const uint32_t j = nb[k];
           const float dx = xi - qx[j], dy = yi - qy[j], dz = zi - qz[j];
           const float r2 = dx * dx + dy * dy + dz * dz;
-          if (r2 >= h2) continue;
-          const float t = h2 - r2, w = t * t * t;
+          const float t = std::max(h2 - r2, 0.0f), w = t * t * t;
           ax += (vx[j] - ux) * w;
           ay += (vy[j] - uy) * w;
           az += (vz[j] - uz) * w;
@@ -748,8 +726,8 @@ int ParticleSystem::nanCount() const {
   int n = 0;
   for (int i = 0; i < m_n; ++i) {
     const size_t k = size_t(i);
-    if (!std::isfinite(m_px[k]) || !std::isfinite(m_py[k]) || !std::isfinite(m_pz[k]) || !std::isfinite(m_vx[k]) ||
-        !std::isfinite(m_vy[k]) || !std::isfinite(m_vz[k]))
+    if (!std::isfinite(m_px[k]) || !std::isfinite(m_py[k]) || !std::isfinite(m_pz[k]) ||
+        !std::isfinite(m_vx[k]) || !std::isfinite(m_vy[k]) || !std::isfinite(m_vz[k]))
       ++n;
   }
   return n;

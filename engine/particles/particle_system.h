@@ -88,11 +88,9 @@ class ParticleSystem {
   void buildNeighbours(const ParallelFor& parallel);
   void markColliderCells(const ColliderSet& colliders);
   void fluidIteration(const ColliderSet& colliders, const ParallelFor& parallel);
-  void debrisIteration(bool stabilise, const ParallelFor& parallel);
   /// Adds the corrections (none with `move` false) and resolves contacts; for fluids also the
   /// bodies' share of each particle's density (wall terms) at the new positions.
-  void applyAndCollide(float dt, bool move, bool stabilise, const ColliderSet& colliders,
-                       const ParallelFor& parallel);
+  void applyAndCollide(float dt, bool move, const ColliderSet& colliders, const ParallelFor& parallel);
   /// The share of a particle's kernel sum a solid half-space at signed distance sd makes up,
   /// and its derivative along the normal (in units of the rest density).
   void wallTerm(float sd, float& share, float& slope) const;
@@ -106,6 +104,7 @@ class ParticleSystem {
   int m_n = 0;
   float m_radius = 0.01f, m_spacing = 0.02f, m_h = 0.036f;
   double m_mass = 0;
+  float m_minLoad = 0;  ///< debris: |g| dt^2, the least overlap friction is limited by
   // Fluid constants (set once): poly6 and spiky factors, rest kernel sum, relaxation, s_corr.
   float m_poly6 = 0, m_spiky = 0, m_restSum = 1, m_eps = 0, m_scorrK = 0, m_scorrW = 1;
 

@@ -76,8 +76,7 @@ int particlesCountIn(lua_State* L) {
     luaL_checktype(L, 2 + k, LUA_TTABLE);
     for (int a = 0; a < 3; ++a) {
       lua_rawgeti(L, 2 + k, a + 1);
-      if (!lua_isnumber(L, -1))
-        return luaL_argerror(L, 2 + k, "expected {x, y, z} (three numbers)");
+      if (!lua_isnumber(L, -1)) return luaL_argerror(L, 2 + k, "expected {x, y, z} (three numbers)");
       b[3 * k + a] = lua_tonumber(L, -1);
       lua_pop(L, 1);
     }
@@ -103,26 +102,27 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
   const bool fluid = kind == ParticleDef::Kind::Fluid;
   if (fluid)
     checkOptionKeys(L, 1, fn,
-                    {"min", "max", "spacing", "density", "viscosity", "tension", "friction", "kinetic_friction",
-                     "damping", "iterations", "kernel", "max_speed"});
+                    {"min", "max", "spacing", "density", "viscosity", "tension", "friction",
+                     "kinetic_friction", "damping", "iterations", "kernel", "max_speed"});
   else
     checkOptionKeys(L, 1, fn,
-                    {"min", "max", "spacing", "density", "friction", "kinetic_friction", "damping", "iterations",
-                     "max_speed"});
+                    {"min", "max", "spacing", "density", "friction", "kinetic_friction", "damping",
+                     "iterations", "max_speed"});
   lua_getfield(L, 1, "min");
   const bool hasMin = !lua_isnil(L, -1);
   lua_getfield(L, 1, "max");
   const bool hasMax = !lua_isnil(L, -1);
   lua_pop(L, 2);
-  if (!hasMin || !hasMax) return luaL_error(L, "%s: options 'min' and 'max' ({x, y, z}: the box to fill) are required", fn);
+  if (!hasMin || !hasMax)
+    return luaL_error(L, "%s: options 'min' and 'max' ({x, y, z}: the box to fill) are required", fn);
   ParticleDef d;
   d.kind = kind;
   d.min = optVec3Field(L, 1, fn, "min", Vec3::Zero());
   d.max = optVec3Field(L, 1, fn, "max", Vec3::Zero());
   d.spacing = optNumberField(L, 1, fn, "spacing", fluid ? 0.02 : 0.02);
   d.density = optNumberField(L, 1, fn, "density", fluid ? 1000.0 : 1600.0);
-  d.viscosity = optNumberField(L, 1, fn, "viscosity", 0.01);
-  d.tension = optNumberField(L, 1, fn, "tension", 0.01);
+  d.viscosity = optNumberField(L, 1, fn, "viscosity", fluid ? 0.01 : 0.0);
+  d.tension = optNumberField(L, 1, fn, "tension", fluid ? 0.01 : 0.0);
   d.friction = optNumberField(L, 1, fn, "friction", fluid ? 0.0 : 0.6);
   d.kineticFriction = optNumberField(L, 1, fn, "kinetic_friction", -1);
   d.damping = optNumberField(L, 1, fn, "damping", fluid ? 0.0 : 0.5);
@@ -132,12 +132,14 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
   const double bounds = scriptWorld(L).settings().limits.bounds;
   for (int a = 0; a < 3; ++a)
     if (!(d.min[a] < d.max[a]))
-      return luaL_error(L, "%s: 'min' must be below 'max' on every axis, got min {%s, %s, %s}, max {%s, %s, %s}", fn,
-                        numText(d.min.x()).s, numText(d.min.y()).s, numText(d.min.z()).s, numText(d.max.x()).s,
-                        numText(d.max.y()).s, numText(d.max.z()).s);
+      return luaL_error(L,
+                        "%s: 'min' must be below 'max' on every axis, got min {%s, %s, %s}, max {%s, %s, %s}",
+                        fn, numText(d.min.x()).s, numText(d.min.y()).s, numText(d.min.z()).s,
+                        numText(d.max.x()).s, numText(d.max.y()).s, numText(d.max.z()).s);
   if (!(d.min.norm() <= bounds && d.max.norm() <= bounds))
-    return luaL_error(L, "%s: the box must lie within the world bounds (%s m from the origin; world.set{bounds=})",
-                      fn, numText(bounds).s);
+    return luaL_error(
+        L, "%s: the box must lie within the world bounds (%s m from the origin; world.set{bounds=})", fn,
+        numText(bounds).s);
   auto positive = [&](const char* key, double v) {
     return luaL_error(L, "%s: %s must be positive, got %s", fn, key, numText(v).s);
   };
@@ -145,7 +147,8 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
   if (!(d.density > 0) || !std::isfinite(d.density)) return positive("density", d.density);
   if (!(d.maxSpeed > 0) || !std::isfinite(d.maxSpeed)) return positive("max_speed", d.maxSpeed);
   auto range = [&](const char* key, double v, double lo, double hi) {
-    return luaL_error(L, "%s: %s must be in [%s, %s], got %s", fn, key, numText(lo).s, numText(hi).s, numText(v).s);
+    return luaL_error(L, "%s: %s must be in [%s, %s], got %s", fn, key, numText(lo).s, numText(hi).s,
+                      numText(v).s);
   };
   if (!(d.viscosity >= 0 && d.viscosity <= 1)) return range("viscosity", d.viscosity, 0, 1);
   if (!(d.tension >= 0 && d.tension <= 1)) return range("tension", d.tension, 0, 1);

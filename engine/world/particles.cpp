@@ -17,8 +17,9 @@ int World::addParticles(const ParticleDef& def) {
     throw InputError("the box holds no particle at this spacing (each side must be at least one spacing)");
   if (!(total <= kMaxParticles)) {
     char buf[160];
-    std::snprintf(buf, sizeof buf, "too many particles: %.0f in this world (at most %.0f; use a larger spacing)",
-                  total, kMaxParticles);
+    std::snprintf(buf, sizeof buf,
+                  "too many particles: %.0f in this world (at most %.0f; use a larger spacing)", total,
+                  kMaxParticles);
     throw InputError(buf);
   }
   m_particles.push_back(std::make_unique<ParticleSystem>(def));

@@ -127,7 +127,7 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
   d.kineticFriction = optNumberField(L, 1, fn, "kinetic_friction", -1);
   d.damping = optNumberField(L, 1, fn, "damping", fluid ? 0.0 : 0.5);
   d.kernel = optNumberField(L, 1, fn, "kernel", 1.8);
-  d.maxSpeed = optNumberField(L, 1, fn, "max_speed", 10.0);
+  d.maxSpeed = optNumberField(L, 1, fn, "max_speed", 4.0);
   const long long iterations = optIntegerField(L, 1, fn, "iterations", fluid ? 3 : 3);
   const double bounds = scriptWorld(L).settings().limits.bounds;
   for (int a = 0; a < 3; ++a)

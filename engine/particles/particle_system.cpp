@@ -562,10 +562,16 @@ void ParticleSystem::applyAndCollide(float dt, bool move, const ColliderSet& col
       }
       const float p[3] = {px[i], py[i], pz[i]};
       float ws = 0, wg[3] = {0, 0, 0}, sg[6] = {0, 0, 0, 0, 0, 0};
+      // Out of the ground first: a particle below it and under a wall would otherwise leave the
+      // wall through its bottom face and come up inside it.
+      if (colliders.ground && q[2] < touchAt) groundContact(cp, p, q);
       const uint32_t c = cell[i];
-      for (int k = 0, n = shapeCount[c]; k < n; ++k) {
-        const int s = shapes[size_t(c) * kCellShapes + size_t(k)];
+      // Moving bodies first, fixed ones last: a particle squeezed between a body and a wall ends
+      // up out of the wall (and pushes the body away) rather than through the wall.
+      for (int k = 0, n = shapeCount[c]; k < 2 * n; ++k) {
+        const int s = shapes[size_t(c) * kCellShapes + size_t(k % n)];
         const ColliderShape& shape = colliders.shapes[size_t(s)];
+        if (shape.dynamic != (k < n)) continue;
         float sd, nrm[3], push[3] = {0, 0, 0};
         if (!shapeDistance(colliders, shape, p, q, reach, sd, nrm)) continue;
         if (sd < touchAt) {

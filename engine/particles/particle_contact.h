@@ -63,10 +63,14 @@ inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const 
     case ColliderShape::Box: {
       float e[3], out2 = 0, inside = -1e30f;
       int axis = 0;
+      // A fixed box standing on the ground: never leave it downwards (the ground would put the
+      // particle back inside).
+      const bool onGround = set.ground && !s.dynamic && s.lo[2] < limit;
       for (int a = 0; a < 3; ++a) {
         e[a] = std::abs(l[a]) - s.half[a];
         if (e[a] > 0) out2 += e[a] * e[a];
-        if (e[a] > inside) {
+        const bool down = onGround && R[6 + a] * (l[a] < 0 ? -1.0f : 1.0f) < -0.7f;
+        if (e[a] > inside && !(down && e[a] <= 0)) {
           inside = e[a];
           axis = a;
         }
@@ -77,8 +81,9 @@ inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const 
         if (sd >= r) return false;
         for (int a = 0; a < 3; ++a) nl[a] = e[a] > 0 ? std::copysign(e[a], l[a]) / sd : 0.0f;
       } else {
-        // Inside: leave through the face the particle came in by (where it was outside at the
-        // step's start), else the nearest face.
+        // Inside: deeper than `limit`, leave through the face the particle came in by (where it
+        // was outside at the step's start: it may have passed the middle of a thin wall), else
+        // through the nearest face.
         const float e0 = p[0] - s.pos[0], e1 = p[1] - s.pos[1], e2 = p[2] - s.pos[2];
         const float lp[3] = {R[0] * e0 + R[3] * e1 + R[6] * e2, R[1] * e0 + R[4] * e1 + R[7] * e2,
                              R[2] * e0 + R[5] * e1 + R[8] * e2};
@@ -86,13 +91,14 @@ inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const 
         int entry = -1;
         for (int a = 0; a < 3; ++a) {
           const float o = std::abs(lp[a]) - s.half[a];
+          if (onGround && R[6 + a] * (lp[a] < 0 ? -1.0f : 1.0f) < -0.7f) continue;
           if (o > best) {
             best = o;
             entry = a;
           }
         }
         float side = l[axis];
-        if (entry >= 0) {
+        if (entry >= 0 && inside < -r) {  // shallow: the nearest face (a wall's end, a corner)
           axis = entry;
           side = lp[entry];
         }

@@ -568,7 +568,8 @@ void ParticleSystem::applyAndCollide(float dt, bool move, const ColliderSet& col
       const uint32_t c = cell[i];
       // Moving bodies first, fixed ones last: a particle squeezed between a body and a wall ends
       // up out of the wall (and pushes the body away) rather than through the wall.
-      for (int k = 0, n = shapeCount[c]; k < 2 * n; ++k) {
+      // Fixed ones twice: a particle pushed out of one wall into the next, in a corner.
+      for (int k = 0, n = shapeCount[c]; k < 3 * n; ++k) {
         const int s = shapes[size_t(c) * kCellShapes + size_t(k % n)];
         const ColliderShape& shape = colliders.shapes[size_t(s)];
         if (shape.dynamic != (k < n)) continue;

@@ -25,6 +25,9 @@ struct Scene {
   int modules;         ///< default module count (--modules overrides)
   double paperFps;     ///< the paper's frames per second at dt 1/30 (section IV.G); 0: none
   const char* script;  ///< world script; see kSettings for the `args` it gets
+  /// Particle scenes: `modules` is the particle count, and the paper's figure is at dt 1/60
+  /// (Macklin et al.'s PhysX GPU figures the ReMod3D paper quotes).
+  bool particles = false;
 };
 
 /// The paper ran every scene at dt 1/30, one frame per step, on a 2013 quad-core laptop.
@@ -95,6 +98,53 @@ end)"},
 
 #undef RM3D_BENCH_SETTINGS
 
+/// The paper's particle figures are at dt 1/60.
+constexpr double kPaperParticleDt = 1.0 / 60.0;
+
+// Particle scenes: args.n particles 2.5 cm apart, 12 layers deep, filling 60 % of a walled tank
+// (a dam break), with a floating box of half the fluid's density in the empty part; debris: a
+// layer of grains with a heavy box dropped on it. dt, substeps and iterations as above.
+#define RM3D_PARTICLE_TANK                                                                             \
+  "world.set{dt = args.dt, substeps = args.substeps, solver_iterations = args.iterations, duration = " \
+  "1e9}\n"                                                                                             \
+  "world.ground{}\n"                                                                                   \
+  "local s, layers = 0.025, 12\n"                                                                      \
+  "local side = math.floor(math.sqrt(tonumber(args.n) / layers) + 0.5)\n"                              \
+  "local L, W, H, T = side * s / 0.6, side * s, 0.6, 0.1\n"                                            \
+  "world.box{size = {L + 2 * T, T, H}, at = {0, W / 2 + T / 2, H / 2}}\n"                              \
+  "world.box{size = {L + 2 * T, T, H}, at = {0, -W / 2 - T / 2, H / 2}}\n"                             \
+  "world.box{size = {T, W, H}, at = {L / 2 + T / 2, 0, H / 2}}\n"                                      \
+  "world.box{size = {T, W, H}, at = {-L / 2 - T / 2, 0, H / 2}}\n"
+
+const char* const kFluidTank = RM3D_PARTICLE_TANK R"(
+world.fluid{min = {-L / 2, -W / 2, 0}, max = {-L / 2 + side * s, W / 2, layers * s}, spacing = s}
+world.box{size = {0.15, 0.15, 0.15}, at = {L / 2 - 0.2, 0, 0.1}, mass = 500 * 0.15 ^ 3})";
+
+const char* const kDebrisField = RM3D_PARTICLE_TANK R"(
+world.debris{min = {-L / 2, -W / 2, 0}, max = {-L / 2 + side * s, W / 2, layers * s}, spacing = s}
+world.box{size = {0.2, 0.2, 0.2}, at = {-L / 4, 0, layers * s + 0.3}, mass = 8})";
+
+#undef RM3D_PARTICLE_TANK
+
+const Scene kParticleScenes[] = {
+    {"fluid_20k", "N fluid particles in a tank (a dam break) with a floating box", 20000, 51, kFluidTank,
+     true},
+    {"fluid_50k", "N fluid particles in a tank (a dam break) with a floating box", 50000, 15, kFluidTank,
+     true},
+    {"fluid_100k", "N fluid particles in a tank (a dam break) with a floating box", 100000, 7, kFluidTank,
+     true},
+    {"debris_100k", "N debris grains in a tank with a heavy box dropped on them", 100000, 16, kDebrisField,
+     true},
+};
+
+/// Every scene: the paper's and ours, then the particle scenes.
+std::vector<const Scene*> allScenes() {
+  std::vector<const Scene*> out;
+  for (const Scene& s : kScenes) out.push_back(&s);
+  for (const Scene& s : kParticleScenes) out.push_back(&s);
+  return out;
+}
+
 struct Result {
   std::string name;
   int modules = 0;
@@ -104,6 +154,9 @@ struct Result {
   long long steps = 0;
   double stepsPerSecond = 0, realtime = 0;
   double msBehaviours = 0, msPhysics = 0, msOther = 0;
+  double msParticles = 0;  ///< part of msOther
+  int particles = 0;
+  ParticleSystem::Times particleTimes;  ///< summed over the systems, mean per step
   Quality quality;
   int connections = 0;
   size_t messages = 0;
@@ -135,7 +188,8 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
   }
   const int warm = 30;
   for (int i = 0; i < warm; ++i) w.step();
-  double beh = 0, phys = 0, other = 0;
+  double beh = 0, phys = 0, other = 0, part = 0;
+  ParticleSystem::Times pt;
   Quality worst;
   const auto t0 = std::chrono::steady_clock::now();
   for (long long i = 0; i < a.steps; ++i) {
@@ -144,6 +198,13 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
     beh += t.behaviours;
     phys += t.physics;
     other += t.other;
+    part += t.particles;
+    for (const auto& ps : w.particleSystems()) {
+      pt.sort += ps->times().sort;
+      pt.neighbours += ps->times().neighbours;
+      pt.solve += ps->times().solve;
+      pt.finish += ps->times().finish;
+    }
     w.sampleTracking();
     if (i % 10 == 9 || i + 1 == a.steps) {
       const Quality q = w.quality();
@@ -160,13 +221,17 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
   out.settings = w.settings();
   out.dt = w.settings().dt;
   out.paperFps = s.paperFps;
-  out.paperRealtime = s.paperFps * kPaperDt;
+  out.paperRealtime = s.paperFps * (s.particles ? kPaperParticleDt : kPaperDt);
   out.steps = a.steps;
   out.stepsPerSecond = double(a.steps) / wall;
   out.realtime = out.stepsPerSecond * out.dt;
   out.msBehaviours = beh / double(a.steps);
   out.msPhysics = phys / double(a.steps);
   out.msOther = other / double(a.steps);
+  out.msParticles = part / double(a.steps);
+  const double k = 1.0 / double(a.steps);
+  out.particleTimes = {pt.sort * k, pt.neighbours * k, pt.solve * k, pt.finish * k};
+  for (const auto& ps : w.particleSystems()) out.particles += ps->count();
   out.quality = worst;
   out.connections = int(w.connections().size());
   const World::MessageStats ms = w.messageStats();
@@ -184,15 +249,15 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   }
   std::vector<const Scene*> scenes;
   if (a.scenes.empty()) {
-    for (const Scene& s : kScenes) scenes.push_back(&s);
+    scenes = allScenes();
   } else {
     for (const std::string& n : a.scenes) {
       const Scene* found = nullptr;
-      for (const Scene& s : kScenes)
-        if (n == s.name) found = &s;
+      for (const Scene* s : allScenes())
+        if (n == s->name) found = s;
       if (!found) {
         std::string names;
-        for (const Scene& s : kScenes) names += std::string(names.empty() ? "" : ", ") + s.name;
+        for (const Scene* s : allScenes()) names += std::string(names.empty() ? "" : ", ") + s->name;
         std::fprintf(stderr, "rm3d bench: unknown scene '%s' (expected one of: %s)\n", n.c_str(),
                      names.c_str());
         return 2;
@@ -213,8 +278,9 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       given(a.iterations.has_value()), jointIterations, jointIterations == 0 ? " (as solver)" : "",
       given(a.jointIterations.has_value()));
   std::printf(
-      "paper: ReMod3D (section IV.G), dt 1/30, one step per frame, a 2013 quad-core laptop; RTF = simulated "
-      "s per wall s\n");
+      "paper: ReMod3D (section IV.G), dt 1/30, one step per frame, a 2013 quad-core laptop (particle scenes: "
+      "dt "
+      "1/60, PhysX on a GeForce GT 650M); RTF = simulated s per wall s\n");
   std::printf("%-15s %7s %9s %7s %9s %7s %8s %8s %8s | %8s %9s %8s %8s %9s | %6s %9s\n", "scene", "modules",
               "steps/s", "RTF", "paper fps", "paper RTF", "ms beh", "ms phys", "ms other", "hinge mm",
               "hinge deg", "dock mm", "dock deg", "track deg", "conns", "messages");
@@ -246,33 +312,48 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
         r.name.c_str(), r.modules, r.stepsPerSecond, r.realtime, paperFps, paperRtf, r.msBehaviours,
         r.msPhysics, r.msOther, r.quality.hingeGapMm, r.quality.hingeAngleDeg, r.quality.dockGapMm,
         r.quality.dockAngleDeg, r.quality.trackingRmsDeg, r.connections, r.messages);
+    if (r.particles > 0)
+      std::printf(
+          "  %d particles: %.3f ms a step (sort %.3f, neighbours %.3f, solve %.3f, velocities and push "
+          "%.3f)\n",
+          r.particles, r.msParticles, r.particleTimes.sort, r.particleTimes.neighbours, r.particleTimes.solve,
+          r.particleTimes.finish);
     std::fflush(stdout);
     nlohmann::json paper = nullptr;
     if (r.paperFps > 0)
       paper = {{"frames_per_second", r.paperFps}, {"dt", kPaperDt}, {"realtime_factor", r.paperRealtime}};
-    out["scenes"].push_back(
-        {{"name", r.name},
-         {"modules", r.modules},
-         {"dt", r.dt},
-         {"settings",
-          {{"dt", r.settings.dt},
-           {"substeps", r.settings.substeps},
-           {"solver_iterations", r.settings.solverIterations},
-           {"joint_iterations", r.settings.jointIterations},
-           {"erp", r.settings.erp}}},
-         {"steps", r.steps},
-         {"steps_per_second", r.stepsPerSecond},
-         {"realtime_factor", r.realtime},
-         {"paper", paper},
-         {"ms", {{"behaviours", r.msBehaviours}, {"physics", r.msPhysics}, {"other", r.msOther}}},
-         {"quality",
-          {{"hinge_gap_mm", r.quality.hingeGapMm},
-           {"hinge_angle_deg", r.quality.hingeAngleDeg},
-           {"dock_gap_mm", r.quality.dockGapMm},
-           {"dock_angle_deg", r.quality.dockAngleDeg},
-           {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
-         {"connections", r.connections},
-         {"messages_sent", r.messages}});
+    out["scenes"].push_back({{"name", r.name},
+                             {"modules", r.modules},
+                             {"dt", r.dt},
+                             {"settings",
+                              {{"dt", r.settings.dt},
+                               {"substeps", r.settings.substeps},
+                               {"solver_iterations", r.settings.solverIterations},
+                               {"joint_iterations", r.settings.jointIterations},
+                               {"erp", r.settings.erp}}},
+                             {"steps", r.steps},
+                             {"steps_per_second", r.stepsPerSecond},
+                             {"realtime_factor", r.realtime},
+                             {"paper", paper},
+                             {"ms",
+                              {{"behaviours", r.msBehaviours},
+                               {"physics", r.msPhysics},
+                               {"other", r.msOther},
+                               {"particles", r.msParticles},
+                               {"particle_phases",
+                                {{"sort", r.particleTimes.sort},
+                                 {"neighbours", r.particleTimes.neighbours},
+                                 {"solve", r.particleTimes.solve},
+                                 {"finish", r.particleTimes.finish}}}}},
+                             {"particles", r.particles},
+                             {"quality",
+                              {{"hinge_gap_mm", r.quality.hingeGapMm},
+                               {"hinge_angle_deg", r.quality.hingeAngleDeg},
+                               {"dock_gap_mm", r.quality.dockGapMm},
+                               {"dock_angle_deg", r.quality.dockAngleDeg},
+                               {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
+                             {"connections", r.connections},
+                             {"messages_sent", r.messages}});
   }
   if (!a.json.empty()) {
     std::ofstream f(a.json);
@@ -288,9 +369,10 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
 
 std::string benchSceneHelp() {
   std::string out = "Scenes:\n";
-  for (const Scene& s : kScenes) {
+  for (const Scene* s : allScenes()) {
     char line[512];
-    std::snprintf(line, sizeof line, "  %-16s %s (%d modules)\n", s.name, s.what, s.modules);
+    std::snprintf(line, sizeof line, "  %-16s %s (%d %s)\n", s->name, s->what, s->modules,
+                  s->particles ? "particles" : "modules");
     out += line;
   }
   return out;

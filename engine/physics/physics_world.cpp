@@ -8,6 +8,7 @@
 #include <BulletCollision/CollisionShapes/btTriangleInfoMap.h>
 #include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
+#include <LinearMath/btGeometryUtil.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <Eigen/Eigenvalues>
@@ -238,6 +239,11 @@ struct PhysicsWorld::Impl {
   bool contactTracking = false;
   std::vector<char> partTouching;
   mutable std::mutex rayMutex;  // Debian's Bullet shares one ray-test stack per broadphase
+  // Particle colliders: the ground's friction, and each hull shape's planes (part, shape ->
+  // first plane and count in hullPlanes), found once per part.
+  bool groundAdded = false;
+  std::vector<std::vector<std::pair<int, int>>> hullPlaneRanges;
+  std::vector<float> hullPlanes;
 
   explicit Impl(const PhysicsSettings& s) : settings(s) {
     // Bullet's one process-wide hook, set once to the same stateless function for every world.
@@ -674,6 +680,7 @@ void PhysicsWorld::addGroundPlane(double friction, double restitution) {
   m->world.addRigidBody(rb, btBroadphaseProxy::StaticFilter,
                         btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter ^ kClothFilterGroup);
   m->extraBodies.push_back(rb);
+  m->groundAdded = true;
   m->groundFriction = friction;
   if (m->cloth) m->cloth->setGround(friction);
 }
@@ -1151,6 +1158,115 @@ BodyDivergence PhysicsWorld::divergenceScan(double maxSpeed, double maxAngularSp
     return out;
   }
   return out;
+}
+
+}  // namespace rm3d
+
+namespace rm3d {
+
+void PhysicsWorld::collectColliders(ColliderSet& out) const {
+  out.shapes.clear();
+  out.bodies.clear();
+  out.planes.clear();
+  out.ground = m->groundAdded;
+  out.groundFriction = float(m->groundFriction.value_or(0.8));
+  // Hull planes of parts added since the last call (parts are never removed).
+  for (size_t p = m->hullPlaneRanges.size(); p < m->parts.size(); ++p) {
+    std::vector<std::pair<int, int>> ranges;
+    for (btCollisionShape* s : m->parts[p].shapes) {
+      const int begin = int(m->hullPlanes.size() / 4);
+      if (s->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
+        const auto* h = static_cast<const btConvexHullShape*>(s);
+        btAlignedObjectArray<btVector3> points, planes;
+        for (int i = 0; i < h->getNumPoints(); ++i) points.push_back(h->getUnscaledPoints()[i]);
+        btGeometryUtil::getPlaneEquationsFromVertices(points, planes);
+        for (int i = 0; i < planes.size(); ++i)  // n . x + w <= 0 inside
+          for (float v :
+               {float(planes[i].x()), float(planes[i].y()), float(planes[i].z()), float(-planes[i][3])})
+            m->hullPlanes.push_back(v);
+      }
+      ranges.emplace_back(begin, int(m->hullPlanes.size() / 4) - begin);
+    }
+    m->hullPlaneRanges.push_back(std::move(ranges));
+  }
+  for (const Impl::Body& b : m->bodies) {
+    if (!b.rb) continue;
+    const btRigidBody* rb = b.rb;
+    const bool dynamic = rb->getInvMass() > 0;
+    const int bodyIndex = int(out.bodies.size());
+    ColliderBody cb;
+    cb.part = b.parts.front();
+    cb.dynamic = dynamic;
+    const btVector3 com = rb->getCenterOfMassPosition(), v = rb->getLinearVelocity(),
+                    w = rb->getAngularVelocity();
+    for (int k = 0; k < 3; ++k) {
+      cb.com[k] = com[k];
+      cb.linVel[k] = v[k];
+      cb.angVel[k] = w[k];
+    }
+    out.bodies.push_back(cb);
+    const btTransform bodyT = rb->getWorldTransform();
+    for (int partId : b.parts) {
+      const Impl::Part& p = m->parts[size_t(partId)];
+      for (size_t k = 0; k < p.shapes.size(); ++k) {
+        const btCollisionShape* s = p.shapes[k];
+        ColliderShape c;
+        c.dynamic = dynamic;
+        c.body = bodyIndex;
+        c.friction = float(p.friction);
+        switch (s->getShapeType()) {
+          case BOX_SHAPE_PROXYTYPE: {
+            c.kind = ColliderShape::Box;
+            const btVector3 e = static_cast<const btBoxShape*>(s)->getHalfExtentsWithMargin();
+            for (int a = 0; a < 3; ++a) c.half[a] = float(e[a]);
+            break;
+          }
+          case SPHERE_SHAPE_PROXYTYPE:
+            c.kind = ColliderShape::Sphere;
+            c.half[0] = float(static_cast<const btSphereShape*>(s)->getRadius());
+            break;
+          case CYLINDER_SHAPE_PROXYTYPE: {
+            c.kind = ColliderShape::Cylinder;
+            const btVector3 e = static_cast<const btCylinderShape*>(s)->getHalfExtentsWithMargin();
+            c.half[0] = float(e.x());
+            c.half[1] = float(e.z());
+            break;
+          }
+          case CAPSULE_SHAPE_PROXYTYPE: {
+            const auto* cap = static_cast<const btCapsuleShape*>(s);
+            c.kind = ColliderShape::Capsule;
+            c.half[0] = float(cap->getRadius());
+            c.half[1] = float(cap->getHalfHeight());
+            break;
+          }
+          case CONVEX_HULL_SHAPE_PROXYTYPE: {
+            c.kind = ColliderShape::Hull;
+            const auto [first, count] = m->hullPlaneRanges[size_t(partId)][k];
+            c.planeBegin = int(out.planes.size() / 4);
+            c.planeCount = count;
+            out.planes.insert(out.planes.end(), m->hullPlanes.begin() + 4 * first,
+                              m->hullPlanes.begin() + 4 * (first + count));
+            break;
+          }
+          default:
+            continue;  // shapes particles do not know (none today)
+        }
+        const btTransform t = bodyT * toBt(p.inBody * p.shapePoses[k]);
+        const btMatrix3x3& r = t.getBasis();
+        for (int i = 0; i < 3; ++i) {
+          for (int j = 0; j < 3; ++j) c.rot[3 * i + j] = float(r[i][j]);
+          c.pos[i] = float(t.getOrigin()[i]);
+        }
+        btVector3 lo, hi;
+        s->getAabb(t, lo, hi);
+        for (int i = 0; i < 3; ++i) {
+          c.lo[i] = float(lo[i]);
+          c.hi[i] = float(hi[i]);
+        }
+        out.shapes.push_back(c);
+      }
+    }
+  }
 }
 
 }  // namespace rm3d

@@ -13,6 +13,7 @@
 
 #include "core/types.h"
 #include "physics/cloth.h"
+#include "physics/particle_colliders.h"
 #include "physics/shape_def.h"
 
 namespace rm3d {
@@ -163,6 +164,8 @@ class PhysicsWorld {
   /// orientation or velocity is NaN or infinite, whose linear or angular speed exceeds the given
   /// bound, or whose centre of mass is farther than `maxDistance` from the origin.
   BodyDivergence divergenceScan(double maxSpeed, double maxAngularSpeed, double maxDistance) const;
+  /// Every body's collision shapes at their poses now, for particle systems (arrays reused).
+  void collectColliders(ColliderSet& out) const;
   int partCount() const;
   int bodyCount() const;
   const PhysicsSettings& settings() const;

@@ -642,6 +642,7 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"metric", worldMetric},
                                  {nullptr, nullptr}};
   luaL_newlib(L, fns);
+  openParticleApi(L);
   pushSeriesClosure(L, worldTrace);
   lua_setfield(L, -2, "trace");
   lua_pushcfunction(L, worldCloth);  // world.cloth{...}: world_cloth.cpp

@@ -19,6 +19,8 @@ World& scriptWorld(lua_State* L);
 
 void openModuleHandle(lua_State* L);
 void openBodyHandle(lua_State* L);
+/// Adds world.fluid and world.debris to the table on the stack top (world_particles.cpp).
+void openParticleApi(lua_State* L);
 void pushModule(lua_State* L, int index);
 /// The module index held by the Module handle at arg (errors otherwise).
 int checkModule(lua_State* L, int arg);

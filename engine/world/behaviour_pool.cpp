@@ -19,15 +19,16 @@ BehaviourPool::~BehaviourPool() {
 
 void BehaviourPool::drain() {
   for (;;) {
-    const int begin = m_next.fetch_add(m_chunk);
+    const int begin = m_next.fetch_add(m_runChunk);
     if (begin >= m_n) return;
-    const int end = begin + m_chunk < m_n ? begin + m_chunk : m_n;
+    const int end = begin + m_runChunk < m_n ? begin + m_runChunk : m_n;
     for (int i = begin; i < end; ++i) (*m_fn)(i);
   }
 }
 
-void BehaviourPool::run(int n, const std::function<void(int)>& fn) {
-  if (m_workers.empty() || n <= m_chunk) {
+void BehaviourPool::run(int n, const std::function<void(int)>& fn, int chunk) {
+  const int c = chunk > 0 ? chunk : m_chunk;
+  if (m_workers.empty() || n <= c) {
     for (int i = 0; i < n; ++i) fn(i);
     return;
   }
@@ -35,6 +36,7 @@ void BehaviourPool::run(int n, const std::function<void(int)>& fn) {
     std::lock_guard<std::mutex> lock(m_mutex);
     m_fn = &fn;
     m_n = n;
+    m_runChunk = c;
     m_next.store(0);
     m_busy = int(m_workers.size());
     ++m_generation;

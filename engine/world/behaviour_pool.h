@@ -20,8 +20,9 @@ class BehaviourPool {
   BehaviourPool(const BehaviourPool&) = delete;
   BehaviourPool& operator=(const BehaviourPool&) = delete;
 
-  /// Calls fn(i) for every i in [0, n) and returns when all calls are done.
-  void run(int n, const std::function<void(int)>& fn);
+  /// Calls fn(i) for every i in [0, n) and returns when all calls are done; `chunk` > 0 overrides
+  /// the pool's chunk for this call (1: each index taken alone, for n coarse blocks of work).
+  void run(int n, const std::function<void(int)>& fn, int chunk = 0);
   int threads() const { return int(m_workers.size()) + 1; }
 
  private:
@@ -34,6 +35,7 @@ class BehaviourPool {
   const std::function<void(int)>* m_fn = nullptr;
   int m_n = 0;
   int m_chunk = 16;
+  int m_runChunk = 16;  // the chunk of the run under way
   std::atomic<int> m_next{0};
   int m_busy = 0;
   uint64_t m_generation = 0;

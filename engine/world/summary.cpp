@@ -94,6 +94,22 @@ nlohmann::json World::summary(double wallSeconds) const {
                    {"nan", st.nan}});
   }
   if (!env.empty()) j["environment"] = env;  // absent without any: older summaries stay as they were
+  if (!m_particles.empty()) {                // only then, so summaries without particles keep their bytes
+    json systems = json::array();
+    for (const auto& ps : m_particles) {
+      Vec3 lo, hi;
+      ps->bounds(lo, hi);
+      const Vec3 v = ps->meanVelocity();
+      systems.push_back({{"kind", ps->kindName()},
+                         {"count", ps->count()},
+                         {"bounds",
+                          {{"min", {number(lo.x()), number(lo.y()), number(lo.z())}},
+                           {"max", {number(hi.x()), number(hi.y()), number(hi.z())}}}},
+                         {"mean_velocity", {number(v.x()), number(v.y()), number(v.z())}},
+                         {"nan", ps->nanCount()}});
+    }
+    j["particles"] = systems;
+  }
   j["faults"] = faultCount();
   const std::string& error = m_scriptError.empty() ? m_divergence : m_scriptError;
   j["error"] = error.empty() ? json(nullptr) : json(error);

@@ -487,6 +487,8 @@ void World::step() {
   const auto t3 = Clock::now();
   m_physics->step(m_settings.dt, m_settings.substeps);
   const auto t4 = Clock::now();
+  stepParticles();
+  const auto t4p = Clock::now();
   updateAccelerometers();
   // 7. Connections whose transmitted load exceeds the docks' strength break.
   m_docking.breakage(dockingScene());
@@ -502,6 +504,7 @@ void World::step() {
   const auto t5 = Clock::now();
   m_times.behaviours = msSince(t1, t2);
   m_times.physics = msSince(t3, t4);
+  m_times.particles = msSince(t4, t4p);
   m_times.other = msSince(t0, t5) - m_times.behaviours - m_times.physics;
 }
 

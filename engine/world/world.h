@@ -27,6 +27,7 @@
 #include "messaging/value.h"
 #include "modules/module.h"
 #include "modules/module_type.h"
+#include "particles/particle_system.h"
 #include "physics/physics_world.h"
 #include "world/divergence.h"
 #include "world/programs.h"
@@ -151,6 +152,7 @@ class World {
   /// Phase timings of the last step, ms.
   struct StepTimes {
     double behaviours = 0, physics = 0, other = 0;
+    double particles = 0;  ///< part of `other`: fluids and debris (world/particles.cpp)
   };
   const StepTimes& lastStepTimes() const { return m_times; }
   PhysicsWorld& physics() { return *m_physics; }
@@ -190,6 +192,11 @@ class World {
     double fovDeg = 45;
   };
   const CameraDef& camera() const { return m_camera; }
+  /// world.fluid / world.debris: a box filled with particles; returns the system's index.
+  /// Throws InputError (too many particles in the world, or none in the box).
+  int addParticles(const ParticleDef& def);
+  static constexpr double kMaxParticles = 2'000'000;  ///< in one world, all systems together
+  const std::vector<std::unique_ptr<ParticleSystem>>& particleSystems() const { return m_particles; }
   bool hasGround() const { return m_groundAdded; }
   void setCamera(const CameraDef& c) { m_camera = c; }
   Pose obstaclePose(int body) const;
@@ -280,6 +287,9 @@ class World {
   /// Applies the dock:enable()/disable() calls queued during the behaviour phase, in module order.
   void applyDockRequests();
   void ensurePhysics();
+  /// Steps every particle system against the bodies as they are now and queues their push on
+  /// the bodies for the next physics step (world/particles.cpp).
+  void stepParticles();
   void runBehaviours();
   void reportModuleOutput();
   void runBehaviour(int i);
@@ -308,6 +318,8 @@ class World {
   std::map<std::string, double> m_metrics;
   std::vector<Obstacle> m_obstacles;
   std::vector<Cloth> m_cloths;
+  std::vector<std::unique_ptr<ParticleSystem>> m_particles;
+  ColliderSet m_colliders;  ///< reused every step
   CameraDef m_camera;
   // Dock proximity (dock sensors): free docks sorted by x. Built before the behaviour phase once
   // any dock sensor has been read (the first read builds it under the mutex: dock states are

@@ -139,6 +139,27 @@ function Cloth:unpin(i) end
 ---@return boolean
 function Cloth:pinned(i) end
 
+---Fluid or debris particles (world.fluid, world.debris).
+---@class Particles
+local Particles = {}
+---@return integer count particles in the system (never changes)
+function Particles:count() end
+---@return "fluid"|"debris"
+function Particles:kind() end
+---@return number radius of each particle (m, half the spacing)
+function Particles:radius() end
+---@return Vec3 min
+---@return Vec3 max
+function Particles:bounds() end
+---@return Vec3 mean velocity (m/s)
+function Particles:mean_velocity() end
+---@return Vec3[] positions one {x, y, z} per particle, in no fixed order
+function Particles:positions() end
+---@param min number[] {x, y, z}
+---@param max number[] {x, y, z}
+---@return integer count particles inside the box
+function Particles:count_in(min, max) end
+
 ---@class ShapeOptions
 ---@field at? number[] {x, y, z}
 ---@field rot? number[] {roll, pitch, yaw}
@@ -179,6 +200,16 @@ function world.cloth(o) end
 ---@param o {image: string, size: number[], height: number, at: number[]?, friction: number?}
 ---@return Heightfield
 function world.heightfield(o) end
+
+---A box filled with position-based fluid particles (Macklin and Mueller 2013), coupled both ways
+---with bodies and modules.
+---@param o {min: number[], max: number[], spacing: number?, density: number?, viscosity: number?, tension: number?, friction: number?, kinetic_friction: number?, damping: number?, iterations: integer?, kernel: number?, max_speed: number?}
+---@return Particles
+function world.fluid(o) end
+---A box filled with granular debris (grains with friction), coupled both ways with bodies.
+---@param o {min: number[], max: number[], spacing: number?, density: number?, friction: number?, kinetic_friction: number?, damping: number?, iterations: integer?, max_speed: number?}
+---@return Particles
+function world.debris(o) end
 ---@param type string a module type name or a module-type file
 ---@param o? {at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?}
 ---@return Module

@@ -22,7 +22,8 @@ endfunction()
 
 # Handle methods and library functions, from the binding tables.
 foreach(pair "behaviour_joint.cpp:Joint:" "behaviour_dock.cpp:Dock:" "world_body.cpp:Body:" "world_cloth.cpp:Cloth:" "world_heightfield.cpp:Heightfield:"
-             "world_module.cpp:Module:" "world_api.cpp:world." "behaviour_sim.cpp:sim.")
+             "world_module.cpp:Module:" "world_api.cpp:world." "behaviour_sim.cpp:sim."
+             "world_particles.cpp:Particles:")
   string(REGEX REPLACE ":.*" "" file "${pair}")
   string(REGEX MATCH "[A-Za-z]+[:.]$" owner "${pair}")
   file(READ ${SRC}/engine/script/${file} text)

@@ -270,12 +270,9 @@ void openModuleApi(lua_State* L, BehaviourContext& ctx) {
   ctx.dockTableRef = luaL_ref(L, LUA_REGISTRYINDEX);
   lua_pushcclosure(L, moduleDock, 1);
   lua_setfield(L, -2, "dock");
-  static const luaL_Reg moduleFns[] = {{"joints", moduleJoints},
-                                       {"docks", moduleDocks},
-                                       {"receive", moduleReceive},
-                                       {"publish", modulePublish},
-                                       {"type_data", moduleTypeData},
-                                       {nullptr, nullptr}};
+  static const luaL_Reg moduleFns[] = {{"joints", moduleJoints},      {"docks", moduleDocks},
+                                       {"receive", moduleReceive},    {"publish", modulePublish},
+                                       {"type_data", moduleTypeData}, {nullptr, nullptr}};
   setFunctions(L, moduleFns);
   pushSeriesClosure(L, moduleTrace);
   lua_setfield(L, -2, "trace");

@@ -317,26 +317,17 @@ int moduleEq(lua_State* L) {
 }  // namespace
 
 void openModuleHandle(lua_State* L) {
-  static const luaL_Reg moduleMethods[] = {{"position", modulePosition},
-                                           {"orientation", moduleOrientation},
-                                           {"velocity", moduleVelocity},
-                                           {"link_position", moduleLinkPosition},
-                                           {"link_pose", moduleLinkPose},
-                                           {"joint_angle", moduleJointAngle},
-                                           {"joint_angles", moduleJointAngles},
-                                           {"joint_torque", moduleJointTorque},
-                                           {"dock_state", moduleDockState},
-                                           {"dock_position", moduleDockPosition},
-                                           {"dock_normal", moduleDockNormal},
-                                           {"error", moduleError},
-                                           {"published", modulePublished},
-                                           {"dock_load", moduleDockLoad},
-                                           {"set_dock", moduleSetDock},
-                                           {"push", modulePush},
-                                           {"dock_gender", moduleDockGender},
-                                           {"sensor", moduleSensorRead},
-                                           {"inject_fault", moduleInjectFault},
-                                           {nullptr, nullptr}};
+  static const luaL_Reg moduleMethods[] = {
+      {"position", modulePosition},        {"orientation", moduleOrientation},
+      {"velocity", moduleVelocity},        {"link_position", moduleLinkPosition},
+      {"link_pose", moduleLinkPose},       {"joint_angle", moduleJointAngle},
+      {"joint_angles", moduleJointAngles}, {"joint_torque", moduleJointTorque},
+      {"dock_state", moduleDockState},     {"dock_position", moduleDockPosition},
+      {"dock_normal", moduleDockNormal},   {"error", moduleError},
+      {"published", modulePublished},      {"dock_load", moduleDockLoad},
+      {"set_dock", moduleSetDock},         {"push", modulePush},
+      {"dock_gender", moduleDockGender},   {"sensor", moduleSensorRead},
+      {"inject_fault", moduleInjectFault}, {nullptr, nullptr}};
   luaL_newmetatable(L, kModuleMeta);
   luaL_newlib(L, moduleMethods);
   lua_setfield(L, -2, "methods");

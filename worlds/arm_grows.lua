@@ -110,13 +110,16 @@ local newcomer = world.spawn("superbot", {
 })
 world.connect(station, "front", newcomer, "front", 2)
 
-local docked_at, estErr
+local docked_at, estErr, estErrXY
+local waiting = newcomer:dock_position("back") -- where the free dock waits, before anything moves
 world.on_step(function(t)
   if not docked_at and mods[4]:dock_state("front").engaged then
     docked_at = t
-    -- How far the arm's estimate of the free dock (from its proximity readings) was from it.
-    local est, truth = mods[4]:published("estimate"), newcomer:dock_position("back")
+    -- How far the arm's estimate of the free dock (from its proximity readings) was from where
+    -- it waited.
+    local est, truth = mods[4]:published("estimate"), waiting
     estErr = est and math.sqrt((est[1] - truth.x) ^ 2 + (est[2] - truth.y) ^ 2 + (est[3] - truth.z) ^ 2)
+    estErrXY = est and math.sqrt((est[1] - truth.x) ^ 2 + (est[2] - truth.y) ^ 2)
   end
 end)
 
@@ -134,10 +137,14 @@ world.on_end(function(t)
   world.metric("goal_error_mm", err * 1000)
   if found then world.metric("found_at_s", found) end
   if docked_at then world.metric("docked_at_s", docked_at) end
-  if estErr then world.metric("dock_estimate_error_mm", estErr * 1000) end
-  print(string.format("arm_grows: found at %s s, docked at %s s (dock estimated %s mm off), %d joints; goal %.3f m from"
+  if estErr then
+    world.metric("dock_estimate_error_mm", estErr * 1000)
+    world.metric("dock_estimate_error_xy_mm", estErrXY * 1000)
+  end
+  print(string.format("arm_grows: found at %s s, docked at %s s (dock estimated %s mm off, %s mm across), %d joints; goal %.3f m from"
                       .. " the base (short arm reaches %.3f m), tip %.2f mm from it; newcomer %.3f m above its station",
                       tostring(found), tostring(docked_at), estErr and string.format("%.2f", estErr * 1000) or "-",
+                      estErrXY and string.format("%.2f", estErrXY * 1000) or "-",
                       mods[4]:published("dofs") or 0, goalDistance, reach, err * 1000,
                       newcomer:position().z - 0.095 - kStation))
   for _, m in ipairs(mods) do expect(m:error() == nil, m.name .. " did not fault: " .. tostring(m:error())) end

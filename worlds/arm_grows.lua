@@ -47,7 +47,7 @@ for i, m in ipairs(layout) do
                                 quat = i == 1 and kHang or nil, behavior = "behaviors/arm_grows.lua", params = params })
   if i > 1 then world.connect(mods[i - 1], m[3], mods[i], m[4]) end
 end
-world.camera{ eye = { 0.55, -1.0, 0.75 }, target = { 0, 0, 0.5 }, fov = 50 }
+world.camera{ eye = { 0.75, -1.45, 0.8 }, target = { 0, 0, 0.55 }, fov = 45 }
 
 -- What the short arm could reach: its tip's distance from the base's dock face, straight (the
 -- longest a chain of straight segments gets).

@@ -236,14 +236,13 @@ local function plan(t, p, reading)
       if done then ctl.phase = "lost" end
       return target, "level"
     end
-    -- Found: a small pattern round here, up and to the sides, gives samples off any one plane.
-    -- It stays on this side of the reading (the free module may stand just beyond): up, back
-    -- and sideways.
+    -- Found: a small pattern round here gives samples off any one plane: up, to either side
+    -- and towards the axis (at half the height), all above where the reading appeared.
     local k, h = kProbe, kProbe
-    local away = scale({ p[1], p[2], 0 }, -1 / math.max(1e-6, norm({ p[1], p[2], 0 })))
-    local side = { -away[2], away[1], 0 }
+    local inward = scale({ p[1], p[2], 0 }, -1 / math.max(1e-6, norm({ p[1], p[2], 0 })))
+    local side = { -inward[2], inward[1], 0 }
     ctl.path = { p, add(p, { 0, 0, h }), add(p, add(scale(side, k), { 0, 0, h })),
-                 add(p, add(scale(away, k), { 0, 0, h / 2 })), add(p, add(scale(side, -k), { 0, 0, h })),
+                 add(p, add(scale(inward, k), { 0, 0, h / 2 })), add(p, add(scale(side, -k), { 0, 0, h })),
                  add(p, { 0, 0, h }) }
     ctl.phase, ctl.t0 = "probe", t
     module.publish("found_at", t)

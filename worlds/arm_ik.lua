@@ -33,5 +33,6 @@ else
     error("--param targets=N: expected a whole number 1 .. 10000, got " .. tostring(args.targets))
   end
 end
+world.camera{ eye = { 0.75, -1.15, 0.7 }, target = { 0, 0, 0.45 }, fov = 45 }
 local a = arm.build(opts)
 world.on_end(function() arm.report(a) end)

@@ -26,7 +26,7 @@ local head = world.spawn("superbot", {at = {0.35, 0, 0.053}, behavior = "behavio
 local tail = world.spawn("superbot", {at = {0.16, 0, 0.053}, behavior = "behaviors/snake.lua", params = {index = 1}})
 world.connect(tail, "back", head, "front")
 local float = world.box{size = {0.12, 0.12, 0.12}, at = {-0.4, 0.1, 0.5}, mass = 500 * 0.12 ^ 3}
-world.camera{eye = {0.2, -1.7, 1.2}, target = {0, 0, 0.1}}
+world.camera{eye = {0.5, -1.1, 3.2}, target = {0, 0, 0}}
 
 world.every(1, function(t)
   local lo, hi = water:bounds()

@@ -4,7 +4,7 @@
 -- cylinders, capsules and convex stones (dynamic: they settle, then sleep and cost the step
 -- nothing until something touches them), static pillars, and one static concave triangle mesh
 -- (a bowl, assets/meshes/bowl.obj, with balls in it). Beside the terrain is the basin the
--- paper fills with 1000 fluid particles (marked below; the fluid comes with world.fluid).
+-- paper fills with 1000 fluid particles (world.fluid, 4 cm apart).
 -- Prints the head's progress every second. Try: --param obstacles=500, --param height=0.2.
 
 local kSize, kHeight = tonumber(args.size) or 6.0, tonumber(args.height) or 0.35  -- m: the terrain's extent and relief
@@ -90,10 +90,8 @@ for k = 0, 4 do
 end
 
 -- ---- The fluid pool (the paper's 1000 particles) ----
--- A basin on the ground beside the terrain, inner size 0.8 x 0.8 m, walls 0.12 m high. The fluid
--- fills it once world.fluid exists:
---   world.fluid{min = {kPool.x - 0.38, -0.38, 0.01}, max = {kPool.x + 0.38, 0.38, 0.1}, spacing = ..., density = 1000}
--- (about 1000 particles at the paper's scale).
+-- A basin on the ground beside the terrain, inner size 0.8 x 0.8 m, walls 0.12 m high, filled
+-- with 19 x 19 x 3 = 1083 fluid particles.
 local kPool = {x = kSize / 2 + 0.6, y = 0, half = 0.4, wall = 0.03, h = 0.12}
 for _, w in ipairs{{kPool.half + kPool.wall / 2, 0, kPool.wall, 2 * kPool.half + 2 * kPool.wall},
                    {-kPool.half - kPool.wall / 2, 0, kPool.wall, 2 * kPool.half + 2 * kPool.wall},
@@ -101,6 +99,13 @@ for _, w in ipairs{{kPool.half + kPool.wall / 2, 0, kPool.wall, 2 * kPool.half +
                    {0, -kPool.half - kPool.wall / 2, 2 * kPool.half, kPool.wall}} do
   world.box{size = {w[3], w[4], kPool.h}, at = {kPool.x + w[1], kPool.y + w[2], kPool.h / 2}}
 end
+local pool = world.fluid{min = {kPool.x - 0.38, kPool.y - 0.38, 0.01}, max = {kPool.x + 0.38, kPool.y + 0.38, 0.13},
+                         spacing = 0.04, density = 1000}
+world.on_end(function()
+  local inside = pool:count_in({kPool.x - kPool.half, kPool.y - kPool.half, 0}, {kPool.x + kPool.half, kPool.y + kPool.half, kPool.h})
+  world.metric("pool_particles", inside)
+  expect(inside >= 0.95 * pool:count(), string.format("the pool should keep its water: %d of %d particles in the basin", inside, pool:count()))
+end)
 
 world.camera{eye = {-3.3, -2.9, 1.25}, target = {-0.5, 0.5, 0.1}, fov = 50}
 

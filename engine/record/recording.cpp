@@ -115,9 +115,15 @@ size_t clothNodes(const SceneLayout& l) {
   return n;
 }
 
+size_t particleCount(const SceneLayout& l) {
+  size_t n = 0;
+  for (const SceneLayout::Particles& p : l.particles) n += size_t(p.count);
+  return n;
+}
+
 size_t stateBytes(const SceneLayout& l) {
   return size_t(l.linkCount) * 56 + size_t(l.jointCount) * 8 + size_t(l.dockCount) + l.modules.size() +
-         l.ranges.size() * 8 + l.bodyRadius.size() * 56 + clothNodes(l) * 12;
+         l.ranges.size() * 8 + l.bodyRadius.size() * 56 + clothNodes(l) * 12 + particleCount(l) * 12;
 }
 
 void putState(Out& o, const SceneState& s) {
@@ -128,6 +134,7 @@ void putState(Out& o, const SceneState& s) {
   for (double r : s.rangeHits) o.put(r);
   for (const Pose& p : s.bodies) o.pose(p);
   for (const Eigen::Vector3f& v : s.clothNodes) o.put(v.x()), o.put(v.y()), o.put(v.z());
+  for (const Eigen::Vector3f& v : s.particles) o.put(v.x()), o.put(v.y()), o.put(v.z());
 }
 
 void getState(In& in, const SceneLayout& l, SceneState& s) {
@@ -145,6 +152,9 @@ void getState(In& in, const SceneLayout& l, SceneState& s) {
   for (Pose& p : s.bodies) p = in.pose();
   s.clothNodes.resize(clothNodes(l));
   for (Eigen::Vector3f& v : s.clothNodes)
+    for (int i = 0; i < 3; ++i) v[i] = in.get<float>();
+  s.particles.resize(particleCount(l));
+  for (Eigen::Vector3f& v : s.particles)
     for (int i = 0; i < 3; ++i) v[i] = in.get<float>();
 }
 
@@ -212,6 +222,13 @@ void putLayout(Out& o, const SceneLayout& l) {
   for (const RenderMesh& m : l.meshes) {
     o.put(m.grid.x());
     o.put(m.grid.y());
+  }
+  // Then the particle systems (count, radius, colour).
+  o.put(uint32_t(l.particles.size()));
+  for (const SceneLayout::Particles& p : l.particles) {
+    o.put(int32_t(p.count));
+    o.put(p.radius);
+    for (float f : p.color) o.put(f);
   }
 }
 
@@ -298,6 +315,15 @@ bool getLayout(In& in, SceneLayout& l, std::string& why) {
       if (!(m.grid.x() >= 0 && m.grid.y() >= 0 && m.grid.x() < 1e7f && m.grid.y() < 1e7f))
         return why = "a bad mesh grid", false;
     }
+  l.particles.resize(in.at < in.n ? in.count(24) : 0);
+  for (SceneLayout::Particles& p : l.particles) {
+    p.count = in.get<int32_t>();
+    p.radius = in.get<float>();
+    for (float& f : p.color) f = in.get<float>();
+    if (p.count < 0 || p.count > (1 << 24)) return why = "a particle system with a bad count", false;
+    if (!(p.radius > 0 && p.radius < 10)) return why = "a particle system with a bad radius", false;
+  }
+  if (in.bad) return why = "it ends early", false;
   if (!(l.dt > 0 && l.dt <= 1)) return why = "a bad dt", false;
   const int modules = int(l.modules.size()), bodies = int(l.bodyRadius.size());
   for (const SceneLayout::Item& it : l.items) {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 
+#include "particles/particle_system.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -207,6 +208,8 @@ constexpr std::array<float, 4> kFaultColor{0.85f, 0.1f, 0.1f, 1.0f};
 constexpr std::array<float, 4> kDockDisabled{0.9f, 0.15f, 0.1f, 1}, kDockEngaged{0.2f, 0.8f, 0.3f, 1},
     kDockFree{0.55f, 0.55f, 0.6f, 1};
 constexpr std::array<float, 4> kTerrainColor{0.52f, 0.47f, 0.36f, 1};
+constexpr std::array<float, 4> kFluidColor{0.2f, 0.45f, 0.9f, 1.0f};
+constexpr std::array<float, 4> kDebrisColor{0.76f, 0.62f, 0.38f, 1.0f};
 constexpr double kSceneryRadius = 5.0;  // bodies larger than 10 m across are scenery, not framed
 
 }  // namespace
@@ -284,6 +287,9 @@ SceneLayout sceneLayout(const World& w) {
   }
   for (const World::Cloth& c : w.cloths())
     lay.cloths.push_back({c.nx * c.ny, clothTriangles(c.nx, c.ny), c.color});
+  for (const auto& ps : w.particleSystems())
+    lay.particles.push_back(
+        {ps->count(), ps->radius(), ps->def().kind == ParticleDef::Kind::Fluid ? kFluidColor : kDebrisColor});
   lay.ground = w.hasGround();
   lay.dt = w.settings().dt;
   const World::CameraDef& c = w.camera();
@@ -325,6 +331,26 @@ void captureState(const World& w, const SceneLayout& lay, SceneState& out) {
   for (size_t c = 0; c < lay.cloths.size(); ++c)
     for (int i = 0; i < lay.cloths[c].nodes; ++i)
       out.clothNodes[at++] = f3(w.physicsConst().clothNode(int(c), i));
+  // Particles: the centres, and a box around each system for the automatic camera. A system
+  // made after the layout was taken is not drawn.
+  size_t centres = 0;
+  for (const SceneLayout::Particles& p : lay.particles) centres += size_t(p.count);
+  out.particles.resize(centres);
+  out.particleBounds.resize(lay.particles.size());
+  at = 0;
+  for (size_t k = 0; k < lay.particles.size() && k < w.particleSystems().size(); ++k) {
+    const ParticleSystem& ps = *w.particleSystems()[k];
+    Eigen::AlignedBox3d box;
+    for (int i = 0; i < lay.particles[k].count && i < ps.count(); ++i) {
+      out.particles[at + size_t(i)] =
+          Eigen::Vector3f(ps.x()[size_t(i)], ps.y()[size_t(i)], ps.z()[size_t(i)]);
+      if (out.particles[at + size_t(i)].allFinite()) box.extend(out.particles[at + size_t(i)].cast<double>());
+    }
+    if (!box.isEmpty())
+      box = Eigen::AlignedBox3d(box.min().array() - ps.radius(), box.max().array() + ps.radius());
+    out.particleBounds[k] = box;
+    at += size_t(lay.particles[k].count);
+  }
   out.bodies.resize(w.obstacles().size());
   for (size_t b = 0; b < w.obstacles().size(); ++b) out.bodies[b] = w.obstaclePose(w.obstacles()[b].part);
 }
@@ -369,6 +395,18 @@ Snapshot buildSnapshot(const SceneLayout& lay, const SceneState& st) {
     item.color = c.color;
     snap.meshes.push_back(std::move(mesh));
     snap.items.push_back(item);
+  }
+  // Particle systems: a set of spheres each (a recording without their centres draws none).
+  first = 0;
+  for (const SceneLayout::Particles& p : lay.particles) {
+    if (first + size_t(p.count) > st.particles.size()) break;
+    RenderSpheres s;
+    s.radius = p.radius;
+    s.color = p.color;
+    s.centers.assign(st.particles.begin() + long(first),
+                     st.particles.begin() + long(first + size_t(p.count)));
+    first += size_t(p.count);
+    snap.spheres.push_back(std::move(s));
   }
   // Range sensors as lines: to the hit (red) or over their whole range (yellow).
   for (size_t r = 0; r < lay.ranges.size(); ++r) {

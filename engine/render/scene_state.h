@@ -61,6 +61,12 @@ struct SceneLayout {
     std::array<float, 4> color{0.8f, 0.3f, 0.25f, 1};
   };
   std::vector<Cloth> cloths;
+  struct Particles {  ///< a particle system (fluid, debris), drawn as equal spheres
+    int count = 0;
+    float radius = 0.01f;
+    std::array<float, 4> color{0.2f, 0.45f, 0.9f, 1};
+  };
+  std::vector<Particles> particles;
   bool ground = true;
   double dt = 1.0 / 60;
   CameraDef camera;
@@ -81,6 +87,7 @@ struct SceneState {
   /// radius), framed by the automatic camera like a body. Empty boxes are skipped.
   std::vector<Eigen::AlignedBox3d> particleBounds;
   std::vector<Eigen::Vector3f> clothNodes;  ///< every cloth's nodes, cloth after cloth
+  std::vector<Eigen::Vector3f> particles;   ///< every particle system's centres, system after system
 };
 
 SceneLayout sceneLayout(const World& world);

@@ -48,6 +48,12 @@ for w in "$src/tests/cli/fork/world.lua" "$src/worlds/wheelbot.lua"; do
   check "$n: the frame at t=0.5 replayed is the live one" cmp "$dir/$n-half.png" "$dir/$n-half-replay.png"
 done
 check "different frames differ" bash -c "! cmp -s '$dir/fork_world-live.png' '$dir/fork_world-half.png'"
+# Particles (fluid) are recorded and drawn again: the replayed last frame is the live one.
+"$rm3d" run "$src/worlds/fluid.lua" --param particles=3000 --quiet --seconds 0.5 --record "$dir/fluid.bin" \
+  --png "$dir/fluid-live.png" --size 320x240 > "$dir/fluid-run.txt" 2>&1
+check "fluid: run with --record" grep -q "recorded 31 frames" "$dir/fluid-run.txt"
+"$rm3d" replay "$dir/fluid.bin" --png "$dir/fluid-replay.png" --size 320x240 > /dev/null
+check "fluid: the replayed last frame (particles drawn) is the live one byte for byte" cmp "$dir/fluid-live.png" "$dir/fluid-replay.png"
 
 # 2. Fork: the recorded sources up to T, the edited behaviour after it.
 "$rm3d" run "$src/tests/cli/fork/world.lua" --quiet --record "$dir/a.bin" --json "$dir/a.json" > /dev/null 2>&1

@@ -200,18 +200,23 @@ int modulePublish(lua_State* L) {
     if (it != published.end()) published.erase(it);
     return 0;
   }
-  Value v;
-  std::string err;
-  if (!readLuaValue(L, 2, v, kMaxPublishedBytes, err))
-    return luaL_error(L, "module.publish: %s", err.c_str());
-  if (it != published.end()) {
-    it->second = std::move(v);
-    return 0;
+  // Lua errors are longjmps: the value and its message are gone before one is raised.
+  char message[512] = "";
+  {
+    Value v;
+    std::string err;
+    if (!readLuaValue(L, 2, v, kMaxPublishedBytes, err))
+      std::snprintf(message, sizeof message, "module.publish: %s", err.c_str());
+    else if (it != published.end())
+      it->second = std::move(v);
+    else if (published.size() >= kMaxPublishedKeys)
+      std::snprintf(message, sizeof message,
+                    "module.publish: too many keys in one module (at most %d); '%s' is one more",
+                    int(kMaxPublishedKeys), key);
+    else
+      published.emplace_back(key, std::move(v));
   }
-  if (published.size() >= kMaxPublishedKeys)
-    return luaL_error(L, "module.publish: too many keys in one module (at most %d); '%s' is one more",
-                      int(kMaxPublishedKeys), key);
-  published.emplace_back(key, std::move(v));
+  if (message[0]) return luaL_error(L, "%s", message);
   return 0;
 }
 

@@ -71,16 +71,13 @@ void readCorners(lua_State* L, const char* fn, ClothDesc& d) {
                fn);
 }
 
-/// Reads an array of whole numbers in [1, max] at option `key` into out (0-based).
-void readIndices(lua_State* L, const char* fn, const char* key, int max, const char* what,
-                 std::vector<int>& out) {
+/// Checks that option `key` is absent or an array of whole numbers in [1, max]. Raises (longjmp)
+/// before anything is allocated, so no C++ object is left behind.
+void checkIndices(lua_State* L, const char* fn, const char* key, int max, const char* what) {
   const int t = lua_getfield(L, 1, key);
-  if (t == LUA_TNIL) {
-    lua_pop(L, 1);
-    return;
-  }
-  if (t != LUA_TTABLE) luaL_error(L, "%s: option '%s' must be a list of %s (1..%d)", fn, key, what, max);
-  const lua_Integer n = lua_Integer(lua_rawlen(L, -1));
+  if (t != LUA_TNIL && t != LUA_TTABLE)
+    luaL_error(L, "%s: option '%s' must be a list of %s (1..%d)", fn, key, what, max);
+  const lua_Integer n = t == LUA_TTABLE ? lua_Integer(lua_rawlen(L, -1)) : 0;
   for (lua_Integer k = 1; k <= n; ++k) {
     lua_rawgeti(L, -1, k);
     int isint = 0;
@@ -88,8 +85,20 @@ void readIndices(lua_State* L, const char* fn, const char* key, int max, const c
     if (!isint || i < 1 || i > max)
       luaL_error(L, "%s: option '%s' must be a list of %s (1..%d); item %I is %s", fn, key, what, max, k,
                  luaL_tolstring(L, -1, nullptr));
-    out.push_back(int(i - 1));
     lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+}
+
+/// Appends option `key`'s numbers (checked by checkIndices) to out, 0-based.
+void readIndices(lua_State* L, const char* key, std::vector<int>& out) {
+  if (lua_getfield(L, 1, key) == LUA_TTABLE) {
+    const lua_Integer n = lua_Integer(lua_rawlen(L, -1));
+    for (lua_Integer k = 1; k <= n; ++k) {
+      lua_rawgeti(L, -1, k);
+      out.push_back(int(lua_tointeger(L, -1) - 1));
+      lua_pop(L, 1);
+    }
   }
   lua_pop(L, 1);
 }
@@ -221,13 +230,18 @@ int worldCloth(lua_State* L) {
   const Vec3 rgb = optVec3Field(L, 1, fn, "color", Vec3(0.8, 0.3, 0.25));
   if (!(rgb.minCoeff() >= 0 && rgb.maxCoeff() <= 1))
     luaL_error(L, "%s: color must be {r, g, b} each in [0, 1]", fn);
-  std::vector<int> corners;
-  readIndices(L, fn, "pinned", 4, "corner numbers", corners);
-  for (int k : corners) d.pinned.push_back(clothCornerNode(d.nx, d.ny, k));
-  readIndices(L, fn, "pinned_nodes", d.nx * d.ny, "node indices", d.pinned);
+  checkIndices(L, fn, "pinned", 4, "corner numbers");
+  checkIndices(L, fn, "pinned_nodes", d.nx * d.ny, "node indices");
   const std::array<float, 4> color{float(rgb.x()), float(rgb.y()), float(rgb.z()), 1.0f};
+  // Lua errors are longjmps: everything that allocates lives inside the call below, whose
+  // exceptions unwind it before the error is raised.
   return callWorld(L, fn, [&] {
-    const int c = world(L).addCloth(d, color);
+    ClothDesc desc = d;
+    std::vector<int> corners;
+    readIndices(L, "pinned", corners);
+    for (int k : corners) desc.pinned.push_back(clothCornerNode(desc.nx, desc.ny, k));
+    readIndices(L, "pinned_nodes", desc.pinned);
+    const int c = world(L).addCloth(desc, color);
     *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = c;
     luaL_setmetatable(L, kClothMeta);
     return 1;

@@ -31,6 +31,8 @@
 -- goal = {x, y, z}, lift (m).
 local linalg = require("linalg")
 local kin = require("kinematics")
+local arm = require("arm_control")
+local vec = require("vec")
 
 local kLambdaMin = 0.003   -- m: damping always present
 local kLambdaMax = 0.04    -- m: damping at a singularity
@@ -39,9 +41,6 @@ local kMaxError = 0.03     -- m: larger errors are clipped
 local kPosture = 0.01      -- m/rad: weight of the pull towards straight
 local kFrameArm = 0.05     -- m: the orientation points' distance from the dock centre
 local kLimitMargin = 0.05  -- rad kept clear of the joint limits
-local kStepGain = 0.1      -- fraction of the DLS step added to the command per control step
-local kWindup = 0.15       -- rad: farthest the command may run ahead of the measured angle
-local kMaxRate = 0.3       -- rad/s: fastest a command moves
 local kSpeed = 0.06        -- m/s: the moving target's speed (search, probe, approach)
 local kRelease = 0.01      -- m: the free module lets go of its station when the arm's dock is this near
 local kProbe = 0.025       -- m: size of the probe pattern
@@ -56,18 +55,7 @@ local proxHistory = {} -- the controller's tip readings, newest first: {t, dista
 local joined = false   -- the free module: docked to the arm
 local released = false -- the free module: has let go of its station
 
-local function merge(into, from)
-  for name, rec in pairs(from or {}) do
-    local have = into[name]
-    if not have or rec.t > have.t then into[name] = rec end
-  end
-end
-
-local function v3(t) return { t[1] or t.x, t[2] or t.y, t[3] or t.z } end
-local function sub(a, b) return { a[1] - b[1], a[2] - b[2], a[3] - b[3] } end
-local function add(a, b) return { a[1] + b[1], a[2] + b[2], a[3] + b[3] } end
-local function scale(a, k) return { a[1] * k, a[2] * k, a[3] * k } end
-local function norm(a) return math.sqrt(a[1] ^ 2 + a[2] ^ 2 + a[3] ^ 2) end
+local v3, sub, add, scale, norm = vec.v3, vec.sub, vec.add, vec.scale, vec.norm
 
 local ctl
 
@@ -149,10 +137,7 @@ local function ikStep(q, target, mode, dt)
   if mode == "level" then e[3] = 0 end
   local en = norm(e)
   if en > kMaxError then e = scale(e, kMaxError / en) end
-  local _, sv = linalg.matrix(J):svd()
-  local smin = sv:get(3)
-  local l2 = kLambdaMin ^ 2
-  if smin < kSigmaZone then l2 = l2 + (1 - (smin / kSigmaZone) ^ 2) * kLambdaMax ^ 2 end
+  local lambda = arm.damping(J, kLambdaMin, kLambdaMax, kSigmaZone)
   local rows, rhs = { J[1], J[2] }, { e[1], e[2] }
   if mode ~= "level" then
     rows[3], rhs[3] = J[3], e[3]
@@ -178,31 +163,11 @@ local function ikStep(q, target, mode, dt)
     rhs[#rhs + 1] = -kPosture * q[i]
   end
   local A, b = linalg.matrix(rows), linalg.vector(rhs)
-  local dq, free = nil, {}
-  for i = 1, m.n do free[i] = true end
-  for pass = 1, 3 do
-    local Aw = A
-    if pass > 1 then
-      Aw = A:copy()
-      for i = 1, m.n do
-        if not free[i] then for r = 1, Aw:rows() do Aw:set(r, i, 0) end end
-      end
-    end
-    dq = Aw:dls(b, math.sqrt(l2))
-    local again = false
-    for i = 1, m.n do
-      local v = q[i] + dq:get(i)
-      if free[i] and (v > m.hi[i] or v < m.lo[i]) then free[i], again = false, true end
-    end
-    if not again then break end
-  end
+  local dq = arm.solve_within(A, b, lambda, q, m.lo, m.hi)
   local cmd = ctl.cmd
   for i, d in ipairs(m.s.dofs) do
     local key = d.module .. "." .. d.joint
-    local step = kMaxRate * dt
-    local c = (cmd[key] or q[i]) + math.max(-step, math.min(step, kStepGain * dq:get(i)))
-    c = math.max(q[i] - kWindup, math.min(q[i] + kWindup, c))
-    cmd[key] = math.max(m.lo[i], math.min(m.hi[i], c))
+    cmd[key] = arm.command(cmd[key], q[i], dq:get(i), m.lo[i], m.hi[i], dt)
   end
   return p
 end
@@ -303,8 +268,8 @@ function step(dt)
   local msg = module.receive()
   while msg do
     if type(msg.data) == "table" then
-      merge(angles, msg.data.a)
-      merge(commands, msg.data.c)
+      arm.merge(angles, msg.data.a)
+      arm.merge(commands, msg.data.c)
       for name, h in pairs(msg.data.h or {}) do hellos[name] = h end
     end
     msg = module.receive()

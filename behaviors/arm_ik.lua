@@ -25,6 +25,7 @@
 -- targets = {{x, y, z}, ...}, start = s, slot = s (target k is active from start + (k-1) slot).
 local linalg = require("linalg")
 local kin = require("kinematics")
+local arm = require("arm_control")
 
 local kLambdaMin = 0.002   -- m: damping always present
 local kLambdaMax = 0.04    -- m: damping at a singularity
@@ -36,10 +37,6 @@ local kStallTime = 0.5     -- s without the error falling by a fifth: stalled
 local kLoadWeight = 0.5    -- m per unit of rating: weight of the load rows against the tip's
 local kMaxLoadStep = 0.05  -- fraction of a rating: largest load correction asked in one step
 local kLimitMargin = 0.05  -- rad kept clear of the joint limits
-local kStepGain = 0.1      -- fraction of the DLS step added to the command per control step
-local kWindup = 0.15       -- rad: farthest the command may run ahead of the measured angle
-local kMaxRate = 0.3       -- rad/s: fastest a command moves (the arm's inertia at the servos'
-                           -- torque limit: faster starts saturate the lower servos)
 
 local me = module.name
 local joints = {}
@@ -51,13 +48,6 @@ end
 
 local angles, commands = {}, {}  -- module name -> {t = time, joint name = angle, ...}
 local history = {}                -- the controller's own angles, newest first (a few steps)
-
-local function merge(into, from)
-  for name, rec in pairs(from or {}) do
-    local have = into[name]
-    if not have or rec.t > have.t then into[name] = rec end
-  end
-end
 
 -- The controller's model, built once from the module types' data.
 local ctl
@@ -90,11 +80,7 @@ local function ikStep(q, target, dt)
   local en = math.sqrt(e[1] ^ 2 + e[2] ^ 2 + e[3] ^ 2)
   if en > kMaxError then for i = 1, 3 do e[i] = e[i] * kMaxError / en end end
   -- Adaptive damping from the tip Jacobian's smallest singular value (Maciejewski/Nakamura).
-  local _, sv = linalg.matrix(Jt):svd()
-  local smin = sv:get(3)
-  local l2 = kLambdaMin ^ 2
-  if smin < kSigmaZone then l2 = l2 + (1 - (smin / kSigmaZone) ^ 2) * kLambdaMax ^ 2 end
-  local lambda = math.sqrt(l2)
+  local lambda = arm.damping(Jt, kLambdaMin, kLambdaMax, kSigmaZone)
   -- Static loads: a servo whose gravity torque (from the model's masses) is above kLoadFree of its
   -- rating adds a row asking for it to come back under, solved together with the tip's rows
   -- (with 9 joints and 3 tip coordinates there is room for both); its gradient comes from
@@ -133,36 +119,15 @@ local function ikStep(q, target, dt)
   local A = linalg.matrix(rows)
   local b = linalg.vector(rhs)
   -- Joints at a limit and pushed further are taken out and the step solved again.
-  local dq, free = nil, {}
-  for i = 1, ctl.n do free[i] = true end
-  for pass = 1, 3 do
-    local Aw = A
-    if pass > 1 then
-      Aw = A:copy()
-      for i = 1, ctl.n do
-        if not free[i] then for r = 1, Aw:rows() do Aw:set(r, i, 0) end end
-      end
-    end
-    dq = Aw:dls(b, lambda)
-    local again = false
-    for i = 1, ctl.n do
-      local v = q[i] + dq:get(i)
-      if free[i] and (v > ctl.hi[i] or v < ctl.lo[i]) then free[i], again = false, true end
-    end
-    if not again then break end
-  end
+  local dq = arm.solve_within(A, b, lambda, q, ctl.lo, ctl.hi)
   -- The command integrates the step: command += gain * step, with the step computed from the
   -- measured pose, so whatever the servos leave undone (sag under load, latency) keeps moving the
   -- command until the measured tip is on target. Commanding "measured + step" directly fed the
   -- late-arriving angles back into the servos and chattered; the integrated command is smooth.
-  -- It is kept within kWindup of the measured angle (a saturated servo cannot wind it up).
+  -- It is kept within a window of the measured angle (a saturated servo cannot wind it up);
+  -- lua/arm_control.lua holds the gain, window and rate.
   local cmd = ctl.cmd
-  for i = 1, ctl.n do
-    local step = kMaxRate * dt
-    local c = (cmd[i] or q[i]) + math.max(-step, math.min(step, kStepGain * dq:get(i)))
-    c = math.max(q[i] - kWindup, math.min(q[i] + kWindup, c))
-    cmd[i] = math.max(ctl.lo[i], math.min(ctl.hi[i], c))
-  end
+  for i = 1, ctl.n do cmd[i] = arm.command(cmd[i], q[i], dq:get(i), ctl.lo[i], ctl.hi[i], dt) end
   return cmd, en, lambda, worst
 end
 
@@ -171,8 +136,8 @@ function step(dt)
   local msg = module.receive()
   while msg do
     if type(msg.data) == "table" then
-      merge(angles, msg.data.a)
-      merge(commands, msg.data.c)
+      arm.merge(angles, msg.data.a)
+      arm.merge(commands, msg.data.c)
     end
     msg = module.receive()
   end

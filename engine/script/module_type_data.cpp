@@ -60,6 +60,7 @@ void pushModuleTypeData(lua_State* L, const ModuleTypeDef& t) {
     setNumber(L, "torque", j.maxTorque);
     setNumber(L, "speed", j.maxSpeed);
     setNumber(L, "gain", j.servoGain);
+    setNumber(L, "stiffness", j.servoStiffness);
     lua_rawseti(L, -2, lua_Integer(i + 1));
   }
   lua_setfield(L, -2, "joints");

@@ -10,7 +10,7 @@
 ---@field root string
 ---@field mass number
 ---@field links {name: string, mass: number, com: number[]}[]
----@field joints {name: string, parent: string, child: string, pivot: number[], axis: number[], lower: number, upper: number, continuous: boolean, torque: number, speed: number, gain: number}[]
+---@field joints {name: string, parent: string, child: string, pivot: number[], axis: number[], lower: number, upper: number, continuous: boolean, torque: number, speed: number, gain: number, stiffness: number}[]
 ---@field docks {name: string, link: string, at: number[], normal: number[], up: number[], quat: number[], gender: string, size: number, symmetry: integer, strength: number, strength_torque: number}[]
 
 ---A dense matrix or a vector (an n x 1 column made by linalg.vector). Operators: + - * / (by a

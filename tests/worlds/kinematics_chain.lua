@@ -67,3 +67,8 @@ world.at(1.5, function()
   expect(math.abs(p[1] - dp.x) + math.abs(p[2] - dp.y) + math.abs(p[3] - dp.z) < 3e-4, "jacobian point = dock centre")
   expect(#J == 3 and #J[1] == 12, "3 x 12 Jacobian")
 end)
+
+-- The type data carries the servo's data too (SuperBot: 2.5 N m, gain 20, stiffness 300 N m/rad).
+local sb = world.module_type("superbot").joints[1]
+expect(sb.torque == 2.5 and sb.gain == 20 and sb.stiffness == 300,
+       string.format("superbot joint data: torque %s, gain %s, stiffness %s", sb.torque, sb.gain, sb.stiffness))

@@ -221,8 +221,8 @@ struct PhysicsWorld::Impl {
   int stepSubsteps = 1;  // substeps of the step being taken  // hinges or bodies changed: which hinges are
                          // tree and which close loops
   btSoftRigidDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
-  std::unique_ptr<ClothSystem> cloth;  // made by the first cloth
-  std::optional<double> groundFriction;
+  std::unique_ptr<ClothSystem> cloth;    // made by the first cloth
+  std::optional<double> groundFriction;  // set by addGroundPlane: the ground is there (cloth, particles)
   OwnerFilter filter;
   std::vector<Part> parts;
   std::vector<Body> bodies;
@@ -239,9 +239,8 @@ struct PhysicsWorld::Impl {
   bool contactTracking = false;
   std::vector<char> partTouching;
   mutable std::mutex rayMutex;  // Debian's Bullet shares one ray-test stack per broadphase
-  // Particle colliders: the ground's friction, and each hull shape's planes (part, shape ->
+  // Particle colliders: each hull shape's planes (part, shape ->
   // first plane and count in hullPlanes), found once per part.
-  bool groundAdded = false;
   std::vector<std::vector<std::pair<int, int>>> hullPlaneRanges;
   std::vector<float> hullPlanes;
 
@@ -680,7 +679,6 @@ void PhysicsWorld::addGroundPlane(double friction, double restitution) {
   m->world.addRigidBody(rb, btBroadphaseProxy::StaticFilter,
                         btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter ^ kClothFilterGroup);
   m->extraBodies.push_back(rb);
-  m->groundAdded = true;
   m->groundFriction = friction;
   if (m->cloth) m->cloth->setGround(friction);
 }
@@ -1168,8 +1166,8 @@ void PhysicsWorld::collectColliders(ColliderSet& out) const {
   out.shapes.clear();
   out.bodies.clear();
   out.planes.clear();
-  out.ground = m->groundAdded;
-  out.groundFriction = float(m->groundFriction.value_or(0.8));
+  out.ground = m->groundFriction.has_value();
+  out.groundFriction = float(m->groundFriction.value_or(0));
   // Hull planes of parts added since the last call (parts are never removed).
   for (size_t p = m->hullPlaneRanges.size(); p < m->parts.size(); ++p) {
     std::vector<std::pair<int, int>> ranges;

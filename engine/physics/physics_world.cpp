@@ -1061,6 +1061,28 @@ Pose PhysicsWorld::partPose(int part) const {
   return m->partPose(part);
 }
 
+double PhysicsWorld::lowestPoint(const std::vector<int>& parts) const {
+  double low = std::numeric_limits<double>::infinity();
+  for (int id : parts) {
+    const Impl::Part& p = m->parts[size_t(id)];
+    const Pose pose = m->partPose(id);
+    for (size_t k = 0; k < p.shapes.size(); ++k) {
+      const btCollisionShape* s = p.shapes[k];
+      const Pose sp = pose * p.shapePoses[k];
+      if (s->isConvex()) {  // the support point straight down: exact for any convex shape
+        const Vec3 down = sp.rot.conjugate() * Vec3(0, 0, -1);
+        const btVector3 v = static_cast<const btConvexShape*>(s)->localGetSupportingVertex(toBt(down));
+        low = std::min(low, (sp * fromBt(v)).z());
+      } else {
+        btVector3 lo, hi;
+        s->getAabb(toBt(sp), lo, hi);
+        low = std::min(low, double(lo.z()));
+      }
+    }
+  }
+  return low;
+}
+
 Vec3 PhysicsWorld::partLinearVelocity(int part) const {
   const btRigidBody* rb = m->bodies[m->parts[part].body].rb;
   const Vec3 p = m->partPose(part) * m->parts[part].com;

@@ -141,6 +141,8 @@ class PhysicsWorld {
   void step(double dt, int substeps);
 
   Pose partPose(int part) const;
+  /// The lowest height (world z) any collision shape of these parts reaches, margins included.
+  double lowestPoint(const std::vector<int>& parts) const;
   Vec3 partLinearVelocity(int part) const;
   Vec3 partAngularVelocity(int part) const;
   bool sameBody(int a, int b) const;

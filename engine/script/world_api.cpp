@@ -238,8 +238,59 @@ int worldMesh(lua_State* L) {
   return addObstacle(L, "world.mesh", ShapeKind::Hull);
 }
 
-/// world.spawn(type, {at=, rot=, name=, behavior=, params=, fixed=}) -> Module; type is a name
-/// in assets/modules or a path to a module-type file; fixed = true holds the root link in place
+/// Initial joint angles from world.spawn's `joints` option: {name = rad, ...} or {rad, rad, ...}
+/// in the type's joint order. Throws InputError (inside callWorld).
+std::vector<double> readJointAngles(lua_State* L, int index, const ModuleTypeDef& type) {
+  std::vector<double> angles(type.joints.size(), 0.0);
+  auto what = [&](size_t j) { return "joint '" + type.joints[j].name + "'"; };
+  lua_pushnil(L);
+  while (lua_next(L, index) != 0) {
+    size_t j = type.joints.size();
+    if (lua_type(L, -2) == LUA_TSTRING) {
+      const std::string name = lua_tostring(L, -2);
+      for (j = 0; j < type.joints.size() && type.joints[j].name != name; ++j) {
+      }
+      if (j == type.joints.size()) {
+        std::string names;
+        for (const JointDef& jd : type.joints) names += (names.empty() ? "" : ", ") + jd.name;
+        lua_pop(L, 2);
+        throw InputError("joints: " + type.name + " has no joint '" + name +
+                         "' (its joints: " + (names.empty() ? "none" : names) + ")");
+      }
+    } else if (lua_isinteger(L, -2)) {
+      const lua_Integer k = lua_tointeger(L, -2);
+      if (k < 1 || k > lua_Integer(type.joints.size())) {
+        lua_pop(L, 2);
+        throw InputError("joints: index " + std::to_string(k) + " is out of range (" + type.name + " has " +
+                         std::to_string(type.joints.size()) + " joints)");
+      }
+      j = size_t(k - 1);
+    } else {
+      lua_pop(L, 2);
+      throw InputError("joints: keys must be joint names or indices 1.." +
+                       std::to_string(type.joints.size()));
+    }
+    const bool number = lua_type(L, -1) == LUA_TNUMBER;
+    const double a = number ? lua_tonumber(L, -1) : 0.0;
+    lua_pop(L, 1);
+    if (!number || !std::isfinite(a)) {
+      lua_pop(L, 1);
+      throw InputError("joints: " + what(j) + " must be a finite angle in radians");
+    }
+    const JointDef& jd = type.joints[j];
+    if (jd.limited && (a < jd.lower - 1e-9 || a > jd.upper + 1e-9)) {
+      lua_pop(L, 1);
+      throw InputError("joints: " + what(j) + " angle " + std::to_string(a) + " is outside its limits " +
+                       std::to_string(jd.lower) + ".." + std::to_string(jd.upper) + " rad");
+    }
+    angles[j] = a;
+  }
+  return angles;
+}
+
+/// world.spawn(type, {at=, rot=, name=, behavior=, params=, fixed=, joints=}) -> Module; type is a
+/// name in assets/modules or a path to a module-type file; fixed = true holds the root link in
+/// place; joints = initial angles
 int worldSpawn(lua_State* L) {
   const char* fn = "world.spawn";
   const char* type = luaL_checkstring(L, 1);
@@ -247,19 +298,26 @@ int worldSpawn(lua_State* L) {
     lua_settop(L, 1);
     lua_newtable(L);
   }
-  checkOptionKeys(L, 2, fn, {"at", "rot", "quat", "name", "behavior", "behaviour", "params", "fixed"});
+  checkOptionKeys(L, 2, fn,
+                  {"at", "rot", "quat", "name", "behavior", "behaviour", "params", "fixed", "joints"});
   const bool fixed = optBoolField(L, 2, fn, "fixed", false);
   const Pose pose = optPoseFields(L, 2, fn);
   checkInBounds(L, fn, pose.pos);
   const char* name = optStringField(L, 2, fn, "name");
   const char* behaviour = optStringField(L, 2, fn, "behavior");
   if (!behaviour) behaviour = optStringField(L, 2, fn, "behaviour");
+  const int jointsType = lua_getfield(L, 2, "joints");
+  if (jointsType != LUA_TNIL && jointsType != LUA_TTABLE)
+    return luaL_error(L, "%s: option 'joints' must be a table of angles (by joint name or in joint order)",
+                      fn);
+  const int jointsIndex = lua_gettop(L);
   const int paramsType = lua_getfield(L, 2, "params");
   if (paramsType != LUA_TNIL && paramsType != LUA_TTABLE)
     return luaL_error(L, "%s: option 'params' must be a table", fn);
   return callWorld(L, fn, [&] {
     World::SpawnDef def;
     def.type = type;
+    if (jointsType == LUA_TTABLE) def.joints = readJointAngles(L, jointsIndex, world(L).moduleType(type));
     def.pose = pose;
     def.fixed = fixed;
     if (name) def.name = name;
@@ -286,6 +344,19 @@ int worldConnect(lua_State* L) {
   return callWorld(L, fn, [&] {
     world(L).connect(a, da, b, db, orientation);
     return 0;
+  });
+}
+
+/// world.place_on_ground(m [, z]) -> how far it moved: m's connected component moves straight
+/// down (or up) until its lowest point is at height z (default 0, the ground plane)
+int worldPlaceOnGround(lua_State* L) {
+  const char* fn = "world.place_on_ground";
+  const int m = checkModule(L, 1);
+  const double z = luaL_optnumber(L, 2, 0.0);
+  if (!std::isfinite(z)) return luaL_error(L, "%s: the height must be a finite number of metres", fn);
+  return callWorld(L, fn, [&] {
+    lua_pushnumber(L, world(L).placeOnGround(m, z));
+    return 1;
   });
 }
 
@@ -622,6 +693,7 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"capsule", worldCapsule},
                                  {"mesh", worldMesh},
                                  {"spawn", worldSpawn},
+                                 {"place_on_ground", worldPlaceOnGround},
                                  {"connect", worldConnect},
                                  {"modules", worldModules},
                                  {"module", worldModule},

@@ -44,6 +44,35 @@ Pose jointFrame(const JointDef& j) {
   return {j.pivot, Quat::FromTwoVectors(Vec3::UnitZ(), j.axis.normalized())};
 }
 
+/// Every link's pose for a module whose root link is at `root`, at the given joint angles (by
+/// joint index; missing ones 0). Every link frame is the module frame at zero angles, so a joint
+/// turns its child side about its axis through its pivot; the links form a tree from the root.
+std::vector<Pose> postureOf(const ModuleTypeDef& type, const Pose& root, const std::vector<double>& angles) {
+  std::vector<Pose> poses(type.links.size(), root);
+  if (angles.empty()) return poses;
+  std::vector<char> placed(type.links.size(), 0);
+  placed[size_t(type.rootLink)] = 1;
+  for (bool grew = true; grew;) {  // a few links: sweep until every reachable one is placed
+    grew = false;
+    for (size_t j = 0; j < type.joints.size(); ++j) {
+      const JointDef& jd = type.joints[j];
+      const size_t p = size_t(jd.parent), c = size_t(jd.child);
+      if (placed[p] == placed[c]) continue;
+      const double angle = j < angles.size() ? angles[j] : 0.0;
+      // The child relative to the parent: a turn by `angle` about the axis through the pivot.
+      const Quat q(Eigen::AngleAxisd(angle, jd.axis));
+      const Pose turn{jd.pivot - q * jd.pivot, q};
+      if (placed[p])
+        poses[c] = poses[p] * turn;
+      else
+        poses[p] = poses[c] * turn.inverse();
+      placed[p] = placed[c] = 1;
+      grew = true;
+    }
+  }
+  return poses;
+}
+
 /// FNV-1a of a module name, with the top bit set so it never equals a small id.
 uint64_t streamOfName(const std::string& name) {
   uint64_t h = 0xcbf29ce484222325ull;
@@ -283,12 +312,13 @@ int World::spawn(const SpawnDef& def) {
   m.rngStream = def.name.empty() ? uint64_t(m.id) : streamOfName(def.name);
   m.rng.seed(m_settings.seed, m.rngStream);
   m.fixed = def.fixed;
+  const std::vector<Pose> linkPoses = postureOf(type, def.pose, def.joints);
   for (size_t l = 0; l < type.links.size(); ++l) {
     const LinkDef& link = type.links[l];
     PartDesc d;
     d.shapes = link.collisionShapes();
     d.mass = def.fixed && int(l) == type.rootLink ? 0.0 : link.mass;  // mass 0: static
-    d.pose = def.pose;  // every link frame is the module frame at zero joint angles
+    d.pose = linkPoses[l];
     d.friction = link.friction;
     d.owner = index;
     m.parts.push_back(m_physics->addPart(d));
@@ -308,6 +338,7 @@ int World::spawn(const SpawnDef& def) {
     m.hinges.push_back(m_physics->addHinge(h));
   }
   m.commands.assign(type.joints.size(), JointCommand{});
+  for (size_t j = 0; j < def.joints.size() && j < m.commands.size(); ++j) m.commands[j].value = def.joints[j];
   m.docks.assign(type.docks.size(), DockState{});
   m.dockRequests.assign(type.docks.size(), -1);
   const size_t codes = type.joints.size() + type.docks.size() + type.sensors.size();
@@ -441,6 +472,18 @@ void World::dropReleased() {
 void World::connect(int a, int dockA, int b, int dockB, int orientation) {
   ensurePhysics();
   m_docking.connect(dockingScene(), a, dockA, b, dockB, orientation);
+}
+
+double World::placeOnGround(int m, double z) {
+  if (m_started) throw InputError("modules are placed while the world script runs, before the first step");
+  ensurePhysics();
+  std::vector<int> parts;
+  for (int c : componentOf(m_modules, m))
+    for (int p : m_modules[size_t(c)].parts) parts.push_back(p);
+  const double lift = z - m_physics->lowestPoint(parts);
+  if (!std::isfinite(lift)) return 0;
+  m_physics->transformParts(parts, Pose{Vec3(0, 0, lift), Quat::Identity()});
+  return lift;
 }
 
 bool World::disconnect(int m, int dock) {

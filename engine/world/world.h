@@ -214,10 +214,16 @@ class World {
     std::string behaviour;  ///< path as written; resolved against the world's folder, then root
     Value params;
     bool fixed = false;  ///< the root link does not move
+    /// Initial joint angles by joint index (rad; empty: all zero). The root link is at `pose`
+    /// and the other links follow, so the module starts in that posture and its servos hold it.
+    std::vector<double> joints;
   };
   /// Throws InputError (without location: the caller adds it).
   int spawn(const SpawnDef& def);
   void connect(int a, int dockA, int b, int dockB, int orientation);
+  /// Moves module m's connected component straight up or down so that its lowest point is at
+  /// height z (before the first step). Returns how far it moved (m, + up).
+  double placeOnGround(int m, double z);
   /// Releases the connection at module m's dock (as if a dock were disabled). False if none.
   bool disconnect(int m, int dock);
   void setChannel(const ChannelDef& c) { m_router.setChannel(c); }

@@ -211,9 +211,14 @@ function world.fluid(o) end
 ---@return Particles
 function world.debris(o) end
 ---@param type string a module type name or a module-type file
----@param o? {at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?}
+---@param o? {at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?, joints: table<string|integer, number>?}
 ---@return Module
 function world.spawn(type, o) end
+---Moves m's connected component straight down (or up) until its lowest point is at height z.
+---@param m Module
+---@param z? number metres (default 0, the ground plane)
+---@return number moved metres moved (+ up)
+function world.place_on_ground(m, z) end
 ---@param a Module
 ---@param dock_a string
 ---@param b Module

@@ -3,6 +3,7 @@
 
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -23,6 +24,7 @@ constexpr int kMaxGroupBodies = 8;
 constexpr double kLimitMargin = 0.25;   // rad: a limit row may engage only this close to its stop
 constexpr double kLimitRecovery = 0.2;  // share of a limit overshoot removed per substep
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kClaimed = -2;  // a body whose joint node is placed, the body not yet
 
 Vec3d toEigen(const btVector3& v) {
   return Vec3d(v.x(), v.y(), v.z());
@@ -94,6 +96,8 @@ void ExactSolver::beginSubstep() {
   m_bodies.clear();
   m_nodes.clear();
   m_clusters.clear();
+  m_loopJoints.clear();
+  m_nodeOfBody.clear();
   if (m_rows.size() < joints.size()) m_rows.resize(joints.size());
 }
 
@@ -223,6 +227,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     }
   }
   m_bodyNode.assign(size_t(nb), -1);
+  m_nodeOfBody.resize(m_bodies.size(), -1);
   if (m_seenJoint.size() < joints.size()) m_seenJoint.resize(joints.size());
   for (int j : m_groupJoints) {
     m_seenJoint[size_t(j)] = 0;
@@ -254,6 +259,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     }
     Cluster c{int(m_nodes.size()), 0, true};
     auto addNode = [&](int body, int joint, int parent, bool parentIsA) {
+      if (body >= 0) m_nodeOfBody[size_t(body)] = int(m_nodes.size());
       Node& n = m_nodes.emplace_back();
       n.body = body;
       n.joint = joint;
@@ -267,8 +273,8 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
       const int b = m_rows[size_t(start)].na >= 0 ? m_rows[size_t(start)].na : m_rows[size_t(start)].nb;
       m_bodyNode[size_t(b - firstBody)] = addNode(b, -1, -1, false);
     }
-    // Breadth first over the tree; the ExactLinks given to the solver form a forest, but a
-    // joint seen twice (a loop the forest missed) is skipped rather than trusted.
+    // Breadth first over the tree; a joint whose other body is placed already closes a loop
+    // and stays out of it.
     for (int k = c.begin; k < int(m_nodes.size()); ++k) {
       const int nodeJoint = m_nodes[size_t(k)].joint, nodeBody = m_nodes[size_t(k)].body;
       if (nodeJoint >= 0) {
@@ -285,13 +291,21 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
           Row& r = m_rows[size_t(j)];
           if (r.node >= 0) continue;  // already placed (the body's parent joint)
           const int other = r.na == b ? r.nb : r.na;
-          if (other >= 0 && m_bodyNode[size_t(other - firstBody)] >= 0) continue;  // would close a loop
+          // A body placed already, or claimed by another joint of this level: a loop.
+          if (other >= 0 && m_bodyNode[size_t(other - firstBody)] != -1) continue;
           r.node = addNode(-1, j, k, r.na == b);
+          if (other >= 0) m_bodyNode[size_t(other - firstBody)] = kClaimed;
         }
       }
     }
     c.end = int(m_nodes.size());
-    m_clusters.push_back(c);
+    // The component's joints the tree left out close loops: solved through their Schur
+    // complement (factorLoops).
+    c.loopBegin = int(m_loopJoints.size());
+    for (int j : m_component)
+      if (m_rows[size_t(j)].node < 0) m_loopJoints.push_back(j);
+    c.loopEnd = int(m_loopJoints.size());
+    m_clusters.push_back(std::move(c));
   }
 }
 
@@ -528,6 +542,119 @@ void ExactSolver::factor(Cluster& c) {
     }
   }
   c.dirty = false;
+  if (c.loopEnd > c.loopBegin) factorLoops(c);
+}
+
+void ExactSolver::pushThroughTree(Cluster& c, const Eigen::VectorXd& p, bool positions) {
+  for (int k = c.begin; k < c.end; ++k) m_nodes[size_t(k)].y.setZero();
+  for (int l = c.loopBegin; l < c.loopEnd; ++l) {
+    const Row& r = m_rows[size_t(m_loopJoints[size_t(l)])];
+    const auto pl = p.segment<6>(6 * (l - c.loopBegin));
+    if (r.na >= 0) m_nodes[size_t(m_nodeOfBody[size_t(r.na)])].y.noalias() += r.ja.transpose() * pl;
+    if (r.nb >= 0) m_nodes[size_t(m_nodeOfBody[size_t(r.nb)])].y.noalias() += r.jb.transpose() * pl;
+  }
+  solve(c);
+  if (positions) return;
+  for (int k = c.begin; k < c.end; ++k) {
+    Node& n = m_nodes[size_t(k)];
+    if (n.body >= 0)
+      addBodyVelocity(n.body, n.x);
+    else
+      m_rows[size_t(n.joint)].lambda -= n.x;
+  }
+}
+
+/// The loop rows' response to their own impulses through the tree (the tree's joints held
+/// exact), one tree solve per row, plus their compliance; a fixed axial row is left out.
+void ExactSolver::factorLoops(Cluster& c) {
+  const int loops = c.loopEnd - c.loopBegin, k = 6 * loops;
+  c.schur.setZero(k, k);
+  Eigen::VectorXd unit = Eigen::VectorXd::Zero(k);
+  auto loopRow = [&](int l) -> const Row& { return m_rows[size_t(m_loopJoints[size_t(c.loopBegin + l)])]; };
+  auto nodeX = [&](int body) -> const Vec6& { return m_nodes[size_t(m_nodeOfBody[size_t(body)])].x; };
+  for (int col = 0; col < k; ++col) {
+    if (col % 6 == 5 && !loopRow(col / 6).axialActive) continue;
+    unit.setZero();
+    unit[col] = 1;
+    pushThroughTree(c, unit, true);
+    for (int l = 0; l < loops; ++l) {
+      const Row& r = loopRow(l);
+      Vec6 jv = Vec6::Zero();
+      if (r.na >= 0) jv.noalias() += r.ja * nodeX(r.na);
+      if (r.nb >= 0) jv.noalias() += r.jb * nodeX(r.nb);
+      c.schur.block<6, 1>(6 * l, col) = jv;
+    }
+  }
+  for (int l = 0; l < loops; ++l) {
+    const Row& r = loopRow(l);
+    const ExactJoint& e = joints[size_t(m_loopJoints[size_t(c.loopBegin + l)])];
+    for (int i = 0; i < 6; ++i) c.schur(6 * l + i, 6 * l + i) += kRegularisation;
+    const int a = 6 * l + 5;
+    if (!r.axialActive) {  // held at its bound: not an unknown
+      c.schur.row(a).setZero();
+      c.schur.col(a).setZero();
+      c.schur(a, a) = 1;
+    } else if (e.state == ExactJoint::Axial::Motor) {
+      c.schur(a, a) += e.compliance;
+    }
+  }
+  // S is singular where a loop's rows repeat the tree's (a planar ring's out-of-plane rows): a
+  // pseudo-inverse through its eigenvectors. Redundant directions measure 1e-9 to 5e-7 (the
+  // regularisation and float rounding) against 1 to 100 for real ones: below 1e-5 of the
+  // largest, a direction is dropped.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (c.schur + c.schur.transpose()));
+  c.schur = eig.eigenvectors();
+  const Eigen::VectorXd& values = eig.eigenvalues();
+  const double floor = 1e-5 * std::max(values.cwiseAbs().maxCoeff(), 1e-300);
+  c.schurInv.resize(k);
+  for (int i = 0; i < k; ++i) c.schurInv[i] = values[i] > floor ? 1.0 / values[i] : 0.0;
+}
+
+Eigen::VectorXd ExactSolver::solveLoops(const Cluster& c, const Eigen::VectorXd& v) const {
+  return c.schur * c.schurInv.cwiseProduct(c.schur.transpose() * v);
+}
+
+/// Makes the loop rows exact after the tree's solve: their impulse change through S, then
+/// passed on through the tree so its joints stay exact.
+void ExactSolver::loopIteration(Cluster& c, bool clamp) {
+  using A = ExactJoint::Axial;
+  if (c.dirty) factor(c);
+  const int loops = c.loopEnd - c.loopBegin;
+  Eigen::VectorXd err(6 * loops);
+  for (int l = 0; l < loops; ++l) {
+    const int j = m_loopJoints[size_t(c.loopBegin + l)];
+    const Row& r = m_rows[size_t(j)];
+    const ExactJoint& e = joints[size_t(j)];
+    Vec6 jv = Vec6::Zero();
+    if (r.na >= 0) jv.noalias() += r.ja * bodyVelocity(r.na);
+    if (r.nb >= 0) jv.noalias() += r.jb * bodyVelocity(r.nb);
+    Vec6 y = -jv;
+    y[5] = r.axialActive ? e.rowTarget - jv[5] - (e.state == A::Motor ? e.compliance * r.lambda[5] : 0) : 0;
+    err.segment<6>(6 * l) = y;
+  }
+  const Eigen::VectorXd dl = solveLoops(c, err);
+  for (int l = 0; l < loops; ++l)
+    m_rows[size_t(m_loopJoints[size_t(c.loopBegin + l)])].lambda += dl.segment<6>(6 * l);
+  pushThroughTree(c, dl, false);
+  if (!clamp) return;
+  for (int l = 0; l < loops; ++l) {  // as the tree's bounded rows (clusterIteration)
+    const int j = m_loopJoints[size_t(c.loopBegin + l)];
+    Row& r = m_rows[size_t(j)];
+    if (!r.axialActive) continue;
+    ExactJoint& e = joints[size_t(j)];
+    const double v = r.lambda[5], tau = e.motorOn ? e.maxImpulse : 0;
+    double fixAt = v;
+    if (e.state == A::Motor && std::abs(v) > tau) fixAt = std::copysign(tau, v);
+    if (e.state == A::Lower && v < e.bound) fixAt = e.bound;
+    if (e.state == A::Upper && v > e.bound) fixAt = e.bound;
+    if (fixAt != v) {
+      applyAxial(j, fixAt - v);
+      e.state = A::Fixed;
+      e.fixedImpulse = fixAt;
+      r.axialActive = false;
+      c.dirty = true;
+    }
+  }
 }
 
 /// Solves for the right-hand side already in each node's y (bodies: 0; joints: the rows'
@@ -608,6 +735,7 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
       c.dirty = true;
     }
   }
+  if (c.loopEnd > c.loopBegin) loopIteration(c, clamp);
 }
 
 btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies,
@@ -740,18 +868,37 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
   for (int k = c.begin; k < c.end; ++k) {
     Node& n = m_nodes[size_t(k)];
     n.y.setZero();
-    if (n.joint < 0) continue;
-    const ExactJoint& e = joints[size_t(n.joint)];
-    const btTransform ta = e.a->getCenterOfMassTransform() * e.frameA;
-    const btTransform tb = e.b->getCenterOfMassTransform() * e.frameB;
-    const Mat3d fa = toEigen(ta.getBasis());
-    const Vec3d tilt = fa.col(2).cross(toEigen(tb.getBasis().getColumn(2)));
-    n.y.head<3>() = -(toEigen(ta.getOrigin()) - toEigen(tb.getOrigin()));
-    n.y[3] = fa.col(0).dot(tilt);
-    n.y[4] = fa.col(1).dot(tilt);
-    n.y[5] = 0;
+    if (n.joint >= 0) n.y = positionError(n.joint);
   }
   solve(c);
+  applyPositionChanges(c);
+  if (c.loopEnd == c.loopBegin) return;
+  // Then the loops' errors at the corrected poses, through S and the tree.
+  const int loops = c.loopEnd - c.loopBegin;
+  Eigen::VectorXd err(6 * loops);
+  for (int l = 0; l < loops; ++l)
+    err.segment<6>(6 * l) = positionError(m_loopJoints[size_t(c.loopBegin + l)]);
+  pushThroughTree(c, solveLoops(c, err), true);
+  applyPositionChanges(c);
+}
+
+/// A joint's position error as its rows measure it: pivot gap, axis tilt (and 0 about the axis).
+Vec6 ExactSolver::positionError(int j) const {
+  const ExactJoint& e = joints[size_t(j)];
+  const btTransform ta = e.a->getCenterOfMassTransform() * e.frameA;
+  const btTransform tb = e.b->getCenterOfMassTransform() * e.frameB;
+  const Mat3d fa = toEigen(ta.getBasis());
+  const Vec3d tilt = fa.col(2).cross(toEigen(tb.getBasis().getColumn(2)));
+  Vec6 y;
+  y.head<3>() = -(toEigen(ta.getOrigin()) - toEigen(tb.getOrigin()));
+  y[3] = fa.col(0).dot(tilt);
+  y[4] = fa.col(1).dot(tilt);
+  y[5] = 0;
+  return y;
+}
+
+/// Moves every body of the cluster by the position change in its node's x.
+void ExactSolver::applyPositionChanges(Cluster& c) {
   for (int k = c.begin; k < c.end; ++k) {
     const Node& n = m_nodes[size_t(k)];
     if (n.body < 0) continue;

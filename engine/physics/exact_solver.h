@@ -2,23 +2,25 @@
 // linear-time solve for the hinges of every connected cluster of bodies.
 //
 // Docked links are merged into one rigid body (physics_world.h), so a cluster of modules is a
-// tree of bodies joined by hinges (loops are closed by ordinary Bullet hinges, see
-// PhysicsWorld). For each tree the solver eliminates the sparse system
+// tree of bodies joined by hinges, plus a few hinges that close loops (below). For each tree the
+// solver eliminates the sparse system
 //
 //     [ M  J^T ] [ dv ]   [ 0 ]
 //     [ J  -eI ] [ mu ] = [ r ]      (mu = -lambda, r = target - J v)
 //
 // in Baraff's order ("Linear-Time Dynamics using Lagrange Multipliers", SIGGRAPH 1996): a body
 // and a joint are both nodes of one tree, leaves first, with no fill-in, so a factor and a solve
-// cost time linear in the cluster's size. Each hinge has five structural rows (three for the
-// pivot, two keeping the axes parallel) and one axial row that carries the motor, or the limit
-// stop near a limit. The axial row is a box-bounded unknown (the motor's rated torque); it is in
-// the factor while its impulse is inside its bounds and leaves it, fixed at the bound, once it
-// reaches one (a saturated servo). Rows only leave within a step, so the active set cannot
-// cycle; between steps a fixed row comes back as soon as its joint moves the way the bound
-// resists (complementarity). Every iteration is one block Gauss-Seidel pass: Bullet's sweep
-// over the contact rows, then the exact solve of all hinge rows, so the last iteration always
-// leaves the hinges exact and the motors within their torque.
+// cost time linear in the cluster's size. A joint that closes a loop (a ring of modules) is not
+// in the tree: its rows are solved through their Schur complement S = J_L A^-1 J_L^T (one tree
+// solve per loop row to build it, a dense factor of size 6 x loops), and each impulse on them is
+// passed on through the tree, so loops are as exact as the tree. Each hinge has five structural rows (three
+// for the pivot, two keeping the axes parallel) and one axial row that carries the motor, or the limit stop
+// near a limit. The axial row is a box-bounded unknown (the motor's rated torque); it is in the factor while
+// its impulse is inside its bounds and leaves it, fixed at the bound, once it reaches one (a saturated
+// servo). Rows only leave within a step, so the active set cannot cycle; between steps a fixed row comes back
+// as soon as its joint moves the way the bound resists (complementarity). Every iteration is one block
+// Gauss-Seidel pass: Bullet's sweep over the contact rows, then the exact solve of all hinge rows, so the
+// last iteration always leaves the hinges exact and the motors within their torque.
 //
 // Contacts and friction stay Bullet's rows, swept by this solver: a body joined to others by
 // hinges whose motors hold them moves, within the sweep, with its rigid group (the group's mass
@@ -132,6 +134,11 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   struct Cluster {
     int begin, end;  // nodes, in order root first
     bool dirty;      // the active set changed since the last factor
+    // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
+    // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
+    int loopBegin = 0, loopEnd = 0;
+    Eigen::MatrixXd schur;     // S, then its eigenvectors
+    Eigen::VectorXd schurInv;  // inverse eigenvalues (0 for the redundant directions)
   };
   struct Row {                        // per joint, this substep
     int node = -1, na = -1, nb = -1;  // body indices (into m_bodies) or -1 static
@@ -144,6 +151,17 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void setupJoint(int j, double h);
   void factor(Cluster& c);
   void solve(Cluster& c);
+  /// Loop joints: S from one tree solve per loop row (after factor), and the step that makes
+  /// the loop rows exact: their impulse change through S, passed on through the tree.
+  void factorLoops(Cluster& c);
+  void loopIteration(Cluster& c, bool clamp);
+  /// S's pseudo-inverse times v: loop rows that repeat the tree's (a planar ring's out-of-plane
+  /// rows) are redundant, and take no impulse.
+  Eigen::VectorXd solveLoops(const Cluster& c, const Eigen::VectorXd& v) const;
+  /// Applies impulses `p` (6 per loop joint row) on the loop joints' bodies through the tree:
+  /// the tree's joints take their share (lambda) and the bodies' velocities change (or, with
+  /// `positions`, returns the bodies' position changes in the nodes' x without applying them).
+  void pushThroughTree(Cluster& c, const Eigen::VectorXd& p, bool positions);
   void exactIteration(bool clamp);
   struct RowSide {
     btSolverBody* body;
@@ -156,6 +174,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   btScalar contactSweep();
   void clusterIteration(Cluster& c, bool clamp);
   void stabiliseCluster(Cluster& c);
+  Vec6 positionError(int j) const;
+  void applyPositionChanges(Cluster& c);
   void forEachCluster(int begin, const std::function<void(int)>& fn);
   void finishJoints();
   Vec6 bodyVelocity(int b) const;
@@ -170,6 +190,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<Cluster> m_clusters;
   std::vector<Row> m_rows;  // by joint id
   std::vector<int> m_groupJoints;
+  std::vector<int> m_loopJoints;  // by cluster (Cluster::loopBegin..loopEnd)
   /// Rigid groups: bodies joined by hinges whose motors hold them (the structure moves as one
   /// under a contact impulse). The contact sweep applies impulses to a group's twist.
   struct Group {
@@ -188,6 +209,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   int m_groupFirstBody = 0;
   std::vector<int> m_sidToBody;
   std::vector<int> m_bodyNode;
+  std::vector<int> m_nodeOfBody;  // node of each body this substep (any group)
   std::vector<int> m_adjStart, m_adj, m_queue, m_component;
   std::vector<char> m_seenJoint;
 };

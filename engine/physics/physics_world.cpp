@@ -169,9 +169,8 @@ struct PhysicsWorld::Impl {
   };
   struct Hinge {
     HingeDesc d;
-    btHingeConstraint* c = nullptr;   // Bullet's hinge (pgs, or a loop-closing hinge)
+    btHingeConstraint* c = nullptr;   // Bullet's hinge (pgs)
     std::unique_ptr<ExactLink> link;  // exact: the hinge is solved by ExactSolver
-    bool tree = true;                 // exact: part of the cluster's spanning forest
     Vec3 axisA = Vec3::UnitZ();       // in part A frame
     MotorMode mode = MotorMode::Off;
     double value = 0;
@@ -217,9 +216,7 @@ struct PhysicsWorld::Impl {
   btCollisionDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
   ExactSolver solver;
-  bool forestDirty = true;
-  int stepSubsteps = 1;  // substeps of the step being taken  // hinges or bodies changed: which hinges are
-                         // tree and which close loops
+  int stepSubsteps = 1;  // substeps of the step being taken
   btSoftRigidDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
   std::unique_ptr<ClothSystem> cloth;    // made by the first cloth
   std::optional<double> groundFriction;  // set by addGroundPlane: the ground is there (cloth, particles)
@@ -402,7 +399,6 @@ struct PhysicsWorld::Impl {
   }
 
   void makeHinge(Hinge& h) {
-    forestDirty = true;
     const Part& a = parts[h.d.partA];
     const Part& b = parts[h.d.partB];
     if (a.body == b.body) {  // both ends inside one rigid body (a closed loop): the joint is frozen
@@ -411,7 +407,7 @@ struct PhysicsWorld::Impl {
     }
     const btTransform fa = toBt(a.inBody * h.d.frameA);
     const btTransform fb = toBt(b.inBody * h.d.frameB);
-    if (settings.solver == SolverKind::Exact && h.tree) {
+    if (settings.solver == SolverKind::Exact) {
       const int id = int(&h - hinges.data());
       if (solver.joints.size() < hinges.size()) solver.joints.resize(hinges.size());
       ExactJoint& e = solver.joints[size_t(id)];
@@ -436,7 +432,6 @@ struct PhysicsWorld::Impl {
   }
 
   void removeHinge(Hinge& h) {
-    forestDirty = true;
     if (h.link) {
       world.removeConstraint(h.link.get());
       h.link.reset();
@@ -445,36 +440,6 @@ struct PhysicsWorld::Impl {
     world.removeConstraint(h.c);
     delete h.c;
     h.c = nullptr;
-  }
-
-  /// Exact solver: the hinges that span each cluster as a tree go to ExactSolver; a hinge that
-  /// would close a loop (a ring of modules, a second anchor to the static world) stays a Bullet
-  /// hinge. Hinges are taken in index order, so the choice is deterministic.
-  void refreshForest() {
-    if (!forestDirty) return;
-    std::vector<int> up(bodies.size() + 1);
-    for (size_t i = 0; i < up.size(); ++i) up[i] = int(i);
-    auto find = [&](int x) {
-      while (up[size_t(x)] != x) x = up[size_t(x)] = up[size_t(up[size_t(x)])];
-      return x;
-    };
-    const int staticNode = int(bodies.size());
-    auto node = [&](int part) {
-      const int body = parts[size_t(part)].body;
-      return bodies[size_t(body)].rb->getInvMass() == 0 ? staticNode : body;
-    };
-    for (Hinge& h : hinges) {
-      const int a = find(node(h.d.partA)), b = find(node(h.d.partB));
-      const bool tree = a != b && settings.solver == SolverKind::Exact;
-      if (a != b) up[size_t(a)] = b;
-      if (tree != h.tree) {
-        const bool made = h.c || h.link;
-        removeHinge(h);
-        h.tree = tree;
-        if (made) makeHinge(h);
-      }
-    }
-    forestDirty = false;
   }
 
   /// Hinges attached to any of the parts, sorted.
@@ -656,7 +621,6 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
   m->settings = s;
   if (switched)
     for (Impl::Hinge& h : m->hinges) {
-      h.tree = s.solver == SolverKind::Exact;
       m->makeHinge(h);
     }
   m->world.setGravity(toBt(s.gravity));
@@ -756,7 +720,6 @@ int PhysicsWorld::addHinge(const HingeDesc& desc) {
   Impl::Hinge& h = m->hinges.back();
   h.d = desc;
   h.axisA = desc.frameA.rot * Vec3::UnitZ();
-  h.tree = m->settings.solver == SolverKind::Exact;
   m->parts[desc.partA].hinges.push_back(id);
   m->parts[desc.partB].hinges.push_back(id);
   m->makeHinge(h);
@@ -996,7 +959,6 @@ void PhysicsWorld::step(double dt, int substeps) {
   const FlushDenormals flush;
   const int n = std::max(1, substeps);
   const double h = dt / n;
-  m->refreshForest();
   m->stepSubsteps = n;
   const bool exact = m->settings.solver == SolverKind::Exact;
   for (Impl::Hinge& hg : m->hinges) {

@@ -5,7 +5,7 @@
 --
 --   ./build/rm3d run worlds/fluid.lua --seconds 6 [--threads 2] [--param particles=10000]
 --
--- The checks: no particle is lost, 90 % or more stay in the tank (see README), and the box floats.
+-- The checks: no particle is lost, every one stays in the tank, and the box floats.
 world.set{duration = 6}
 world.ground{friction = 1.0}
 
@@ -36,8 +36,7 @@ end)
 
 world.on_end(function(t)
   expect(water:count() == count, "every particle is still there")
-  -- A few particles still slip out where two walls meet (README "Fluids and debris", limits).
   local inside = water:count_in({-L / 2, -W / 2, 0}, {L / 2, W / 2, H + 1})
-  expect(inside >= 0.9 * count, string.format("the water stays in the tank: %d of %d inside", inside, count))
+  expect(inside == count, string.format("the water stays in the tank: %d of %d inside", inside, count))
   if t > 2.5 then expect(float:position()[3] > 0.1, "the light box floats") end
 end)

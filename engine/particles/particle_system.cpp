@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "particles/particle_contact.h"
+#include "particles/particle_walls.h"
 
 namespace rm3d {
 
@@ -168,13 +169,14 @@ void ParticleSystem::step(double dt, const Vec3& gravity, const ColliderSet& col
   m_times.sort = msSince(t);
   t = Clock::now();
   buildNeighbours(parallel);
-  markColliderCells(colliders);
+  markColliderCells(colliders, h);
   m_times.neighbours = msSince(t);
   t = Clock::now();
-  applyAndCollide(h, false, colliders, parallel);  // contacts and wall terms at the start
-  for (int it = 0; it < m_def.iterations; ++it) {
+  const int iterations = m_def.iterations;
+  applyAndCollide(h, false, iterations <= 0, colliders, parallel);  // contacts and wall terms at the start
+  for (int it = 0; it < iterations; ++it) {
     fluidIteration(colliders, parallel);
-    applyAndCollide(h, true, colliders, parallel);
+    applyAndCollide(h, true, it == iterations - 1, colliders, parallel);
   }
   m_times.solve = msSince(t);
   t = Clock::now();
@@ -356,14 +358,17 @@ void ParticleSystem::buildNeighbours(const ParallelFor& parallel) {
   });
 }
 
-void ParticleSystem::markColliderCells(const ColliderSet& colliders) {
+void ParticleSystem::markColliderCells(const ColliderSet& colliders, float dt) {
   const size_t ncells = size_t(m_dims[0]) * size_t(m_dims[1]) * size_t(m_dims[2]);
-  m_cellShapeCount.assign(ncells, 0);
-  if (m_cellShapes.size() < ncells * kCellShapes) m_cellShapes.resize(ncells * kCellShapes);
-  const float margin = m_cellSize + m_radius;
-  for (size_t s = 0; s < colliders.shapes.size(); ++s) {
+  // Every shape within reach of a cell, however many (a cap would drop a wall where many shapes
+  // meet): counted, then listed. The reach also covers half a step at full speed, so a step's
+  // path lies within reach of its start's or its end's cell (the walls' guard).
+  const float margin = std::max(m_cellSize, 0.6f * float(m_def.maxSpeed) * dt) + m_radius;
+  const size_t nshapes = colliders.shapes.size();
+  m_shapeCells.resize(6 * nshapes);
+  for (size_t s = 0; s < nshapes; ++s) {
     const ColliderShape& c = colliders.shapes[s];
-    int lo[3], hi[3];
+    int* box = m_shapeCells.data() + 6 * s;
     bool outside = false;
     for (int a = 0; a < 3; ++a) {
       const float gridHi = m_origin[a] + float(m_dims[a]) * m_cellSize;
@@ -371,18 +376,26 @@ void ParticleSystem::markColliderCells(const ColliderSet& colliders) {
       // it reaches them; cells past the border are clamped like particles are.
       if (c.hi[a] + margin < m_origin[a] - 4 * m_cellSize || c.lo[a] - margin > gridHi + 4 * m_cellSize)
         outside = true;
-      lo[a] = cellCoord(c.lo[a] - margin, m_origin[a], m_invCell, m_dims[a]);
-      hi[a] = cellCoord(c.hi[a] + margin, m_origin[a], m_invCell, m_dims[a]);
+      box[a] = cellCoord(c.lo[a] - margin, m_origin[a], m_invCell, m_dims[a]);
+      box[3 + a] = cellCoord(c.hi[a] + margin, m_origin[a], m_invCell, m_dims[a]);
     }
-    if (outside) continue;
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x) {
-          const size_t cell = (size_t(z) * size_t(m_dims[1]) + size_t(y)) * size_t(m_dims[0]) + size_t(x);
-          uint8_t& n = m_cellShapeCount[cell];
-          if (n < kCellShapes) m_cellShapes[cell * kCellShapes + n++] = int32_t(s);
-        }
+    if (outside) box[0] = box[3] + 1;  // empty
   }
+  m_cellShapeStart.assign(ncells + 1, 0);
+  uint32_t* start = m_cellShapeStart.data();
+  auto forCells = [&](const int* box, auto&& fn) {
+    for (int z = box[2]; z <= box[5]; ++z)
+      for (int y = box[1]; y <= box[4]; ++y) {
+        const size_t row = (size_t(z) * size_t(m_dims[1]) + size_t(y)) * size_t(m_dims[0]);
+        for (int x = box[0]; x <= box[3]; ++x) fn(row + size_t(x));
+      }
+  };
+  for (size_t s = 0; s < nshapes; ++s) forCells(m_shapeCells.data() + 6 * s, [&](size_t c) { ++start[c + 1]; });
+  for (size_t c = 0; c < ncells; ++c) start[c + 1] += start[c];
+  m_cellShapes.resize(start[ncells]);
+  m_cursor.assign(m_cellShapeStart.begin(), m_cellShapeStart.end() - 1);
+  for (size_t s = 0; s < nshapes; ++s)
+    forCells(m_shapeCells.data() + 6 * s, [&](size_t c) { m_cellShapes[m_cursor[c]++] = int32_t(s); });
 }
 
 void ParticleSystem::fluidIteration(const ColliderSet& colliders, const ParallelFor& parallel) {
@@ -526,13 +539,13 @@ void ParticleSystem::wallTerm(float sd, float& share, float& slope) const {
   slope = m_wallSlope[k] + f * (m_wallSlope[k + 1] - m_wallSlope[k]);
 }
 
-void ParticleSystem::applyAndCollide(float dt, bool move, const ColliderSet& colliders,
+void ParticleSystem::applyAndCollide(float dt, bool move, bool last, const ColliderSet& colliders,
                                      const ParallelFor& parallel) {
   float *qx = m_qx.data(), *qy = m_qy.data(), *qz = m_qz.data();
   const float *px = m_px.data(), *py = m_py.data(), *pz = m_pz.data();
   const float *dxi = m_dx.data(), *dyi = m_dy.data(), *dzi = m_dz.data();
   const uint32_t* cell = m_cell.data();
-  const uint8_t* shapeCount = m_cellShapeCount.data();
+  const uint32_t* shapeStart = m_cellShapeStart.data();
   const int32_t* shapes = m_cellShapes.data();
   int32_t* touchBody = m_touchBody.data();
   float* touch = m_touch.data();
@@ -549,9 +562,31 @@ void ParticleSystem::applyAndCollide(float dt, bool move, const ColliderSet& col
   cp.friction = m_def.friction > 0;
   cp.minLoad = granular ? m_minLoad : 0.0f;
   const float reach = m_h;  // particles feel bodies within the kernel
+  const float r = m_radius;
   // Grains resting on a surface sit a little off it (the density constraint holds them): they
   // still touch it for friction.
   const float touchAt = granular ? 1.15f * m_radius : m_radius;
+  const float still[3] = {0, 0, 0};
+  // Whether x is in a fixed shape of the list (but `skip`) or under the ground.
+  auto blocked = [&](const float* x, int skip, const int32_t* list, int n) {
+    if (colliders.ground && x[2] < 0.9f * r) return true;
+    for (int k = 0; k < n; ++k) {
+      const ColliderShape& t = colliders.shapes[size_t(list[k])];
+      if (k != skip && !t.dynamic && shapeSignedDistance(colliders, t, x, false) < 0.9f * r) return true;
+    }
+    return false;
+  };
+  // Whether x is at least half a radius off every fixed shape of the list, and (path) the way
+  // from `from` to x crosses none.
+  auto clear = [&](const float* x, const float* from, const int32_t* list, int n) {
+    for (int k = 0; k < n; ++k) {
+      const ColliderShape& t = colliders.shapes[size_t(list[k])];
+      if (t.dynamic) continue;
+      if (shapeSignedDistance(colliders, t, x, true) < 0.5f * r) return false;
+      if (from && segmentEnters(colliders, t, from, x, 0.25f * r)) return false;
+    }
+    return true;
+  };
   forBlocks(parallel, [&](int b, int e) {
     for (int i = b; i < e; ++i) {
       float q[3] = {qx[i], qy[i], qz[i]};
@@ -566,13 +601,17 @@ void ParticleSystem::applyAndCollide(float dt, bool move, const ColliderSet& col
       // wall through its bottom face and come up inside it.
       if (colliders.ground && q[2] < touchAt) groundContact(cp, p, q);
       const uint32_t c = cell[i];
+      const int32_t* list = shapes + shapeStart[c];
+      const int n = int(shapeStart[c + 1] - shapeStart[c]);
       // Moving bodies first, fixed ones last: a particle squeezed between a body and a wall ends
       // up out of the wall (and pushes the body away) rather than through the wall.
-      // Fixed ones twice: a particle pushed out of one wall into the next, in a corner.
-      for (int k = 0, n = shapeCount[c]; k < 3 * n; ++k) {
-        const int s = shapes[size_t(c) * kCellShapes + size_t(k % n)];
-        const ColliderShape& shape = colliders.shapes[size_t(s)];
-        if (shape.dynamic != (k < n)) continue;
+      bool anyFixed = false;
+      for (int k = 0; k < n; ++k) {
+        const ColliderShape& shape = colliders.shapes[size_t(list[k])];
+        if (!shape.dynamic) {
+          anyFixed = true;
+          continue;
+        }
         float sd, nrm[3], push[3] = {0, 0, 0};
         if (!shapeDistance(colliders, shape, p, q, reach, sd, nrm)) continue;
         if (sd < touchAt) {
@@ -585,7 +624,6 @@ void ParticleSystem::applyAndCollide(float dt, bool move, const ColliderSet& col
           ws += share;
           for (int a = 0; a < 3; ++a) wg[a] += slope * nrm[a];
         }
-        if (!shape.dynamic) continue;
         // Remember the push for the body: the particle's correction and its moment about the
         // body's centre of mass, and (fluids) the body's share of the density gradient.
         int slot = touchBody[2 * i] == shape.body ? 0 : touchBody[2 * i + 1] == shape.body ? 1 : -1;
@@ -607,6 +645,55 @@ void ParticleSystem::applyAndCollide(float dt, bool move, const ColliderSet& col
         acc[4] += lz * push[0] - lx * push[2];
         acc[5] += lx * push[1] - ly * push[0];
       }
+      if (anyFixed) {
+        // The fixed shapes as one solid (particles/particle_walls.h): out of each shape q is in,
+        // the shortest way it came in that lands in no other (else the shortest way it came in;
+        // else the shortest), over a few passes for corners where several meet.
+        uint64_t pushed = 0;  // the fixed shapes (the list's first 64) that pushed, for friction
+        for (int pass = 0; pass < 4; ++pass) {
+          bool moved = false;
+          for (int k = 0; k < n; ++k) {
+            const ColliderShape& shape = colliders.shapes[size_t(list[k])];
+            if (shape.dynamic || shapeSignedDistance(colliders, shape, q, false) >= 0.999f * r) continue;
+            int bestRank = 4;
+            float bestCost = 0, best[3] = {q[0], q[1], q[2]}, bestN[3] = {0, 0, 1};
+            shapeExits(colliders, shape, p, q, r, [&](const float* x, const float* nn, float cost, bool entry) {
+              const int rank = (entry ? 0 : 2) + (blocked(x, k, list, n) ? 1 : 0);
+              if (rank > bestRank || (rank == bestRank && cost >= bestCost)) return;
+              bestRank = rank;
+              bestCost = cost;
+              for (int a = 0; a < 3; ++a) {
+                best[a] = x[a];
+                bestN[a] = nn[a];
+              }
+            });
+            if (bestRank == 4) continue;
+            float push[3] = {best[0] - q[0], best[1] - q[1], best[2] - q[2]};
+            for (int a = 0; a < 3; ++a) q[a] = best[a];
+            contactFriction(cp, p, bestN, still, bestCost, q, push);
+            if (k < 64) pushed |= uint64_t(1) << k;
+            moved = true;
+          }
+          if (!moved) break;
+        }
+        // Their wall terms at the new position, and friction where grains rest on them.
+        for (int k = 0; k < n; ++k) {
+          const ColliderShape& shape = colliders.shapes[size_t(list[k])];
+          if (shape.dynamic) continue;
+          float sd, nrm[3], push[3];
+          if (!shapeDistance(colliders, shape, p, q, reach, sd, nrm)) continue;
+          if (sd < touchAt && !(k < 64 && (pushed >> k) & 1)) {
+            shapeContact(cp, colliders, shape, p, sd, nrm, q, push);
+            sd = std::max(sd, cp.radius);
+          }
+          if (fluid) {
+            float share = 0, slope = 0;
+            wallTerm(sd, share, slope);
+            ws += share;
+            for (int a = 0; a < 3; ++a) wg[a] += slope * nrm[a];
+          }
+        }
+      }
       if (colliders.ground) {  // last, so no body pushes a particle under the ground
         if (q[2] < touchAt) groundContact(cp, p, q);
         if (fluid && q[2] < reach) {
@@ -614,6 +701,20 @@ void ParticleSystem::applyAndCollide(float dt, bool move, const ColliderSet& col
           wallTerm(q[2], share, slope);
           ws += share;
           wg[2] += slope;
+        }
+      }
+      if (last) {
+        // The guard: the step ends off every fixed shape and its path crosses none (checked
+        // against the shapes near its end and near its start), else the particle stays where
+        // it started (when that was clear: a particle placed in a wall is only pushed out).
+        const int pc = int((cellCoord(p[2], m_origin[2], m_invCell, m_dims[2]) * m_dims[1] +
+                            cellCoord(p[1], m_origin[1], m_invCell, m_dims[1])) * m_dims[0] +
+                           cellCoord(p[0], m_origin[0], m_invCell, m_dims[0]));
+        const int32_t* plist = shapes + shapeStart[pc];
+        const int pn = uint32_t(pc) == c ? 0 : int(shapeStart[pc + 1] - shapeStart[pc]);
+        if ((n || pn) && !(clear(q, p, list, n) && clear(q, p, plist, pn)) && clear(p, nullptr, list, n) &&
+            clear(p, nullptr, plist, pn)) {
+          for (int a = 0; a < 3; ++a) q[a] = p[a];
         }
       }
       if (fluid) {

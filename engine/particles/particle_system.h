@@ -86,11 +86,12 @@ class ParticleSystem {
   void predict(float dt, const Vec3& gravity, const ParallelFor& parallel);
   void sortByCell(const ParallelFor& parallel);
   void buildNeighbours(const ParallelFor& parallel);
-  void markColliderCells(const ColliderSet& colliders);
+  void markColliderCells(const ColliderSet& colliders, float dt);
   void fluidIteration(const ColliderSet& colliders, const ParallelFor& parallel);
   /// Adds the corrections (none with `move` false) and resolves contacts; for fluids also the
-  /// bodies' share of each particle's density (wall terms) at the new positions.
-  void applyAndCollide(float dt, bool move, const ColliderSet& colliders, const ParallelFor& parallel);
+  /// bodies' share of each particle's density (wall terms) at the new positions. `last`: the
+  /// step's last pass, which also guards the fixed shapes (particles/particle_walls.h).
+  void applyAndCollide(float dt, bool move, bool last, const ColliderSet& colliders, const ParallelFor& parallel);
   /// The share of a particle's kernel sum a solid half-space at signed distance sd makes up,
   /// and its derivative along the normal (in units of the rest density).
   void wallTerm(float sd, float& share, float& slope) const;
@@ -124,10 +125,11 @@ class ParticleSystem {
   static constexpr int kMaxNeighbours = 48;
   std::vector<uint32_t> m_nbr;
   std::vector<uint8_t> m_nbrCount;
-  // Colliders near each cell (up to kCellShapes), and the push on up to two bodies per particle.
-  static constexpr int kCellShapes = 8;
-  std::vector<uint8_t> m_cellShapeCount;
+  // Colliders near each cell (cell c's are m_cellShapes[m_cellShapeStart[c] ...
+  // m_cellShapeStart[c + 1]], in the set's order), and the push on up to two bodies per particle.
+  std::vector<uint32_t> m_cellShapeStart;
   std::vector<int32_t> m_cellShapes;
+  std::vector<int> m_shapeCells;  // each shape's cells: lo x, y, z, hi x, y, z
   std::vector<int32_t> m_touchBody;  // 2 per particle, -1: none
   std::vector<float> m_touch;        // 2 x 6 per particle: push (3), moment about the com (3)
   // Fluid boundaries: the bodies' share of each particle's density and its gradient (all the

@@ -103,11 +103,11 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
   if (fluid)
     checkOptionKeys(L, 1, fn,
                     {"min", "max", "spacing", "density", "viscosity", "tension", "friction",
-                     "kinetic_friction", "damping", "iterations", "kernel", "max_speed"});
+                     "kinetic_friction", "damping", "iterations", "substeps", "kernel", "max_speed"});
   else
     checkOptionKeys(L, 1, fn,
                     {"min", "max", "spacing", "density", "friction", "kinetic_friction", "damping",
-                     "iterations", "max_speed"});
+                     "iterations", "substeps", "max_speed"});
   lua_getfield(L, 1, "min");
   const bool hasMin = !lua_isnil(L, -1);
   lua_getfield(L, 1, "max");
@@ -129,6 +129,8 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
   d.kernel = optNumberField(L, 1, fn, "kernel", 1.8);
   d.maxSpeed = optNumberField(L, 1, fn, "max_speed", 4.0);
   const long long iterations = optIntegerField(L, 1, fn, "iterations", fluid ? 3 : 3);
+  // Fluids: one substep per iteration (a deep pool is compressed far less); debris: one.
+  const long long substeps = optIntegerField(L, 1, fn, "substeps", fluid ? iterations : 1);
   const double bounds = scriptWorld(L).settings().limits.bounds;
   for (int a = 0; a < 3; ++a)
     if (!(d.min[a] < d.max[a]))
@@ -159,6 +161,8 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
   if (!(d.kernel >= 1.2 && d.kernel <= 2.5)) return range("kernel", d.kernel, 1.2, 2.5);
   if (iterations < 1 || iterations > 50) return range("iterations", double(iterations), 1, 50);
   d.iterations = int(iterations);
+  if (substeps < 1 || substeps > 50) return range("substeps", double(substeps), 1, 50);
+  d.substeps = int(substeps);
   return callWorld(L, fn, [&] {
     const int index = scriptWorld(L).addParticles(d);
     *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = index;
@@ -168,13 +172,13 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
 }
 
 /// world.fluid{min=, max=, spacing=, density=, viscosity=, tension=, friction=, iterations=,
-/// kernel=, damping=, max_speed=} -> Particles (position-based fluid)
+/// substeps=, kernel=, damping=, max_speed=} -> Particles (position-based fluid)
 int worldFluid(lua_State* L) {
   return addParticles(L, "world.fluid", ParticleDef::Kind::Fluid);
 }
 
 /// world.debris{min=, max=, spacing=, density=, friction=, kinetic_friction=, iterations=,
-/// damping=, max_speed=} -> Particles (granular)
+/// substeps=, damping=, max_speed=} -> Particles (granular)
 int worldDebris(lua_State* L) {
   return addParticles(L, "world.debris", ParticleDef::Kind::Debris);
 }

@@ -203,11 +203,11 @@ function world.heightfield(o) end
 
 ---A box filled with position-based fluid particles (Macklin and Mueller 2013), coupled both ways
 ---with bodies and modules.
----@param o {min: number[], max: number[], spacing: number?, density: number?, viscosity: number?, tension: number?, friction: number?, kinetic_friction: number?, damping: number?, iterations: integer?, kernel: number?, max_speed: number?}
+---@param o {min: number[], max: number[], spacing: number?, density: number?, viscosity: number?, tension: number?, friction: number?, kinetic_friction: number?, damping: number?, iterations: integer?, substeps: integer?, kernel: number?, max_speed: number?}
 ---@return Particles
 function world.fluid(o) end
 ---A box filled with granular debris (grains with friction), coupled both ways with bodies.
----@param o {min: number[], max: number[], spacing: number?, density: number?, friction: number?, kinetic_friction: number?, damping: number?, iterations: integer?, max_speed: number?}
+---@param o {min: number[], max: number[], spacing: number?, density: number?, friction: number?, kinetic_friction: number?, damping: number?, iterations: integer?, substeps: integer?, max_speed: number?}
 ---@return Particles
 function world.debris(o) end
 ---@param type string a module type name or a module-type file

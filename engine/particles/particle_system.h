@@ -7,10 +7,12 @@
 // Data-oriented: positions and velocities are structures of float arrays, re-sorted by grid cell
 // every step (a counting sort, then each array gathered into the new order), so a particle's
 // neighbours sit near it in memory. Neighbour lists are built once per step from a 27-cell scan
-// (cells are as wide as the kernel, and a row of three cells along x is one contiguous range).
-// Every pass is Jacobi style: a particle gathers from its neighbours and writes only its own
-// slot, so blocks of particles run on any number of threads with bit-identical results; the one
-// sum over particles (the push on each body) is made on one thread in particle order.
+// (cells are as wide as the kernel, or for debris 1.2 spacings, and a row of three cells along x
+// is one contiguous range). A particle gathers from its neighbours and writes only its own slot:
+// fluid passes are Jacobi style, in blocks of particles; debris passes go up columns of cells,
+// Gauss-Seidel within a column, columns of one colour (never touching) side by side. Either way
+// any number of threads gives bit-identical results; the one sum over particles (the push on
+// each body) is made on one thread in particle order.
 #pragma once
 
 #include <cstdint>
@@ -83,11 +85,23 @@ class ParticleSystem {
 
  private:
   void fill();
+  /// Debris: the grains moved off their lattice at random, the overlaps relaxed (n: sites per axis).
+  void disorder(const int n[3]);
   void predict(float dt, const Vec3& gravity, const ParallelFor& parallel);
   void sortByCell(const ParallelFor& parallel);
   void buildNeighbours(const ParallelFor& parallel);
   void markColliderCells(const ColliderSet& colliders);
   void fluidIteration(const ColliderSet& colliders, const ParallelFor& parallel);
+  /// Debris: the order granularPass solves the grains in, from this step's grid.
+  void orderGrains();
+  /// Debris: one pass over the contacts between grains (non-penetration, friction), in columns
+  /// of cells from the bottom up, Gauss-Seidel on the grains already solved in the pass and
+  /// Jacobi (a mean weighted by depth) on the others; each grain writes only its own slot.
+  /// `stabilising` (Macklin et al. 2014, 4.4): on the start-of-step positions, without friction,
+  /// moving the predicted positions alike, so resolving an overlap gives no velocity.
+  void granularPass(bool stabilising, const ParallelFor& parallel);
+  /// Debris: grains that would move slower than a threshold stay put (particle sleeping).
+  void sleep(float dt, const ParallelFor& parallel);
   /// Adds the corrections (none with `move` false) and resolves contacts; for fluids also the
   /// bodies' share of each particle's density (wall terms) at the new positions.
   void applyAndCollide(float dt, bool move, const ColliderSet& colliders, const ParallelFor& parallel);
@@ -104,6 +118,8 @@ class ParticleSystem {
   int m_n = 0;
   float m_radius = 0.01f, m_spacing = 0.02f, m_h = 0.036f;
   double m_mass = 0;
+  bool m_ground = false;    ///< this step's colliders have the ground
+  float m_dt = 1.0f / 60;  ///< this step's
   float m_minLoad = 0;  ///< debris: |g| dt^2, the least overlap friction is limited by
   // Fluid constants (set once): poly6 and spiky factors, rest kernel sum, relaxation, s_corr.
   float m_poly6 = 0, m_spiky = 0, m_restSum = 1, m_eps = 0, m_scorrK = 0, m_scorrW = 1;
@@ -120,10 +136,22 @@ class ParticleSystem {
   // The grid of this step.
   float m_origin[3] = {0, 0, 0}, m_cellSize = 1, m_invCell = 1;
   int m_dims[3] = {1, 1, 1};
-  // Neighbour lists: up to kMaxNeighbours per particle.
-  static constexpr int kMaxNeighbours = 48;
+  // Neighbour lists: up to m_stride per particle (fluid: kMaxNeighbours; debris, whose lists
+  // reach just past the touching distance: kMaxGrainNeighbours).
+  static constexpr int kMaxNeighbours = 48, kMaxGrainNeighbours = 16;
+  int m_stride = kMaxNeighbours;
   std::vector<uint32_t> m_nbr;
   std::vector<uint8_t> m_nbrCount;
+  // Debris: the solve order (orderGrains): the grains, each column's first entry in it (colour by
+  // colour, and one past the last), each colour's first column; and the grains' working copy.
+  std::vector<uint32_t> m_order, m_orderColumn;
+  int m_orderColour[5] = {0, 0, 0, 0, 0};
+  struct Grain {
+    float x, y, z;
+    uint32_t done;  ///< solved in this pass
+    float px, py, pz, pad;
+  };
+  std::vector<Grain> m_grains;
   // Colliders near each cell (up to kCellShapes), and the push on up to two bodies per particle.
   static constexpr int kCellShapes = 8;
   std::vector<uint8_t> m_cellShapeCount;

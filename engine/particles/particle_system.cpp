@@ -520,18 +520,12 @@ void ParticleSystem::fluidIteration(const ColliderSet& colliders, const Parallel
   const float scorrK = m_scorrK, scorrW = m_scorrW, maxStep = 0.2f * m_spacing;
   const int32_t* touchBody = m_touchBody.data();
   const float* slotG = m_slotG.data();
-  const float *px = m_px.data(), *py = m_py.data(), *pz = m_pz.data();
-  const bool granular = m_def.kind == ParticleDef::Kind::Debris;
-  const float contact2 = 1.1025f * m_spacing * m_spacing;  // touching: within 1.05 spacings
-  const float mus = float(m_def.friction), muk = float(m_def.kineticFriction), minLoad = m_minLoad;
   float* touch = m_touch.data();
   forBlocks(parallel, [&](int b, int e) {
     for (int i = b; i < e; ++i) {
       const float xi = qx[i], yi = qy[i], zi = qz[i], li = lambda[i];
-      const float mx = xi - px[i], my = yi - py[i], mz = zi - pz[i];  // i's motion this step
       const uint32_t* nb = nbr + size_t(i) * kMaxNeighbours;
-      float ax = 0, ay = 0, az = 0, fx = 0, fy = 0, fz = 0;
-      int touching = 0;
+      float ax = 0, ay = 0, az = 0;
       for (int k = 0, n = count[i]; k < n; ++k) {
         const uint32_t j = nb[k];
         const float dx = xi - qx[j], dy = yi - qy[j], dz = zi - qz[j];
@@ -544,34 +538,12 @@ void ParticleSystem::fluidIteration(const ColliderSet& colliders, const Parallel
         ax += s * dx;
         ay += s * dy;
         az += s * dz;
-        if (granular && r2 < contact2) {
-          // Friction between touching grains (Macklin et al. 2014, 6.1): their relative motion
-          // along the contact over the step is undone (static) or reduced (kinetic), limited by
-          // the pair's normal push.
-          const float load = std::max(std::abs(s) * r, minLoad), inv = 1.0f / std::max(r, 1e-9f);
-          const float rx = mx - (qx[j] - px[j]), ry = my - (qy[j] - py[j]), rz = mz - (qz[j] - pz[j]);
-          const float rn = (rx * dx + ry * dy + rz * dz) * inv * inv;
-          const float tx = rx - rn * dx, ty = ry - rn * dy, tz = rz - rn * dz;
-          const float t2 = tx * tx + ty * ty + tz * tz;
-          float f = 0.5f;
-          if (t2 > (mus * load) * (mus * load)) f *= std::min(muk * load / std::sqrt(t2), 1.0f);
-          fx -= f * tx;
-          fy -= f * ty;
-          fz -= f * tz;
-          ++touching;
-        }
       }
       // lambda < 0 pushes apart: C's gradient on i points away from j, and the step is
       // lambda times it, so the sign is the gradient's (-spiky (h-r)^2 r^).
       ax = -ax + li * wallGx[i];
       ay = -ay + li * wallGy[i];
       az = -az + li * wallGz[i];
-      if (touching) {  // the mean over the contacts (a sum would overshoot)
-        const float k = 1.0f / float(touching);
-        ax += fx * k;
-        ay += fy * k;
-        az += fz * k;
-      }
       // The bodies' share of that push, for their reaction.
       for (int slot = 0; slot < 2; ++slot) {
         if (touchBody[2 * i + slot] < 0 || li == 0) continue;

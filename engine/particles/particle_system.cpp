@@ -1,6 +1,7 @@
-// The particle engine's step: predict, sort by cell, neighbour lists, a fixed number of Jacobi
-// iterations (fluid density or grain contacts, then collisions with the bodies), velocities and
-// XSPH viscosity, and the push on each body. See particle_system.h for the scheme.
+// The particle engine's step: predict, sort by cell, neighbour lists, a fixed number of
+// iterations (fluid: Jacobi density passes; debris: grain contact passes), each followed by the
+// collisions with the bodies, velocities and XSPH viscosity, and the push on each body. See
+// particle_system.h for the scheme.
 #include "particles/particle_system.h"
 
 #include <algorithm>
@@ -19,6 +20,21 @@ namespace {
 constexpr int kBlock = 512;    // particles per unit of parallel work
 constexpr int kRowChunk = 64;  // candidates tested at a time in the neighbour scan
 constexpr float kPiF = 3.14159265358979f;
+// Debris (Macklin et al. 2014, sections 4-6, and granularPass below).
+constexpr float kGrainReach = 1.2f;    // neighbour lists reach this many spacings (grains touch at one)
+constexpr float kGrainTouch = 1.05f;   // a grain within this many radii of a surface has friction on it
+constexpr float kGrainShock = 1.25f;   // the upper grain's share of a contact: 0.5 + this x height / spacing
+constexpr float kGrainWeight = 1e-3f;  // spacings added to each depth weight (no 0 / 0)
+constexpr float kGrainJitter = 1.0f;   // initial offsets from the lattice, in spacings (each way half)
+constexpr int kGrainRelax = 30;        // Gauss-Seidel passes relaxing the overlaps those make
+constexpr int kGrainSlabs = 3;         // slabs of height per layer of cells in the solve order
+constexpr int kGrainColumn = 16;       // columns of cells solved by one thread are this many cells wide
+constexpr float kGrainSleep = 0.5f;    // spacings a second: grains slower than this stay put
+// Friction between grains is limited by at least this share of |g| dt^2 (what gravity presses a
+// resting grain in by in a step): with 1, heaps of friction 0.6 stood at 41 degrees; with 0,
+// resolved contacts had almost none (21 degrees); a half gives 33, as dry sand.
+constexpr float kGrainLoad = 0.5f;
+constexpr uint32_t kAhead = 6, kNear = 2;  // prefetch distances in the solve order
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point a) {
@@ -52,14 +68,18 @@ double ParticleDef::particleCount() const {
 
 ParticleSystem::ParticleSystem(const ParticleDef& def) : m_def(def) {
   if (m_def.kineticFriction < 0) m_def.kineticFriction = 0.8 * m_def.friction;
-  m_substeps = m_def.substeps > 0 ? m_def.substeps : m_def.kind == ParticleDef::Kind::Fluid ? m_def.iterations : 1;
+  m_substeps = m_def.substeps > 0                       ? m_def.substeps
+               : m_def.kind == ParticleDef::Kind::Fluid ? m_def.iterations
+                                                        : 1;
   m_spacing = float(def.spacing);
   m_radius = 0.5f * m_spacing;
   m_mass = def.density * def.spacing * def.spacing * def.spacing;
-  // Debris shares the fluid's density constraint (it keeps grains from overlapping, and a heap
-  // from sinking into itself, far better than pairwise contacts under Jacobi iterations), with
-  // no tension or viscosity and with friction between grains.
-  m_h = float(def.kernel) * m_spacing;
+  // Debris: contacts between grains (granularPass), found within a little more than the
+  // touching distance (pairs that come into contact during the iterations); the fluid's
+  // constants below are then unused.
+  const bool granular = def.kind == ParticleDef::Kind::Debris;
+  m_h = granular ? kGrainReach * m_spacing : float(def.kernel) * m_spacing;
+  m_stride = granular ? kMaxGrainNeighbours : kMaxNeighbours;
   {
     // Density in units of the rest density: the kernel sum of a particle inside a cubic lattice
     // at the spacing. Gradients of C_i = S_i / S_0 - 1 with spiky's gradient.
@@ -129,7 +149,7 @@ void ParticleSystem::fill() {
   m_perm.resize(N);
   m_tmpId.resize(N);
   m_tmp.resize(9 * N);
-  m_nbr.assign(N * kMaxNeighbours, 0);
+  m_nbr.assign(N * size_t(m_stride), 0);
   m_nbrCount.assign(N, 0);
   m_touchBody.assign(2 * N, -1);
   m_touch.assign(12 * N, 0.0f);
@@ -145,6 +165,69 @@ void ParticleSystem::fill() {
         m_pz[i] = float(start.z() + z * m_def.spacing) + jit * jitter(i, 3);
         m_id[i] = i;
       }
+  if (m_def.kind == ParticleDef::Kind::Debris) disorder(n);
+}
+
+void ParticleSystem::disorder(const int n[3]) {
+  // Grains with friction on a lattice make a solid (each rests squarely on the one below: a
+  // column stands). Each is moved off its site by up to half a spacing each way, then the
+  // overlaps this makes are relaxed by Gauss-Seidel passes over the lattice neighbours (each
+  // pair once, in lattice order: deterministic), the centres kept inside the box (a quarter
+  // spacing in from its sides and top, a radius above its floor).
+  const float amp = kGrainJitter * m_spacing, d = m_spacing, d2 = d * d;
+  float* pos[3] = {m_px.data(), m_py.data(), m_pz.data()};
+  float lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = float(m_def.min[a]) + (a == 2 ? 1.0f : 0.5f) * m_radius;
+    hi[a] = std::max(lo[a], float(m_def.max[a]) - 0.5f * m_radius);
+    for (int i = 0; i < m_n; ++i)
+      pos[a][i] = std::clamp(pos[a][i] + amp * jitter(uint32_t(i), uint32_t(4 + a)), lo[a], hi[a]);
+  }
+  auto site = [&](int x, int y, int z) {
+    return (size_t(z) * size_t(n[1]) + size_t(y)) * size_t(n[0]) + size_t(x);
+  };
+  for (int pass = 0; pass < kGrainRelax; ++pass)
+    for (int z = 0; z < n[2]; ++z)
+      for (int y = 0; y < n[1]; ++y)
+        for (int x = 0; x < n[0]; ++x) {
+          const size_t i = site(x, y, z);
+          // The 13 neighbours ahead in lattice order.
+          for (int c = 0; c <= 1; ++c)
+            for (int b = -1; b <= 1; ++b)
+              for (int a = -1; a <= 1; ++a) {
+                if (c == 0 && (b < 0 || (b == 0 && a <= 0))) continue;
+                const int X = x + a, Y = y + b, Z = z + c;
+                if (X < 0 || Y < 0 || X >= n[0] || Y >= n[1] || Z >= n[2]) continue;
+                const size_t j = site(X, Y, Z);
+                const float e[3] = {pos[0][i] - pos[0][j], pos[1][i] - pos[1][j], pos[2][i] - pos[2][j]};
+                const float r2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+                if (!(r2 < d2) || r2 < 1e-12f * d2) continue;
+                const float f = 0.5f * (d / std::sqrt(r2) - 1.0f);
+                for (int k = 0; k < 3; ++k) {
+                  pos[k][i] = std::clamp(pos[k][i] + f * e[k], lo[k], hi[k]);
+                  pos[k][j] = std::clamp(pos[k][j] - f * e[k], lo[k], hi[k]);
+                }
+              }
+        }
+}
+
+void ParticleSystem::sleep(float dt, const ParallelFor& parallel) {
+  // Particle sleeping (Macklin et al. 2014): a grain that would move slower than kGrainSleep
+  // spacings a second stays where it is, at rest, so what the few iterations leave unresolved
+  // does not make a settled heap creep.
+  const float *px = m_px.data(), *py = m_py.data(), *pz = m_pz.data();
+  float *qx = m_qx.data(), *qy = m_qy.data(), *qz = m_qz.data();
+  const float still = kGrainSleep * m_spacing * dt, still2 = still * still;
+  forBlocks(parallel, [&](int b, int e) {
+    for (int i = b; i < e; ++i) {
+      const float dx = qx[i] - px[i], dy = qy[i] - py[i], dz = qz[i] - pz[i];
+      if (dx * dx + dy * dy + dz * dz < still2) {
+        qx[i] = px[i];
+        qy[i] = py[i];
+        qz[i] = pz[i];
+      }
+    }
+  });
 }
 
 template <class F>
@@ -169,6 +252,7 @@ void ParticleSystem::step(double dt, const Vec3& gravity, const ColliderSet& col
   // Substeps compress a deep pool far less (a 10-layer pool at 1.4 cm spacing by 7 % instead of
   // 21 %), and there 1.5 keeps the surface calm where 2 would throw single particles up.
   m_omega = substeps > 1 ? 1.5f : 2.0f;
+  m_dt = hs;
   auto t = Clock::now();
   // The grid and the neighbour lists are made once a step, at the positions predicted for its
   // end; the substeps then start again from the step's start.
@@ -176,10 +260,13 @@ void ParticleSystem::step(double dt, const Vec3& gravity, const ColliderSet& col
   sortByCell(parallel);
   m_times.sort = msSince(t);
   t = Clock::now();
+  const bool granular = m_def.kind == ParticleDef::Kind::Debris;
   buildNeighbours(parallel);
   markColliderCells(colliders, h);
+  if (granular) orderGrains();
   m_times.neighbours = msSince(t);
   t = Clock::now();
+  m_ground = colliders.ground;
   for (int sub = 0; sub < substeps; ++sub) {
     // The iterations spread over the substeps, the first ones taking what does not divide.
     const int its = iterations / substeps + (sub < iterations % substeps ? 1 : 0);
@@ -187,14 +274,19 @@ void ParticleSystem::step(double dt, const Vec3& gravity, const ColliderSet& col
       if (sub > 0) advance(hs, parallel);
       predict(hs, gravity, parallel, true);
     }
+    if (granular) granularPass(true, parallel);                 // stabilisation (Macklin et al. 2014, 4.4)
     applyAndCollide(hs, false, its == 0, colliders, parallel);  // contacts and wall terms at the start
     for (int it = 0; it < its; ++it) {
-      fluidIteration(colliders, parallel);
-      applyAndCollide(hs, true, it == its - 1, colliders, parallel);
+      if (granular)
+        granularPass(false, parallel);
+      else
+        fluidIteration(colliders, parallel);
+      applyAndCollide(hs, !granular, it == its - 1, colliders, parallel);
     }
   }
   m_times.solve = msSince(t);
   t = Clock::now();
+  if (granular) sleep(hs, parallel);
   finish(hs, parallel);
   reducePushes(h, substeps, colliders);
   m_times.finish = msSince(t);
@@ -337,7 +429,7 @@ void ParticleSystem::buildNeighbours(const ParallelFor& parallel) {
   uint8_t* count = m_nbrCount.data();
   int32_t* touchBody = m_touchBody.data();
   const float r2max = m_h * m_h;
-  const int nx = m_dims[0], ny = m_dims[1], nz = m_dims[2];
+  const int nx = m_dims[0], ny = m_dims[1], nz = m_dims[2], stride = m_stride;
   forBlocks(parallel, [&](int b, int e) {
     for (int i = b; i < e; ++i) {
       touchBody[2 * i] = touchBody[2 * i + 1] = -1;
@@ -348,7 +440,7 @@ void ParticleSystem::buildNeighbours(const ParallelFor& parallel) {
       const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nx - 1);
       // Branch-free: every candidate is written, the count moves on only for a neighbour (a
       // buffer with room for a full row keeps the writes in bounds).
-      uint32_t* out = nbr + size_t(i) * kMaxNeighbours;
+      uint32_t* out = nbr + size_t(i) * size_t(stride);
       int n = 0;
       for (int z = std::max(cz - 1, 0); z <= std::min(cz + 1, nz - 1); ++z)
         for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1); ++y) {
@@ -365,7 +457,7 @@ void ParticleSystem::buildNeighbours(const ParallelFor& parallel) {
               buf[m] = j;
               m += int(d2 < r2max) & int(j != uint32_t(i));
             }
-            const int take = std::min(m, kMaxNeighbours - n);
+            const int take = std::min(m, stride - n);
             std::memcpy(out + n, buf, sizeof(uint32_t) * size_t(take));
             n += take;
           }
@@ -407,7 +499,8 @@ void ParticleSystem::markColliderCells(const ColliderSet& colliders, float dt) {
         for (int x = box[0]; x <= box[3]; ++x) fn(row + size_t(x));
       }
   };
-  for (size_t s = 0; s < nshapes; ++s) forCells(m_shapeCells.data() + 6 * s, [&](size_t c) { ++start[c + 1]; });
+  for (size_t s = 0; s < nshapes; ++s)
+    forCells(m_shapeCells.data() + 6 * s, [&](size_t c) { ++start[c + 1]; });
   for (size_t c = 0; c < ncells; ++c) start[c + 1] += start[c];
   m_cellShapes.resize(start[ncells]);
   m_cursor.assign(m_cellShapeStart.begin(), m_cellShapeStart.end() - 1);
@@ -463,18 +556,12 @@ void ParticleSystem::fluidIteration(const ColliderSet& colliders, const Parallel
   const float scorrK = m_scorrK, scorrW = m_scorrW, maxStep = 0.2f * m_spacing;
   const int32_t* touchBody = m_touchBody.data();
   const float* slotG = m_slotG.data();
-  const float *px = m_px.data(), *py = m_py.data(), *pz = m_pz.data();
-  const bool granular = m_def.kind == ParticleDef::Kind::Debris;
-  const float contact2 = 1.1025f * m_spacing * m_spacing;  // touching: within 1.05 spacings
-  const float mus = float(m_def.friction), muk = float(m_def.kineticFriction), minLoad = m_minLoad;
   float* touch = m_touch.data();
   forBlocks(parallel, [&](int b, int e) {
     for (int i = b; i < e; ++i) {
       const float xi = qx[i], yi = qy[i], zi = qz[i], li = lambda[i];
-      const float mx = xi - px[i], my = yi - py[i], mz = zi - pz[i];  // i's motion this step
       const uint32_t* nb = nbr + size_t(i) * kMaxNeighbours;
-      float ax = 0, ay = 0, az = 0, fx = 0, fy = 0, fz = 0;
-      int touching = 0;
+      float ax = 0, ay = 0, az = 0;
       for (int k = 0, n = count[i]; k < n; ++k) {
         const uint32_t j = nb[k];
         const float dx = xi - qx[j], dy = yi - qy[j], dz = zi - qz[j];
@@ -487,34 +574,12 @@ void ParticleSystem::fluidIteration(const ColliderSet& colliders, const Parallel
         ax += s * dx;
         ay += s * dy;
         az += s * dz;
-        if (granular && r2 < contact2) {
-          // Friction between touching grains (Macklin et al. 2014, 6.1): their relative motion
-          // along the contact over the step is undone (static) or reduced (kinetic), limited by
-          // the pair's normal push.
-          const float load = std::max(std::abs(s) * r, minLoad), inv = 1.0f / std::max(r, 1e-9f);
-          const float rx = mx - (qx[j] - px[j]), ry = my - (qy[j] - py[j]), rz = mz - (qz[j] - pz[j]);
-          const float rn = (rx * dx + ry * dy + rz * dz) * inv * inv;
-          const float tx = rx - rn * dx, ty = ry - rn * dy, tz = rz - rn * dz;
-          const float t2 = tx * tx + ty * ty + tz * tz;
-          float f = 0.5f;
-          if (t2 > (mus * load) * (mus * load)) f *= std::min(muk * load / std::sqrt(t2), 1.0f);
-          fx -= f * tx;
-          fy -= f * ty;
-          fz -= f * tz;
-          ++touching;
-        }
       }
       // lambda < 0 pushes apart: C's gradient on i points away from j, and the step is
       // lambda times it, so the sign is the gradient's (-spiky (h-r)^2 r^).
       ax = -ax + li * wallGx[i];
       ay = -ay + li * wallGy[i];
       az = -az + li * wallGz[i];
-      if (touching) {  // the mean over the contacts (a sum would overshoot)
-        const float k = 1.0f / float(touching);
-        ax += fx * k;
-        ay += fy * k;
-        az += fz * k;
-      }
       // The bodies' share of that push, for their reaction.
       for (int slot = 0; slot < 2; ++slot) {
         if (touchBody[2 * i + slot] < 0 || li == 0) continue;
@@ -540,6 +605,191 @@ void ParticleSystem::fluidIteration(const ColliderSet& colliders, const Parallel
       dxo[i] = ax;
       dyo[i] = ay;
       dzo[i] = az;
+    }
+  });
+}
+
+void ParticleSystem::orderGrains() {
+  // Columns of kGrainColumn x kGrainColumn cells, listed colour by colour (two columns of a
+  // colour are a column apart, so no grains of theirs touch); within each, its grains layer by
+  // layer of cells from the bottom and, within a layer, by slabs of height (a grain resting on
+  // another comes after it: the stack is held from the bottom up within one pass).
+  const int nxc = m_dims[0], nyc = m_dims[1], nzc = m_dims[2];
+  const int bx = (nxc + kGrainColumn - 1) / kGrainColumn, by = (nyc + kGrainColumn - 1) / kGrainColumn;
+  const float slabInv = float(kGrainSlabs) / m_cellSize;
+  const uint32_t* start = m_cellStart.data();
+  const float* qz = m_qz.data();
+  m_order.resize(size_t(m_n));
+  m_orderColumn.clear();
+  uint32_t w = 0;
+  for (int colour = 0; colour < 4; ++colour) {
+    m_orderColour[colour] = int(m_orderColumn.size());
+    for (int Y = colour >> 1; Y < by; Y += 2)
+      for (int X = colour & 1; X < bx; X += 2) {
+        m_orderColumn.push_back(w);
+        const int xa = X * kGrainColumn, xb = std::min(nxc, xa + kGrainColumn);
+        const int ya = Y * kGrainColumn, yb = std::min(nyc, ya + kGrainColumn);
+        for (int cz = 0; cz < nzc; ++cz) {
+          const float zBase = m_origin[2] + float(cz) * m_cellSize;
+          for (int slab = 0; slab < kGrainSlabs; ++slab)
+            for (int cy = ya; cy < yb; ++cy) {
+              const size_t row = (size_t(cz) * size_t(nyc) + size_t(cy)) * size_t(nxc);
+              for (uint32_t i = start[row + size_t(xa)], e = start[row + size_t(xb)]; i < e; ++i)
+                if (std::clamp(int((qz[i] - zBase) * slabInv), 0, kGrainSlabs - 1) == slab) m_order[w++] = i;
+            }
+        }
+      }
+  }
+  m_orderColour[4] = int(m_orderColumn.size());
+  m_orderColumn.push_back(w);
+}
+
+void ParticleSystem::granularPass(bool stabilising, const ParallelFor& parallel) {
+  float *px = m_px.data(), *py = m_py.data(), *pz = m_pz.data();
+  float *qx = m_qx.data(), *qy = m_qy.data(), *qz = m_qz.data();
+  // The positions this pass moves: the predicted ones, or (stabilising) the start.
+  float *ox = stabilising ? px : qx, *oy = stabilising ? py : qy, *oz = stabilising ? pz : qz;
+  // A compact working copy for the neighbours' reads: half a cache line a grain.
+  m_grains.resize(size_t(m_n));
+  Grain* g = m_grains.data();
+  forBlocks(parallel, [&](int b, int e) {
+    for (int i = b; i < e; ++i) g[i] = {ox[i], oy[i], oz[i], 0, px[i], py[i], pz[i], 0};
+  });
+  const uint32_t* nbr = m_nbr.data();
+  const uint8_t* count = m_nbrCount.data();
+  const uint32_t* id = m_id.data();
+  const size_t stride = size_t(m_stride);
+  const float d = m_spacing, d2 = d * d, tiny = 1e-12f * d2, floor = m_radius;
+  const float mus = float(m_def.friction), muk = float(m_def.kineticFriction),
+              minLoad = kGrainLoad * m_minLoad;
+  const float shock = kGrainShock / d, weight0 = kGrainWeight * d;
+  const bool friction = !stabilising && mus > 0, ground = m_ground;
+  auto solve = [&](uint32_t i) {
+    Grain& gi = g[i];
+    const float x0 = gi.x, y0 = gi.y, z0 = gi.z, pix = gi.px, piy = gi.py, piz = gi.pz;
+    float x = x0, y = y0, z = z0, ax = 0, ay = 0, az = 0, wsum = 0;
+    const uint32_t* nb = nbr + size_t(i) * stride;
+    for (int k = 0, n = count[i]; k < n; ++k) {
+      const uint32_t j = nb[k];
+      const Grain& gj = g[j];
+      // A neighbour already solved in this pass (below, or earlier in the order): i is
+      // projected out of it at once, from where i is now (Gauss-Seidel). One not solved yet:
+      // from where both were (Jacobi), into the mean weighted by depth.
+      const bool done = gj.done != 0;
+      const float xs = done ? x : x0, ys = done ? y : y0, zs = done ? z : z0;
+      const float dx = xs - gj.x, dy = ys - gj.y, dz = zs - gj.z;
+      const float r2 = dx * dx + dy * dy + dz * dz;
+      if (!(r2 < d2)) continue;
+      // The normal, from j to i. Grains that passed each other's centre since the step's start
+      // (fast, head on) are pushed back the way they came; coincident ones apart along z (the
+      // later created one up).
+      const float sx = pix - gj.px, sy = piy - gj.py, sz = piz - gj.pz;
+      const float along = dx * sx + dy * sy + dz * sz;
+      float ux, uy, uz, r;
+      if (along > 0 && r2 > tiny) [[likely]] {
+        r = std::sqrt(r2);
+        const float inv = 1.0f / r;
+        ux = dx * inv;
+        uy = dy * inv;
+        uz = dz * inv;
+      } else if (const float s2 = sx * sx + sy * sy + sz * sz; s2 > tiny) {
+        const float inv = 1.0f / std::sqrt(s2);
+        ux = sx * inv;
+        uy = sy * inv;
+        uz = sz * inv;
+        r = along * inv;
+      } else {
+        ux = uy = 0;
+        uz = id[i] > id[j] ? 1.0f : -1.0f;
+        r = dz * uz;
+      }
+      // Non-penetration, |xi - xj| >= d. Shock propagation (mass scaling by height): the upper
+      // grain takes the larger share, all of it from 0.4 spacings above.
+      const float depth = d - r, share = std::clamp(0.5f + shock * dz, 0.0f, 1.0f), sd = share * depth;
+      float cx = sd * ux, cy = sd * uy, cz = sd * uz;
+      if (friction) {
+        // Friction (6.1): the pair's relative motion over the step, along the contact, undone
+        // (static: below mus times the depth) or reduced by muk times the depth (kinetic).
+        const float rx = (xs - pix) - (gj.x - gj.px), ry = (ys - piy) - (gj.y - gj.py),
+                    rz = (zs - piz) - (gj.z - gj.pz);
+        const float rn = rx * ux + ry * uy + rz * uz;
+        const float tx = rx - rn * ux, ty = ry - rn * uy, tz = rz - rn * uz;
+        const float t2 = tx * tx + ty * ty + tz * tz, load = std::max(depth, minLoad);
+        float f = share;
+        if (t2 > (mus * load) * (mus * load)) f *= std::min(muk * load / std::sqrt(t2), 1.0f);
+        cx -= f * tx;
+        cy -= f * ty;
+        cz -= f * tz;
+      }
+      if (done) {
+        x += cx;
+        y += cy;
+        z += cz;
+      } else {
+        const float w = sd + weight0;
+        ax += w * cx;
+        ay += w * cy;
+        az += w * cz;
+        wsum += w;
+      }
+    }
+    if (wsum > 0) {
+      const float k = 1.0f / wsum;
+      x += ax * k;
+      y += ay * k;
+      z += az * k;
+    }
+    if (ground && z < floor) z = floor;
+    gi.x = x;
+    gi.y = y;
+    gi.z = z;
+    gi.done = 1;
+  };
+  const uint32_t* order = m_order.data();
+  const uint32_t* columnStart = m_orderColumn.data();
+  for (int colour = 0; colour < 4; ++colour) {
+    const int c0 = m_orderColour[colour], n = m_orderColour[colour + 1] - c0;
+    auto column = [&](int c) {
+      const uint32_t kb = columnStart[c0 + c], ke = columnStart[c0 + c + 1];
+      for (uint32_t k = kb; k < ke; ++k) {
+        // The order jumps about memory: fetch the lists and the neighbours' data ahead.
+        if (k + kAhead < ke) {
+          __builtin_prefetch(nbr + size_t(order[k + kAhead]) * stride);
+          __builtin_prefetch(g + order[k + kAhead]);
+        }
+        if (k + kNear < ke) {
+          const uint32_t next = order[k + kNear];
+          const uint32_t* nn = nbr + size_t(next) * stride;
+          for (int q = 0, m = count[next]; q < m; ++q) __builtin_prefetch(g + nn[q]);
+        }
+        solve(order[k]);
+      }
+    };
+    if (parallel && n > 1)
+      parallel(n, column);
+    else
+      for (int c = 0; c < n; ++c) column(c);
+  }
+  const float *vx = m_vx.data(), *vy = m_vy.data(), *vz = m_vz.data(), dt = m_dt;
+  forBlocks(parallel, [&](int b, int e) {
+    for (int i = b; i < e; ++i) {
+      const float ex = g[i].x - ox[i], ey = g[i].y - oy[i], ez = g[i].z - oz[i];
+      ox[i] = g[i].x;
+      oy[i] = g[i].y;
+      oz[i] = g[i].z;
+      if (!stabilising) continue;
+      // The predicted positions move alike, and the motion into the overlap just removed is
+      // taken out, up to its size (an inelastic contact: a grain pressed into a pile stops
+      // instead of keeping the speed the overlap came from).
+      const float e2 = ex * ex + ey * ey + ez * ez;
+      float f = 1.0f;
+      if (e2 > 0) {
+        const float into = -(vx[i] * ex + vy[i] * ey + vz[i] * ez) * dt;  // along e, times |e|
+        if (into > 0) f += std::min(into / e2, 1.0f);
+      }
+      qx[i] += f * ex;
+      qy[i] += f * ey;
+      qz[i] += f * ez;
     }
   });
 }
@@ -570,8 +820,8 @@ void ParticleSystem::applyAndCollide(float dt, bool move, bool last, const Colli
   float *wallS = m_wallS.data(), *wallGx = m_wallGx.data(), *wallGy = m_wallGy.data(),
         *wallGz = m_wallGz.data();
   float* slotG = m_slotG.data();
-  const bool fluid = true;  // both kinds have the bodies' share of density
   const bool granular = m_def.kind == ParticleDef::Kind::Debris;
+  const bool fluid = !granular;  // the bodies' share of density
   ContactParams cp;
   cp.radius = m_radius;
   cp.dt = dt;
@@ -581,9 +831,9 @@ void ParticleSystem::applyAndCollide(float dt, bool move, bool last, const Colli
   cp.minLoad = granular ? m_minLoad : 0.0f;
   const float reach = m_h;  // particles feel bodies within the kernel
   const float r = m_radius;
-  // Grains resting on a surface sit a little off it (the density constraint holds them): they
-  // still touch it for friction.
-  const float touchAt = granular ? 1.15f * m_radius : m_radius;
+  // Grains resting on a surface may sit a little off it (pushed up by the grains beside them
+  // since the last contact): they still touch it for friction.
+  const float touchAt = granular ? kGrainTouch * m_radius : m_radius;
   const float still[3] = {0, 0, 0};
   // Whether x is in a fixed shape of the list (but `skip`) or under the ground.
   auto blocked = [&](const float* x, int skip, const int32_t* list, int n) {
@@ -675,16 +925,17 @@ void ParticleSystem::applyAndCollide(float dt, bool move, bool last, const Colli
             if (shape.dynamic || shapeSignedDistance(colliders, shape, q, false) >= 0.999f * r) continue;
             int bestRank = 4;
             float bestCost = 0, best[3] = {q[0], q[1], q[2]}, bestN[3] = {0, 0, 1};
-            shapeExits(colliders, shape, p, q, r, [&](const float* x, const float* nn, float cost, bool entry) {
-              const int rank = (entry ? 0 : 2) + (blocked(x, k, list, n) ? 1 : 0);
-              if (rank > bestRank || (rank == bestRank && cost >= bestCost)) return;
-              bestRank = rank;
-              bestCost = cost;
-              for (int a = 0; a < 3; ++a) {
-                best[a] = x[a];
-                bestN[a] = nn[a];
-              }
-            });
+            shapeExits(colliders, shape, p, q, r,
+                       [&](const float* x, const float* nn, float cost, bool entry) {
+                         const int rank = (entry ? 0 : 2) + (blocked(x, k, list, n) ? 1 : 0);
+                         if (rank > bestRank || (rank == bestRank && cost >= bestCost)) return;
+                         bestRank = rank;
+                         bestCost = cost;
+                         for (int a = 0; a < 3; ++a) {
+                           best[a] = x[a];
+                           bestN[a] = nn[a];
+                         }
+                       });
             if (bestRank == 4) continue;
             float push[3] = {best[0] - q[0], best[1] - q[1], best[2] - q[2]};
             for (int a = 0; a < 3; ++a) q[a] = best[a];
@@ -726,7 +977,8 @@ void ParticleSystem::applyAndCollide(float dt, bool move, bool last, const Colli
         // against the shapes near its end and near its start), else the particle stays where
         // it started (when that was clear: a particle placed in a wall is only pushed out).
         const int pc = int((cellCoord(p[2], m_origin[2], m_invCell, m_dims[2]) * m_dims[1] +
-                            cellCoord(p[1], m_origin[1], m_invCell, m_dims[1])) * m_dims[0] +
+                            cellCoord(p[1], m_origin[1], m_invCell, m_dims[1])) *
+                               m_dims[0] +
                            cellCoord(p[0], m_origin[0], m_invCell, m_dims[0]));
         const int32_t* plist = shapes + shapeStart[pc];
         const int pn = uint32_t(pc) == c ? 0 : int(shapeStart[pc + 1] - shapeStart[pc]);

@@ -7,10 +7,12 @@
 // Data-oriented: positions and velocities are structures of float arrays, re-sorted by grid cell
 // every step (a counting sort, then each array gathered into the new order), so a particle's
 // neighbours sit near it in memory. Neighbour lists are built once per step from a 27-cell scan
-// (cells are as wide as the kernel, and a row of three cells along x is one contiguous range).
-// Every pass is Jacobi style: a particle gathers from its neighbours and writes only its own
-// slot, so blocks of particles run on any number of threads with bit-identical results; the one
-// sum over particles (the push on each body) is made on one thread in particle order.
+// (cells are as wide as the kernel, or for debris 1.2 spacings, and a row of three cells along x
+// is one contiguous range). A particle gathers from its neighbours and writes only its own slot:
+// fluid passes are Jacobi style, in blocks of particles; debris passes go up columns of cells,
+// Gauss-Seidel within a column, columns of one colour (never touching) side by side. Either way
+// any number of threads gives bit-identical results; the one sum over particles (the push on
+// each body) is made on one thread in particle order.
 #pragma once
 
 #include <cstdint>
@@ -38,7 +40,7 @@ struct ParticleDef {
   /// Substeps a step is split into (at most `iterations`, which they share); 0: fluids one per
   /// iteration, debris one (Macklin et al. 2019, "Small Steps in Physics Simulation").
   int substeps = 0;
-  double kernel = 1.8;                          ///< fluid: kernel radius in spacings
+  double kernel = 1.8;  ///< fluid: kernel radius in spacings
   double maxSpeed = 4;  ///< m/s: at dt 1/60, 6.7 cm a step (no tunnelling through 10 cm walls)
 
   /// Particles the box holds (may be huge: check before building).
@@ -86,6 +88,8 @@ class ParticleSystem {
 
  private:
   void fill();
+  /// Debris: the grains moved off their lattice at random, the overlaps relaxed (n: sites per axis).
+  void disorder(const int n[3]);
   /// Velocities get gravity (kept with `store`), positions are predicted dt ahead.
   void predict(float dt, const Vec3& gravity, const ParallelFor& parallel, bool store);
   /// Velocities from the motion over dt; the new positions become the start (p <- q).
@@ -94,10 +98,21 @@ class ParticleSystem {
   void buildNeighbours(const ParallelFor& parallel);
   void markColliderCells(const ColliderSet& colliders, float dt);
   void fluidIteration(const ColliderSet& colliders, const ParallelFor& parallel);
+  /// Debris: the order granularPass solves the grains in, from this step's grid.
+  void orderGrains();
+  /// Debris: one pass over the contacts between grains (non-penetration, friction), in columns
+  /// of cells from the bottom up, Gauss-Seidel on the grains already solved in the pass and
+  /// Jacobi (a mean weighted by depth) on the others; each grain writes only its own slot.
+  /// `stabilising` (Macklin et al. 2014, 4.4): on the start-of-step positions, without friction,
+  /// moving the predicted positions alike, so resolving an overlap gives no velocity.
+  void granularPass(bool stabilising, const ParallelFor& parallel);
+  /// Debris: grains that would move slower than a threshold stay put (particle sleeping).
+  void sleep(float dt, const ParallelFor& parallel);
   /// Adds the corrections (none with `move` false) and resolves contacts; for fluids also the
   /// bodies' share of each particle's density (wall terms) at the new positions. `last`: the
   /// step's last pass, which also guards the fixed shapes (particles/particle_walls.h).
-  void applyAndCollide(float dt, bool move, bool last, const ColliderSet& colliders, const ParallelFor& parallel);
+  void applyAndCollide(float dt, bool move, bool last, const ColliderSet& colliders,
+                       const ParallelFor& parallel);
   /// The share of a particle's kernel sum a solid half-space at signed distance sd makes up,
   /// and its derivative along the normal (in units of the rest density).
   void wallTerm(float sd, float& share, float& slope) const;
@@ -111,7 +126,9 @@ class ParticleSystem {
   int m_n = 0;
   float m_radius = 0.01f, m_spacing = 0.02f, m_h = 0.036f;
   double m_mass = 0;
-  float m_minLoad = 0;  ///< debris: |g| dt^2, the least overlap friction is limited by
+  bool m_ground = false;   ///< this step's colliders have the ground
+  float m_dt = 1.0f / 60;  ///< this step's
+  float m_minLoad = 0;     ///< debris: |g| dt^2, the least overlap friction is limited by
   int m_substeps = 1;
   float m_omega = 2;  ///< over-relaxation of the lambdas
   // Fluid constants (set once): poly6 and spiky factors, rest kernel sum, relaxation, s_corr.
@@ -129,15 +146,27 @@ class ParticleSystem {
   // The grid of this step.
   float m_origin[3] = {0, 0, 0}, m_cellSize = 1, m_invCell = 1;
   int m_dims[3] = {1, 1, 1};
-  // Neighbour lists: up to kMaxNeighbours per particle.
-  static constexpr int kMaxNeighbours = 48;
+  // Neighbour lists: up to m_stride per particle (fluid: kMaxNeighbours; debris, whose lists
+  // reach just past the touching distance: kMaxGrainNeighbours).
+  static constexpr int kMaxNeighbours = 48, kMaxGrainNeighbours = 16;
+  int m_stride = kMaxNeighbours;
   std::vector<uint32_t> m_nbr;
   std::vector<uint8_t> m_nbrCount;
+  // Debris: the solve order (orderGrains): the grains, each column's first entry in it (colour by
+  // colour, and one past the last), each colour's first column; and the grains' working copy.
+  std::vector<uint32_t> m_order, m_orderColumn;
+  int m_orderColour[5] = {0, 0, 0, 0, 0};
+  struct Grain {
+    float x, y, z;
+    uint32_t done;  ///< solved in this pass
+    float px, py, pz, pad;
+  };
+  std::vector<Grain> m_grains;
   // Colliders near each cell (cell c's are m_cellShapes[m_cellShapeStart[c] ...
   // m_cellShapeStart[c + 1]], in the set's order), and the push on up to two bodies per particle.
   std::vector<uint32_t> m_cellShapeStart;
   std::vector<int32_t> m_cellShapes;
-  std::vector<int> m_shapeCells;  // each shape's cells: lo x, y, z, hi x, y, z
+  std::vector<int> m_shapeCells;     // each shape's cells: lo x, y, z, hi x, y, z
   std::vector<int32_t> m_touchBody;  // 2 per particle, -1: none
   std::vector<float> m_touch;        // 2 x 6 per particle: push (3), moment about the com (3)
   // Fluid boundaries: the bodies' share of each particle's density and its gradient (all the

@@ -66,7 +66,8 @@ inline float shapeSignedDistance(const ColliderSet& set, const ColliderShape& s,
     case ColliderShape::Hull: {
       float m = -1e30f;
       const float* pl = set.planes.data() + 4 * s.planeBegin;
-      for (int k = 0; k < s.planeCount; ++k, pl += 4) m = std::max(m, pl[0] * l[0] + pl[1] * l[1] + pl[2] * l[2] - pl[3]);
+      for (int k = 0; k < s.planeCount; ++k, pl += 4)
+        m = std::max(m, pl[0] * l[0] + pl[1] * l[1] + pl[2] * l[2] - pl[3]);
       return s.planeCount ? m : 1e30f;
     }
   }
@@ -77,8 +78,8 @@ inline float shapeSignedDistance(const ColliderSet& set, const ColliderShape& s,
 /// lie r off it: the new position x, the outward normal n (world), how far it moves, and whether
 /// the step's start p lay beyond that face (so the particle came in that way).
 template <class Way>
-inline void shapeExits(const ColliderSet& set, const ColliderShape& s, const float* p, const float* q, float r,
-                       Way&& way) {
+inline void shapeExits(const ColliderSet& set, const ColliderShape& s, const float* p, const float* q,
+                       float r, Way&& way) {
   float l[3], lp[3];
   shapeLocal(s, q, l);
   shapeLocal(s, p, lp);
@@ -165,7 +166,8 @@ inline void shapeExits(const ColliderSet& set, const ColliderShape& s, const flo
 
 /// Whether the segment from p to q passes into shape s grown by `grow` (boxes, cylinders and
 /// hulls grown face by face).
-inline bool segmentEnters(const ColliderSet& set, const ColliderShape& s, const float* p, const float* q, float grow) {
+inline bool segmentEnters(const ColliderSet& set, const ColliderShape& s, const float* p, const float* q,
+                          float grow) {
   float a[3], b[3];
   shapeLocal(s, p, a);
   shapeLocal(s, q, b);

@@ -3,7 +3,7 @@
 # (positions, orientations, joints) must match exactly.
 # Run as: cmake -DRM3D=<rm3d> -DSRC=<source dir> -DOUT=<folder> -P particles_threads.cmake
 file(MAKE_DIRECTORY ${OUT})
-foreach(world "fluid.lua;--param;particles=3000" "debris.lua;--param;spacing=0.025")
+foreach(world "fluid.lua;--param;particles=3000" "debris.lua;--param;spacing=0.02")
   list(GET world 0 file)
   list(SUBLIST world 1 -1 extra)
   set(parts "")

@@ -354,6 +354,7 @@ int worldPlaceOnGround(lua_State* L) {
   const int m = checkModule(L, 1);
   const double z = luaL_optnumber(L, 2, 0.0);
   if (!std::isfinite(z)) return luaL_error(L, "%s: the height must be a finite number of metres", fn);
+  checkInBounds(L, fn, Vec3(0, 0, z));
   return callWorld(L, fn, [&] {
     lua_pushnumber(L, world(L).placeOnGround(m, z));
     return 1;

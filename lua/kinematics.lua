@@ -158,7 +158,7 @@ function K.structure(def)
   local queue = { { base, base.type.root } }
   seen[key(base, base.type.root)] = 1
   local head = 1
-  s.nodes = { { module = base, link = base.type.root, dofs = {}, conns = {} } }
+  s.nodes = { { module = base, link = base.type.root } }
   while head <= #queue do
     local m, l = queue[head][1], queue[head][2]
     local from = seen[key(m, l)]
@@ -167,18 +167,17 @@ function K.structure(def)
       local tm, tl = m, e.to
       if e.kind == "dock" then tm, tl = e.module, e.dock.link end
       if not seen[key(tm, tl)] then
-        local node = { module = tm, link = tl, from = from, edge = e, dofs = {}, conns = {} }
-        for _, d in ipairs(s.nodes[from].dofs) do node.dofs[#node.dofs + 1] = d end
-        for _, d in ipairs(s.nodes[from].conns) do node.conns[#node.conns + 1] = d end
+        -- The joints and connections between a node and the base are found by walking `from`
+        -- up the tree (a copy per node was quadratic: 1,000 chained SuperBots ran out of memory).
+        local node = { module = tm, link = tl, from = from, edge = e }
         if e.kind == "joint" then
           local j = e.joint
           s.dofs[#s.dofs + 1] = { module = m.name, joint = j.name, lower = j.lower, upper = j.upper,
                                   torque = j.torque, continuous = j.continuous, sign = e.sign, node = from,
                                   pivot = j.pivot, axis = j.axis }
           node.dof = #s.dofs
-          node.dofs[#node.dofs + 1] = #s.dofs
         else
-          node.conns[#node.conns + 1] = e.index
+          node.conn = e.index
         end
         s.nodes[#s.nodes + 1] = node
         seen[key(tm, tl)] = #s.nodes
@@ -258,14 +257,20 @@ function Frames:jacobian(module, dock, point)
   local J = { {}, {}, {} }
   local ndof = #self.s.dofs
   for i = 1, ndof do J[1][i], J[2][i], J[3][i] = 0, 0, 0 end
-  for _, i in ipairs(self.s.nodes[n].dofs) do
-    local dof = self.s.dofs[i]
-    local r, o = self.R[dof.node], self.P[dof.node]
-    local axis = rvec(r, dof.axis)
-    local pivot = add(o, rvec(r, dof.pivot))
-    local c = cross(axis, sub(p, pivot))
-    local sgn = dof.sign
-    J[1][i], J[2][i], J[3][i] = sgn * c[1], sgn * c[2], sgn * c[3]
+  local nodes = self.s.nodes
+  local k = n
+  while k do
+    local i = nodes[k].dof
+    if i then
+      local dof = self.s.dofs[i]
+      local r, o = self.R[dof.node], self.P[dof.node]
+      local axis = rvec(r, dof.axis)
+      local pivot = add(o, rvec(r, dof.pivot))
+      local c = cross(axis, sub(p, pivot))
+      local sgn = dof.sign
+      J[1][i], J[2][i], J[3][i] = sgn * c[1], sgn * c[2], sgn * c[3]
+    end
+    k = nodes[k].from
   end
   return J, p
 end
@@ -293,18 +298,24 @@ function Structure:gravity(q, g)
     local l = node.module.link(node.link)
     local w = { g[1] * l.mass, g[2] * l.mass, g[3] * l.mass }
     local com = add(f.P[n], rvec(f.R[n], l.com))
-    for _, i in ipairs(node.dofs) do
-      local dof = self.dofs[i]
-      local r, o = f.R[dof.node], f.P[dof.node]
-      local axis = rvec(r, dof.axis)
-      local m = cross(sub(com, add(o, rvec(r, dof.pivot))), w)
-      -- the motor holds the far side against gravity's moment
-      torques[i] = torques[i] - dof.sign * dot(axis, m)
-    end
-    for _, c in ipairs(node.conns) do
-      local L = loads[c]
-      L.fvec = add(L.fvec, w)
-      L.tvec = add(L.tvec, cross(sub(com, connAt[c]), w))
+    local k = n
+    while k do
+      local up = self.nodes[k]
+      local i, c = up.dof, up.conn
+      if i then
+        local dof = self.dofs[i]
+        local r, o = f.R[dof.node], f.P[dof.node]
+        local axis = rvec(r, dof.axis)
+        local m = cross(sub(com, add(o, rvec(r, dof.pivot))), w)
+        -- the motor holds the far side against gravity's moment
+        torques[i] = torques[i] - dof.sign * dot(axis, m)
+      end
+      if c then
+        local L = loads[c]
+        L.fvec = add(L.fvec, w)
+        L.tvec = add(L.tvec, cross(sub(com, connAt[c]), w))
+      end
+      k = up.from
     end
   end
   for c = 1, self.nconn do

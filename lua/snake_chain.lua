@@ -54,15 +54,39 @@ function M.build(o)
     local q = s:angles_from(byName)
     local f = s:fk(q)
     -- The joints' partial sums of a wave do not average to zero, so a chain whose head is level
-    -- climbs: turn the whole chain so the head-to-tail line is level (the smallest turn).
+    -- climbs. Turn the whole chain so that it rests: the edge of its profile's lower convex hull
+    -- under its centre of mass becomes level (for a periodic wave, the line through its troughs),
+    -- so every trough touches the ground together and no end is left to fall.
     local h, t = f:link(prefix .. 1, tdata.root), f:link(prefix .. n, tdata.root)
-    local d = { t[1] - h[1], t[2] - h[2], t[3] - h[3] }
-    local len, flat = math.sqrt(d[1] ^ 2 + d[2] ^ 2 + d[3] ^ 2), math.sqrt(d[1] ^ 2 + d[2] ^ 2)
-    if n > 1 and len > 0 and flat > 0 then
-      -- the turn from d to its level projection: about d x up's direction, by the climb angle
-      local ax = { d[2], -d[1], 0 }  -- d x (0, 0, 1), horizontal, normal to d
+    local d = { t[1] - h[1], t[2] - h[2] }
+    local flat = math.sqrt(d[1] ^ 2 + d[2] ^ 2)
+    if n > 1 and flat > 0 then
+      local pts, mean = {}, 0
+      for i = 1, n do
+        local p = f:link(prefix .. i, tdata.root)
+        pts[i] = { s = ((p[1] - h[1]) * d[1] + (p[2] - h[2]) * d[2]) / flat, p = p }
+        mean = mean + pts[i].s / n
+      end
+      table.sort(pts, function(a, b) return a.s < b.s end)
+      local hull = {}
+      for _, q in ipairs(pts) do
+        while #hull >= 2 do
+          local a, b = hull[#hull - 1], hull[#hull]
+          if (b.s - a.s) * (q.p[3] - a.p[3]) - (b.p[3] - a.p[3]) * (q.s - a.s) > 0 then break end
+          hull[#hull] = nil
+        end
+        hull[#hull + 1] = q
+      end
+      local a, b = hull[1], hull[#hull]
+      for k = 1, #hull - 1 do
+        if hull[k].s <= mean and mean <= hull[k + 1].s then a, b = hull[k], hull[k + 1] break end
+      end
+      local e = { b.p[1] - a.p[1], b.p[2] - a.p[2], b.p[3] - a.p[3] }
+      local ef = math.sqrt(e[1] ^ 2 + e[2] ^ 2)
+      -- the turn from e to its level projection: about e x up's direction, by its climb angle
+      local ax = { e[2], -e[1], 0 }  -- e x (0, 0, 1), horizontal, normal to e
       local an = math.sqrt(ax[1] ^ 2 + ax[2] ^ 2)
-      local angle = -math.atan(d[3], flat)
+      local angle = ef > 0 and -math.atan(e[3], ef) or 0
       if an > 0 and angle ~= 0 then
         local c, sn = math.cos(angle / 2), math.sin(angle / 2) / an
         s = kin.structure{ modules = mods, connections = conns, base = prefix .. 1,

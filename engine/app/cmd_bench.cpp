@@ -40,15 +40,11 @@ constexpr double kPaperDt = 1.0 / 30.0;
   "args.iterations,\n"                                                                           \
   "          joint_iterations = args.joint_iterations, duration = 1e9"
 
+// The chain starts in its gait's pose (lua/snake_chain.lua): a straight chain must first get
+// shorter, and dragging its halves over the ground breaks a long one's middle docks.
 const char* const kSnake = RM3D_BENCH_SETTINGS R"(}
 world.ground{}
-local prev
-for i = 1, args.n do
-  local m = world.spawn(args.type, {at = {-(i - 1) * 0.19, 0, 0.053}, behavior = "behaviors/snake.lua",
-                                     params = {index = i - 1}})
-  if prev then world.connect(prev, "back", m, "front") end
-  prev = m
-end)";
+require("snake_chain").build{n = args.n, type = args.type, behavior = "behaviors/snake.lua"})";
 
 const char* const kSuperbots = RM3D_BENCH_SETTINGS R"(}
 world.ground{}

@@ -6,7 +6,9 @@
 --                         azimuth lies on a ring point, so the four connector centres of an ATRON
 --                         hemisphere (elevation 45 degrees, azimuths 0, 90, 180, 270) are mesh
 --                         points exactly on the sphere.
--- The north hemisphere uses it as is, the south one turned 180 degrees about x.
+--   atron_hemisphere_collision.obj  the same dome with 69 points (24, 16, 16, 12 a ring): what the
+--                         hemispheres collide as.
+-- The north hemisphere uses them as they are, the south one turned 180 degrees about x.
 -- Run from the project root with the plain interpreter, then commit the OBJ file:
 --   lua5.4 assets/meshes/make_atron_meshes.lua
 
@@ -19,15 +21,17 @@ local obj = require("assets.meshes.obj_writer")  -- run from the project root
 local newMesh, addPoint = obj.newMesh, obj.addPoint
 local function writeObj(name, mesh, what) obj.write(kOutDir, name, mesh, what, "assets/meshes/make_atron_meshes.lua") end
 
--- Hemisphere: ring k (0..rings-1) at elevation k * 90 / rings degrees, then the pole.
+-- Hemisphere: ring k (0..rings-1) at elevation k * 90 / rings degrees, then the pole; ring k has
+-- segments[k + 1] points (or `segments` points on every ring when it is a number).
 local function hemisphere(r, rings, segments)
+  local function count(k) return type(segments) == "table" and segments[k + 1] or segments end
   local mesh = { points = {}, faces = {} }
   local ring = {}
   for k = 0, rings - 1 do
     local el = (math.pi / 2) * k / rings
     ring[k] = {}
-    for s = 0, segments - 1 do
-      local az = 2 * math.pi * s / segments
+    for s = 0, count(k) - 1 do
+      local az = 2 * math.pi * s / count(k)
       mesh.points[#mesh.points + 1] = { r * math.cos(el) * math.cos(az), r * math.cos(el) * math.sin(az),
                                         k == 0 and 0 or r * math.sin(el) }
       ring[k][s] = #mesh.points
@@ -37,20 +41,42 @@ local function hemisphere(r, rings, segments)
   local pole = #mesh.points
   -- The flat face on z = 0.
   local base = {}
-  for s = 0, segments - 1 do base[#base + 1] = ring[0][s] end
+  for s = 0, count(0) - 1 do base[#base + 1] = ring[0][s] end
   mesh.faces[#mesh.faces + 1] = base
-  -- Quads between rings, triangles up to the pole.
+  -- Quads between rings of equal counts; between unequal ones, triangles zipped in azimuth order.
   for k = 0, rings - 2 do
-    for s = 0, segments - 1 do
-      local t = (s + 1) % segments
-      mesh.faces[#mesh.faces + 1] = { ring[k][s], ring[k][t], ring[k + 1][t], ring[k + 1][s] }
+    local na, nb = count(k), count(k + 1)
+    if na == nb then
+      for s = 0, na - 1 do
+        local t = (s + 1) % na
+        mesh.faces[#mesh.faces + 1] = { ring[k][s], ring[k][t], ring[k + 1][t], ring[k + 1][s] }
+      end
+    else
+      local i, j = 0, 0
+      while i < na or j < nb do
+        if j >= nb or (i < na and (i + 1) / na <= (j + 1) / nb) then
+          mesh.faces[#mesh.faces + 1] = { ring[k][i % na], ring[k][(i + 1) % na], ring[k + 1][j % nb] }
+          i = i + 1
+        else
+          mesh.faces[#mesh.faces + 1] = { ring[k][i % na], ring[k + 1][(j + 1) % nb], ring[k + 1][j % nb] }
+          j = j + 1
+        end
+      end
     end
   end
-  for s = 0, segments - 1 do
-    mesh.faces[#mesh.faces + 1] = { ring[rings - 1][s], ring[rings - 1][(s + 1) % segments], pole }
+  local top = count(rings - 1)
+  for s = 0, top - 1 do
+    mesh.faces[#mesh.faces + 1] = { ring[rings - 1][s], ring[rings - 1][(s + 1) % top], pole }
   end
   return mesh
 end
 
 writeObj("atron_hemisphere.obj", hemisphere(kRadius, kRings, kSegments),
          "ATRON hemisphere, radius 0.055, flat face on z = 0, dome towards +z")
+-- The collision hull: rings at 0, 22.5, 45 and 67.5 degrees of 24, 16, 16 and 12 points, plus
+-- the pole (69 points; the connector centres are still mesh points). The equator keeps the drawn
+-- mesh's 24 points, so an ATRON rolling on it rolls as far; the facets above lie up to 2.2 mm
+-- inside the sphere (the drawn mesh's, 0.7 mm), and Bullet's support search over the hull costs
+-- about a third of the 193-point one's.
+writeObj("atron_hemisphere_collision.obj", hemisphere(kRadius, 4, { 24, 16, 16, 12 }),
+         "ATRON hemisphere collision hull, radius 0.055, 69 points")

@@ -9,7 +9,8 @@
 -- Both hemispheres are the convex mesh assets/meshes/atron_hemisphere.obj (radius 0.055, made by
 -- assets/meshes/make_atron_meshes.lua): `north` as is, `south` turned 180 degrees about x. The
 -- hemispheres' flat faces meet at z = 0; `south` (the child) turns about +z relative to `north`
--- (the parent, and the root: the module's pose is the north hemisphere's).
+-- (the parent, and the root: the module's pose is the north hemisphere's). They collide as
+-- assets/meshes/atron_hemisphere_collision.obj, the same dome in 69 points instead of 193.
 --
 -- ===== Docks =====
 --
@@ -50,7 +51,8 @@
 -- everything it carries, which reverses the cyclic order for that part: docks that then come to
 -- face the rest of the lattice are male-male or female-female until a second quarter turn.
 
-local kMesh = "../meshes/atron_hemisphere.obj"
+local kMesh = "assets/meshes/atron_hemisphere.obj"  -- from the project root, so variants
+local kCollision = "assets/meshes/atron_hemisphere_collision.obj"  -- elsewhere can require this file
 local kRadius = 0.055
 local c = math.sqrt(0.5)
 
@@ -83,9 +85,10 @@ return {
   root = "north",
   links = {
     { name = "north", mass = 0.425, color = { 0.2, 0.42, 0.85 }, friction = 1.0,
-      shapes = { { mesh = kMesh } } },
+      shapes = { { mesh = kMesh } }, collision = { { mesh = kCollision } } },
     { name = "south", mass = 0.425, color = { 0.92, 0.92, 0.88 }, friction = 1.0,
-      shapes = { { mesh = kMesh, quat = { 0, 1, 0, 0 } } } },  -- 180 degrees about x
+      shapes = { { mesh = kMesh, quat = { 0, 1, 0, 0 } } },  -- 180 degrees about x
+      collision = { { mesh = kCollision, quat = { 0, 1, 0, 0 } } } },
   },
   joints = {
     { name = "equator", parent = "north", child = "south", pivot = { 0, 0, 0 }, axis = { 0, 0, 1 },

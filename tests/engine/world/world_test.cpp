@@ -87,6 +87,31 @@ world.spawn("tests/modules/superbot_plates.lua", {at = {0.5, 0, 0.053}})
                                 << hull.rot.angularDistance(plates.rot) << " rad apart");
 }
 
+TEST_CASE("an ATRON colliding with its 69-point hulls rests and rolls as one with the 193-point meshes") {
+  // Resting on its south pole, and rolled along the ground on its equator by a push: both hulls
+  // have the pole and the same 24 points around the equator.
+  const char* kBoth = R"(
+world.ground{}
+local a = world.spawn("atron", {at = {0, 0, 0.06}})
+local b = world.spawn("tests/modules/atron_fine.lua", {at = {0, 0.5, 0.06}})
+local c = world.spawn("atron", {at = {0, 1, 0.06}, quat = {0.7071068, 0.7071068, 0, 0}})
+local d = world.spawn("tests/modules/atron_fine.lua", {at = {0, 1.5, 0.06}, quat = {0.7071068, 0.7071068, 0, 0}})
+world.at(0.5, function() c:push({20, 0, 0}) d:push({20, 0, 0}) end)
+)";
+  auto w = makeWorld(kBoth);
+  stepFor(*w, 1.0);
+  const Pose coarse = w->modulePose(0), fine = w->modulePose(1);
+  CHECK(std::abs(coarse.pos.z() - fine.pos.z()) < 0.0005);
+  CHECK(std::abs(fine.pos.z() - 0.056) < 0.002);
+  stepFor(*w, 1.0);
+  const Pose rolledCoarse = w->modulePose(2), rolledFine = w->modulePose(3);
+  CHECK(std::abs(rolledCoarse.pos.z() - rolledFine.pos.z()) < 0.0015);
+  CHECK(std::abs(rolledCoarse.pos.x() - rolledFine.pos.x()) < 0.02);
+  MESSAGE("ATRON rest height: 69 points " << coarse.pos.z() << " m, 193 points " << fine.pos.z()
+                                          << " m; rolled on its side to x = " << rolledCoarse.pos.x()
+                                          << " and " << rolledFine.pos.x() << " m");
+}
+
 TEST_CASE("separate collision shapes keep masses and inertias: free-floating dynamics are unchanged") {
   // No ground and no gravity, so no contacts: only mass properties and joints shape the motion.
   auto run = [](const char* type) {

@@ -23,16 +23,34 @@ local kin = require("kinematics")
 
 local M = {}
 
+-- Errors name the caller's line (level 3: past check and build).
+local function check(ok, what)
+  if not ok then error("snake_chain.build: " .. what, 3) end
+end
+
+local function finite(v) return type(v) == "number" and v == v and v > -math.huge and v < math.huge end
+
 function M.build(o)
-  local n = assert(o.n, "snake_chain.build: n= (modules) is required")
+  check(type(o) == "table", "expected a table of options")
+  local n = o.n
+  check(math.type(n) == "integer" and n >= 1 or (finite(n) and n >= 1 and n % 1 == 0),
+        "n= must be a whole number of modules, 1 or more (got " .. tostring(n) .. ")")
+  n = math.tointeger(n)
   local type_name = o.type or "superbot"
   local joint = o.joint or "pitch"
   local amplitude, period = o.amplitude or 0.6, o.period or 1.5
   local lag = o.lag or (2 * math.pi / 5)
+  for name, v in pairs({ amplitude = amplitude, period = period, lag = lag }) do
+    check(finite(v), name .. "= must be a finite number (got " .. tostring(v) .. ")")
+  end
+  check(period ~= 0, "period= must not be 0")
   local at = o.at or { 0, 0 }
+  check(type(at) == "table" and finite(at[1]) and finite(at[2]), "at= must be {x, y} in metres")
   local spacing, ground = o.spacing or 0.19, o.ground or 0
+  check(finite(spacing) and finite(ground), "spacing= and ground= must be finite numbers")
   local bottom = o.bottom or 0.0526
   local prefix = o.name or "snake_"
+  check(o.pose == nil or o.pose == "gait" or o.pose == "flat", "pose= must be \"gait\" or \"flat\"")
   local gait = (o.pose or "gait") == "gait"
   local tdata = world.module_type(type_name)
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -25,9 +26,26 @@ namespace rm3d {
 namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
+volatile std::time_t g_firstSec = 0;  // when the first signal came (CLOCK_MONOTONIC)
+volatile long g_firstNsec = 0;
 
+/// The first SIGINT or SIGTERM asks the run to end after its step (the summary is written); a
+/// second one kills as usual, unless it comes within half a second of the first: timeout(1),
+/// for one, sends its signal to the process and then again to its process group, and that
+/// duplicate used to kill a run before it could write its summary.
 extern "C" void onInterrupt(int sig) {
-  g_signal = sig;
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  if (g_signal == 0) {
+    g_firstSec = now.tv_sec;
+    g_firstNsec = now.tv_nsec;
+    g_signal = sig;
+    return;
+  }
+  const double since = double(now.tv_sec - g_firstSec) + 1e-9 * double(now.tv_nsec - g_firstNsec);
+  if (since < 0.5) return;
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
 }
 
 }  // namespace
@@ -39,7 +57,9 @@ void installInterruptHandlers() {
     struct sigaction sa {};
     sa.sa_handler = onInterrupt;
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESTART | SA_RESETHAND;  // a second signal acts as usual (kills)
+    sigaddset(&sa.sa_mask, SIGINT);  // one handler at a time
+    sigaddset(&sa.sa_mask, SIGTERM);
+    sa.sa_flags = SA_RESTART;
     sigaction(sig, &sa, nullptr);
   }
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "particles/collider_frame.h"
 #include "physics/particle_colliders.h"
 
 namespace rm3d {
@@ -53,9 +54,8 @@ inline void groundContact(const ContactParams& cp, const float* p, float* q) {
 inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const float* p, const float* q,
                           float limit, float& sd, float* n) {
   const float* R = s.rot;
-  const float d0 = q[0] - s.pos[0], d1 = q[1] - s.pos[1], d2 = q[2] - s.pos[2];
-  const float l[3] = {R[0] * d0 + R[3] * d1 + R[6] * d2, R[1] * d0 + R[4] * d1 + R[7] * d2,
-                      R[2] * d0 + R[5] * d1 + R[8] * d2};
+  float l[3];
+  shapeLocal(s, q, l);
   const float r = limit;
   float nl[3] = {0, 0, 1};
   sd = 0;
@@ -84,9 +84,8 @@ inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const 
         // Inside: deeper than `limit`, leave through the face the particle came in by (where it
         // was outside at the step's start: it may have passed the middle of a thin wall), else
         // through the nearest face.
-        const float e0 = p[0] - s.pos[0], e1 = p[1] - s.pos[1], e2 = p[2] - s.pos[2];
-        const float lp[3] = {R[0] * e0 + R[3] * e1 + R[6] * e2, R[1] * e0 + R[4] * e1 + R[7] * e2,
-                             R[2] * e0 + R[5] * e1 + R[8] * e2};
+        float lp[3];
+        shapeLocal(s, p, lp);
         float best = 0;
         int entry = -1;
         for (int a = 0; a < 3; ++a) {
@@ -118,10 +117,7 @@ inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const 
       break;
     }
     case ColliderShape::Cylinder: {
-      const float rho = std::sqrt(l[0] * l[0] + l[1] * l[1]);
-      const float er = rho - s.half[0], ez = std::abs(l[2]) - s.half[1];
-      const float rx = rho > 1e-12f ? l[0] / rho : 1.0f, ry = rho > 1e-12f ? l[1] / rho : 0.0f;
-      const float sz = l[2] < 0 ? -1.0f : 1.0f;
+      const auto [er, ez, rx, ry, sz] = cylinderPoint(s, l);
       if (er > 0 && ez > 0) {
         sd = std::sqrt(er * er + ez * ez);
         if (sd >= r) return false;
@@ -170,9 +166,7 @@ inline bool shapeDistance(const ColliderSet& set, const ColliderShape& s, const 
       break;
     }
   }
-  n[0] = R[0] * nl[0] + R[1] * nl[1] + R[2] * nl[2];
-  n[1] = R[3] * nl[0] + R[4] * nl[1] + R[5] * nl[2];
-  n[2] = R[6] * nl[0] + R[7] * nl[1] + R[8] * nl[2];
+  shapeWorldDir(s, nl, n);
   return true;
 }
 

@@ -15,26 +15,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "particles/collider_frame.h"
 #include "physics/particle_colliders.h"
 
 namespace rm3d {
-
-/// q in shape s's frame.
-inline void shapeLocal(const ColliderShape& s, const float* q, float* l) {
-  const float* R = s.rot;
-  const float d0 = q[0] - s.pos[0], d1 = q[1] - s.pos[1], d2 = q[2] - s.pos[2];
-  l[0] = R[0] * d0 + R[3] * d1 + R[6] * d2;
-  l[1] = R[1] * d0 + R[4] * d1 + R[7] * d2;
-  l[2] = R[2] * d0 + R[5] * d1 + R[8] * d2;
-}
-
-/// A direction in shape s's frame, in the world's.
-inline void shapeWorldDir(const ColliderShape& s, const float* nl, float* n) {
-  const float* R = s.rot;
-  n[0] = R[0] * nl[0] + R[1] * nl[1] + R[2] * nl[2];
-  n[1] = R[3] * nl[0] + R[4] * nl[1] + R[5] * nl[2];
-  n[2] = R[6] * nl[0] + R[7] * nl[1] + R[8] * nl[2];
-}
 
 /// Signed distance from q to shape s, negative inside. `faces`: the largest distance to a face's
 /// plane (boxes, cylinders, hulls: a lower bound outside near edges, exact inside); otherwise
@@ -112,28 +96,20 @@ inline void shapeExits(const ColliderSet& set, const ColliderShape& s, const flo
         }
       break;
     }
-    case ColliderShape::Sphere: {
-      const float len = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
-      float nl[3] = {0, 0, 1};
-      if (len > 1e-12f)
-        for (int a = 0; a < 3; ++a) nl[a] = l[a] / len;
-      emit(nl, s.half[0] + r - len, s.half[0] + r - len, true);
-      break;
-    }
+    case ColliderShape::Sphere:
     case ColliderShape::Capsule: {
-      const float v[3] = {l[0], l[1], l[2] - std::clamp(l[2], -s.half[1], s.half[1])};
+      // Away from the nearest point of the centre (a sphere) or of the axis segment (a capsule).
+      const bool sphere = s.kind == ColliderShape::Sphere;
+      const float v[3] = {l[0], l[1], sphere ? l[2] : l[2] - std::clamp(l[2], -s.half[1], s.half[1])};
       const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      float nl[3] = {1, 0, 0};
+      float nl[3] = {sphere ? 0.0f : 1.0f, 0, sphere ? 1.0f : 0.0f};
       if (len > 1e-12f)
         for (int a = 0; a < 3; ++a) nl[a] = v[a] / len;
       emit(nl, s.half[0] + r - len, s.half[0] + r - len, true);
       break;
     }
     case ColliderShape::Cylinder: {
-      const float rho = std::sqrt(l[0] * l[0] + l[1] * l[1]);
-      const float er = rho - s.half[0], ez = std::abs(l[2]) - s.half[1];
-      const float rx = rho > 1e-12f ? l[0] / rho : 1.0f, ry = rho > 1e-12f ? l[1] / rho : 0.0f;
-      const float sz = l[2] < 0 ? -1.0f : 1.0f;
+      const auto [er, ez, rx, ry, sz] = cylinderPoint(s, l);
       if (er > 0 && ez > 0) {  // outside, by the rim
         const float sd = std::sqrt(er * er + ez * ez);
         const float nl[3] = {rx * er / sd, ry * er / sd, sz * ez / sd};

@@ -33,15 +33,15 @@ local function finite(v) return type(v) == "number" and v == v and v > -math.hug
 function M.build(o)
   check(type(o) == "table", "expected a table of options")
   local n = o.n
-  check(math.type(n) == "integer" and n >= 1 or (finite(n) and n >= 1 and n % 1 == 0),
+  check(finite(n) and n >= 1 and n % 1 == 0,
         "n= must be a whole number of modules, 1 or more (got " .. tostring(n) .. ")")
   n = math.tointeger(n)
   local type_name = o.type or "superbot"
   local joint = o.joint or "pitch"
   local amplitude, period = o.amplitude or 0.6, o.period or 1.5
   local lag = o.lag or (2 * math.pi / 5)
-  for name, v in pairs({ amplitude = amplitude, period = period, lag = lag }) do
-    check(finite(v), name .. "= must be a finite number (got " .. tostring(v) .. ")")
+  for _, nv in ipairs({ { "amplitude", amplitude }, { "period", period }, { "lag", lag } }) do
+    check(finite(nv[2]), nv[1] .. "= must be a finite number (got " .. tostring(nv[2]) .. ")")
   end
   check(period ~= 0, "period= must not be 0")
   local at = o.at or { 0, 0 }
@@ -87,13 +87,13 @@ function M.build(o)
       end
       table.sort(pts, function(a, b) return a.s < b.s end)
       local hull = {}
-      for _, q in ipairs(pts) do
+      for _, pt in ipairs(pts) do  -- the lower hull, left to right (monotone chain)
         while #hull >= 2 do
           local a, b = hull[#hull - 1], hull[#hull]
-          if (b.s - a.s) * (q.p[3] - a.p[3]) - (b.p[3] - a.p[3]) * (q.s - a.s) > 0 then break end
+          if (b.s - a.s) * (pt.p[3] - a.p[3]) - (b.p[3] - a.p[3]) * (pt.s - a.s) > 0 then break end
           hull[#hull] = nil
         end
-        hull[#hull + 1] = q
+        hull[#hull + 1] = pt
       end
       local a, b = hull[1], hull[#hull]
       for k = 1, #hull - 1 do

@@ -15,6 +15,7 @@
 
 #include "physics/cloth_system.h"
 #include "physics/exact_solver.h"
+#include "physics/plane_contacts.h"
 
 #if defined(__SSE__)
 #include <xmmintrin.h>
@@ -216,6 +217,7 @@ struct PhysicsWorld::Impl {
   PhysicsSettings settings;
   // A soft-rigid world always: with no cloth it costs nothing measurable (README, "Cloth").
   btSoftBodyRigidBodyCollisionConfiguration config;
+  PlaneContactFuncs planeContacts;  // registered with the dispatcher (outlives it)
   btCollisionDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
   ExactSolver solver;
@@ -248,6 +250,7 @@ struct PhysicsWorld::Impl {
     // Bullet's one process-wide hook, set once to the same stateless function for every world.
     static std::once_flag edgeHook;
     std::call_once(edgeHook, [] { gContactAddedCallback = adjustInternalEdges; });
+    planeContacts.registerWith(dispatcher);
     world.setGravity(toBt(s.gravity));
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);

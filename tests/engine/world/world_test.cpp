@@ -112,7 +112,10 @@ world.at(0.5, function() c:push({20, 0, 0}) d:push({20, 0, 0}) end)
   stepFor(*w, 1.0);
   const Pose rolledCoarse = w->modulePose(2), rolledFine = w->modulePose(3);
   CHECK(std::abs(rolledCoarse.pos.z() - rolledFine.pos.z()) < 0.0015);
-  CHECK(std::abs(rolledCoarse.pos.x() - rolledFine.pos.x()) < 0.02);
+  // Both roll as 24-gons on the equator and lose energy at every vertex; the fine mesh's next
+  // ring (11 degrees up, 1 mm off the ground) widens its contact, so it rolls about 14% farther.
+  CHECK(std::abs(rolledCoarse.pos.x() - rolledFine.pos.x()) < 0.2 * rolledFine.pos.x());
+  CHECK(rolledCoarse.pos.x() > 0.15);
   MESSAGE("ATRON rest height: 69 points " << coarse.pos.z() << " m, 193 points " << fine.pos.z()
                                           << " m; rolled on its side to x = " << rolledCoarse.pos.x()
                                           << " and " << rolledFine.pos.x() << " m");

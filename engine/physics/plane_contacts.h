@@ -1,0 +1,30 @@
+// Contacts between a polyhedron (box or convex hull) and a static plane, all found in one step.
+//
+// Bullet's convex-plane algorithm adds one point per step (the deepest vertex) and keeps the
+// points of earlier steps in the manifold; a box needs four steps to stand on four corners, and a
+// sliding or rocking body keeps losing points as they drift beyond the breaking threshold. With
+// one substep per step that showed: a box sliding down a slope ran 3.8% slow and sank 15 mm, and
+// a SuperBot's bracket hulls came to rest 5 mm high and tilted 3 degrees against its plates. This
+// algorithm takes every vertex within the breaking threshold of the plane each time, reduces them
+// to the four that span the largest area (the deepest first), and gives them to the manifold,
+// which keeps each matching point's impulse for warm starting.
+#pragma once
+
+#include <BulletCollision/CollisionDispatch/btCollisionCreateFunc.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+
+namespace rm3d {
+
+/// Registers the algorithm for boxes and convex hulls against static planes (both orders).
+/// `funcs` must outlive the dispatcher's use of them.
+struct PlaneContactFuncs {
+  struct Func : btCollisionAlgorithmCreateFunc {
+    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
+                                                   const btCollisionObjectWrapper* body0,
+                                                   const btCollisionObjectWrapper* body1) override;
+  };
+  Func plain, swapped;
+  void registerWith(btCollisionDispatcher& dispatcher);
+};
+
+}  // namespace rm3d

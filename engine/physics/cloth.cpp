@@ -4,6 +4,7 @@
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "physics/cloth_system.h"
 
@@ -22,6 +23,20 @@ constexpr int kSdfLifetime = 8;      // sweeps a cell survives unused
 /// Half size of the box standing in for the ground plane (cloth farther out falls off it).
 constexpr btScalar kGroundHalf = 200.0f;
 constexpr btScalar kGroundDepth = 1.0f;
+// The substep the sheets were tuned at (dt 1/60, 4 substeps): 10 position iterations, so that
+// stretch and contacts settle within a substep, and 1% of the velocity damped per substep. A
+// longer substep takes proportionally more iterations and the same damping per second: at one
+// substep of 1/60 s a sheet with the reference's 10 iterations hung 10% stretched and never came
+// to rest.
+constexpr double kReferenceSubstep = 1.0 / 240.0;
+constexpr int kReferenceIterations = 10;
+constexpr double kReferenceDamping = 0.01;
+
+void configure(btSoftBody::Config& cfg, double h) {
+  const double ratio = h / kReferenceSubstep;
+  cfg.piterations = std::max(1, int(std::ceil(kReferenceIterations * ratio - 1e-9)));
+  cfg.kDP = btScalar(1.0 - std::pow(1.0 - kReferenceDamping, ratio));
+}
 
 btVector3 toBt(const Vec3& v) {
   return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
@@ -121,8 +136,7 @@ int ClothSystem::add(const ClothDesc& d) {
     sb->appendFace(int(tris[i]), int(tris[i + 1]), int(tris[i + 2]));
 
   btSoftBody::Config& cfg = sb->m_cfg;
-  cfg.piterations = 10;  // stretch and contacts settle within a substep
-  cfg.kDP = btScalar(0.01);
+  configure(cfg, m_substep > 0 ? m_substep : kReferenceSubstep);
   cfg.kDF = btScalar(d.friction);
   cfg.kCHR = 1;  // contacts with dynamic bodies: resolve the whole penetration
   cfg.kKHR = 1;  // and with static ones (Bullet's 0.1 lets a heavy sheet sink into the ground)
@@ -138,6 +152,12 @@ int ClothSystem::add(const ClothDesc& d) {
   m_world.addSoftBody(sb, kClothFilterGroup, btBroadphaseProxy::AllFilter);
   m_cloths.push_back(std::move(cloth));
   return int(m_cloths.size()) - 1;
+}
+
+void ClothSystem::setSubstep(double h) {
+  if (h == m_substep) return;
+  m_substep = h;
+  for (Cloth& c : m_cloths) configure(c.body->m_cfg, h);
 }
 
 void ClothSystem::afterStep() {

@@ -31,6 +31,9 @@ class ClothSystem {
   /// (its triangles are cached where the cloth first touched it), so cloth meets a large static
   /// box standing in for it, seen by cloth only.
   void setGround(double friction);
+  /// Before a step of substeps `h` seconds long: the sheets' iterations and damping, so that they
+  /// stretch and settle per second as at the reference substep whatever the world's substeps.
+  void setSubstep(double h);
   /// Once per step: drops signed-distance cells no node has used for a while.
   void afterStep();
 
@@ -49,6 +52,7 @@ class ClothSystem {
   std::unique_ptr<btCollisionShape> m_groundShape;
   std::unique_ptr<btCollisionObject> m_ground;
   int64_t m_steps = 0;
+  double m_substep = 0;  ///< the substep the sheets' settings are for (0: not set yet)
 };
 
 }  // namespace rm3d

@@ -966,6 +966,7 @@ void PhysicsWorld::step(double dt, int substeps) {
   const int n = std::max(1, substeps);
   const double h = dt / n;
   m->stepSubsteps = n;
+  if (m->cloth) m->cloth->setSubstep(h);
   const bool exact = m->settings.solver == SolverKind::Exact;
   for (Impl::Hinge& hg : m->hinges) {
     hg.torque = 0;

@@ -16,7 +16,7 @@ namespace rm3d {
 
 namespace {
 
-constexpr int kMaxPoints = 4;        // a manifold's capacity
+constexpr int kMaxPoints = 4;       // a manifold's capacity
 constexpr btScalar kBand = 0.002f;  // m: vertices this far above the deepest still count
 
 struct Candidate {
@@ -28,9 +28,9 @@ struct Candidate {
 // that a face with more than four vertices in the plane keeps the same four from step to step
 // and their impulses warm-start the solver: picking afresh among equals made a resting SuperBot
 // jitter at 0.2-0.4 rad/s.
-constexpr btScalar kDeeper = 1e-4f;  // m
-constexpr btScalar kFarther = 1e-3f;  // m
-constexpr btScalar kLarger = 1.01f;   // area ratio
+constexpr btScalar kDeeper = 1e-4f;       // m
+constexpr btScalar kFarther = 1e-3f;      // m
+constexpr btScalar kLarger = 1.01f;       // area ratio
 constexpr btScalar kSameVertex = 0.003f;  // m: a manifold point this close to a vertex is on it
 
 /// Up to four of `c` (n of them) that span the largest area, as Box2D and Jolt reduce a manifold:
@@ -84,7 +84,8 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
       : btCollisionAlgorithm(ci), m_manifold(ci.m_manifold), m_swapped(swapped) {
     const btCollisionObjectWrapper* hull = swapped ? body1 : body0;
     const btCollisionObjectWrapper* plane = swapped ? body0 : body1;
-    if (!m_manifold && m_dispatcher->needsCollision(hull->getCollisionObject(), plane->getCollisionObject())) {
+    if (!m_manifold &&
+        m_dispatcher->needsCollision(hull->getCollisionObject(), plane->getCollisionObject())) {
       m_manifold = m_dispatcher->getNewManifold(hull->getCollisionObject(), plane->getCollisionObject());
       m_ownManifold = true;
     }
@@ -144,10 +145,12 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
     const bool hullIsA = m_manifold->getBody0() == hullObject;
     int held = 0;
     for (int i = 0; i < n && held < n; ++i) {
-      const btVector3 vertex = planeWrap->getWorldTransform() * (c[i].point + (c[i].distance + margin) * normal);
+      const btVector3 vertex =
+          planeWrap->getWorldTransform() * (c[i].point + (c[i].distance + margin) * normal);
       for (int k = 0; k < m_manifold->getNumContacts(); ++k) {
         const btManifoldPoint& mp = m_manifold->getContactPoint(k);
-        const btVector3 onHull = hullObject->getWorldTransform() * (hullIsA ? mp.m_localPointA : mp.m_localPointB);
+        const btVector3 onHull =
+            hullObject->getWorldTransform() * (hullIsA ? mp.m_localPointA : mp.m_localPointB);
         if ((onHull - vertex).length2() < kSameVertex * kSameVertex) {
           std::swap(c[i], c[held++]);
           break;
@@ -181,9 +184,9 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
 
 }  // namespace
 
-btCollisionAlgorithm* PlaneContactFuncs::Func::CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
-                                                                        const btCollisionObjectWrapper* body0,
-                                                                        const btCollisionObjectWrapper* body1) {
+btCollisionAlgorithm* PlaneContactFuncs::Func::CreateCollisionAlgorithm(
+    btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
+    const btCollisionObjectWrapper* body1) {
   void* mem = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(PlaneContactAlgorithm));
   return new (mem) PlaneContactAlgorithm(ci, body0, body1, m_swapped);
 }

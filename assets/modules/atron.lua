@@ -10,7 +10,7 @@
 -- assets/meshes/make_atron_meshes.lua): `north` as is, `south` turned 180 degrees about x. The
 -- hemispheres' flat faces meet at z = 0; `south` (the child) turns about +z relative to `north`
 -- (the parent, and the root: the module's pose is the north hemisphere's). They collide as
--- assets/meshes/atron_hemisphere_collision.obj, the same dome in 69 points instead of 193.
+-- assets/meshes/atron_hemisphere_collision.obj, the same dome in 77 points instead of 193.
 --
 -- ===== Docks =====
 --

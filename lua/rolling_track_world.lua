@@ -15,9 +15,9 @@
 -- those docks already face each other (measured: 0.05 mm and 0.01 deg apart), so it locks them
 -- without moving anything. Should they ever miss world.connect's 1 mm / 1 deg, the world says so
 -- and the free docks latch by magnet in the next step instead (within 4 mm / 5 deg).
--- The settings need solver_iterations = 60 (see worlds/rolling_track.lua): at the default 30 the
--- hinges of a module resting on the ground sag by ~0.1 deg off their axes and the ends miss by
--- 1.3 mm.
+-- The settings need solver = "pgs" with solver_iterations = 60 (see worlds/rolling_track.lua): at
+-- pgs's default 30 the hinges of a module resting on the ground sag by ~0.1 deg off their axes
+-- and the ends miss by 1.3 mm; on "exact" the rolling loop's servos fight and break its docks.
 local M = {}
 
 M.size = 6

@@ -263,16 +263,21 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   }
   // The settings every scene runs at: the world's defaults, except what was given.
   const WorldSettings defaults;
+  const SolverKind solver = !a.solver            ? defaults.solver
+                            : *a.solver == "pgs" ? SolverKind::Pgs
+                                                 : SolverKind::Exact;
   const double dt = a.dt.value_or(defaults.dt);
-  const int substeps = a.substeps.value_or(defaults.substeps);
-  const int iterations = a.iterations.value_or(defaults.solverIterations);
+  const int substeps = a.substeps.value_or(defaultSubsteps(solver));
+  const int iterations = a.iterations.value_or(defaultIterations(solver));
   const int jointIterations = a.jointIterations.value_or(defaults.jointIterations);
   auto given = [](bool g) { return g ? "given" : "world default"; };
   std::printf(
-      "settings: dt %.5f s (%s), substeps %d (%s), solver iterations %d (%s), joint iterations %d%s (%s)\n",
-      dt, given(a.dt.has_value()), substeps, given(a.substeps.has_value()), iterations,
-      given(a.iterations.has_value()), jointIterations, jointIterations == 0 ? " (as solver)" : "",
-      given(a.jointIterations.has_value()));
+      "settings: solver %s (%s), dt %.5f s (%s), substeps %d (%s), solver iterations %d (%s), joint "
+      "iterations "
+      "%d%s (%s)\n",
+      solver == SolverKind::Exact ? "exact" : "pgs", given(a.solver.has_value()), dt, given(a.dt.has_value()),
+      substeps, given(a.substeps.has_value()), iterations, given(a.iterations.has_value()), jointIterations,
+      jointIterations == 0 ? " (as solver)" : "", given(a.jointIterations.has_value()));
   std::printf(
       "paper: ReMod3D (section IV.G), dt 1/30, one step per frame, a 2013 quad-core laptop (particle scenes: "
       "dt "
@@ -283,6 +288,7 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   std::printf("%s\n", "  (last two columns: connections at the end, messages sent)");
   nlohmann::json out = {
       {"threads", a.threads},
+      {"solver", solver == SolverKind::Exact ? "exact" : "pgs"},
       {"dt", dt},
       {"iterations", iterations},
       {"substeps", substeps},

@@ -84,6 +84,12 @@ const char* optStringField(lua_State* L, int idx, const char* fn, const char* ke
   return s;
 }
 
+bool hasField(lua_State* L, int idx, const char* key) {
+  const bool present = lua_getfield(L, idx, key) != LUA_TNIL;
+  lua_pop(L, 1);
+  return present;
+}
+
 bool optBoolField(lua_State* L, int idx, const char* fn, const char* key, bool def) {
   const int t = lua_getfield(L, idx, key);
   bool v = def;

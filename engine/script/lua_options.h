@@ -13,6 +13,8 @@ namespace rm3d {
 
 /// Errors if the table at idx has a key not in `allowed`; `fn` names the call for the message.
 void checkOptionKeys(lua_State* L, int idx, const char* fn, std::initializer_list<const char*> allowed);
+/// Whether t[key] is present (not nil).
+bool hasField(lua_State* L, int idx, const char* key);
 /// t[key] as a number, or def when absent; errors on a wrong type.
 double optNumberField(lua_State* L, int idx, const char* fn, const char* key, double def);
 /// t[key] as an integer, or def when absent.

@@ -98,8 +98,12 @@ int worldSet(lua_State* L) {
     return luaL_error(L, "%s: bounds must be in (0, %s] metres from the origin, got %s", fn,
                       numText(kMaxBounds).s, numText(lim.bounds).s);
   s.dt = dt;
-  s.substeps = int(substeps);
-  s.solverIterations = int(iters);
+  // Substeps and iterations not given follow the solver's defaults (a switch to "pgs" alone gets
+  // the old solver as it was).
+  s.substepsGiven = s.substepsGiven || hasField(L, 1, "substeps");
+  s.iterationsGiven = s.iterationsGiven || hasField(L, 1, "solver_iterations");
+  s.substeps = s.substepsGiven ? int(substeps) : defaultSubsteps(s.solver);
+  s.solverIterations = s.iterationsGiven ? int(iters) : defaultIterations(s.solver);
   s.jointIterations = int(jiters);
   s.duration = duration;
   s.erp = erp;

@@ -22,6 +22,9 @@ nlohmann::json World::summary(double wallSeconds) const {
   j["sim_time"] = m_time;
   j["steps"] = m_steps;
   j["dt"] = m_settings.dt;
+  j["solver"] = m_settings.solver == SolverKind::Exact ? "exact" : "pgs";
+  j["substeps"] = m_settings.substeps;
+  j["solver_iterations"] = m_settings.solverIterations;
   j["wall_seconds"] = wallSeconds;
   j["seed"] = m_settings.seed;
   json mods = json::array();

@@ -60,12 +60,22 @@ struct RunOptions {
   std::shared_ptr<SourceFiles> sources;
 };
 
+/// The substeps and solver iterations each joint solver runs at unless world.set gives them:
+/// "exact" 2 x 10, "pgs" 4 x 30 (its hinges need both; README, Joint solvers).
+constexpr int defaultSubsteps(SolverKind k) {
+  return k == SolverKind::Exact ? 2 : 4;
+}
+constexpr int defaultIterations(SolverKind k) {
+  return k == SolverKind::Exact ? 10 : 30;
+}
+
 /// world.set{...}: fixed before the first step.
 struct WorldSettings {
-  SolverKind solver = SolverKind::Pgs;
+  SolverKind solver = SolverKind::Exact;
   double dt = 1.0 / 60.0;
-  int substeps = 4;
-  int solverIterations = 30;
+  int substeps = defaultSubsteps(SolverKind::Exact);
+  int solverIterations = defaultIterations(SolverKind::Exact);
+  bool substepsGiven = false, iterationsGiven = false;  ///< by world.set: a change of solver keeps them
   int jointIterations = 0;
   double erp = 0.8;
   Vec3 gravity = Vec3(0, 0, -9.81);

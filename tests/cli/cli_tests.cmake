@@ -64,7 +64,7 @@ expect_run("--seconds 1e300" 2 "--seconds 1e\\+300: expected simulated seconds" 
 expect_run("unknown bench scene" 2 "unknown scene 'nope'" bench nope)
 # Bench scenes run at the world's defaults unless told, and say so; each of the paper's scenes
 # carries its figure. Structure only: no timings are asserted.
-expect_run("bench at the defaults" 0 "settings: dt 0.01667 s \\(world default\\), substeps 4 \\(world default\\)"
+expect_run("bench at the defaults" 0 "settings: solver exact \\(world default\\), dt 0.01667 s \\(world default\\), substeps 2 \\(world default\\)"
            bench atrons_275 snake_150 docking_1000 --modules 3 --steps 2 --json ${OUT}/bench.json)
 file(READ ${OUT}/bench.json bench)
 string(JSON bench_substeps GET "${bench}" substeps)
@@ -83,15 +83,15 @@ foreach(field steps_per_second realtime_factor ms quality connections messages_s
     message(SEND_ERROR "bench JSON scene lacks '${field}'")
   endif()
 endforeach()
-if(NOT bench_substeps EQUAL 4 OR NOT bench_given STREQUAL "OFF" OR NOT bench_n EQUAL 3
-   OR NOT bench_name STREQUAL "atrons_275" OR NOT bench_mods EQUAL 3 OR NOT bench_iters EQUAL 30
+if(NOT bench_substeps EQUAL 2 OR NOT bench_given STREQUAL "OFF" OR NOT bench_n EQUAL 3
+   OR NOT bench_name STREQUAL "atrons_275" OR NOT bench_mods EQUAL 3 OR NOT bench_iters EQUAL 10
    OR NOT bench_dt MATCHES "^0\\.01666" OR NOT bench_paper_fps MATCHES "^30(\\.0*)?$" OR NOT bench_paper_rtf MATCHES "^1(\\.0*)?$"
    OR NOT bench_paper_none STREQUAL "NULL")
   message(SEND_ERROR "bench JSON: substeps ${bench_substeps} (given ${bench_given}), ${bench_n} scenes, "
                      "first ${bench_name} with ${bench_mods} modules at dt ${bench_dt}, ${bench_iters} "
                      "iterations, paper ${bench_paper_fps} fps RTF ${bench_paper_rtf}; docking paper ${bench_paper_none}")
 endif()
-expect_run("bench with given settings" 0 "settings: dt 0.03333 s \\(given\\), substeps 1 \\(given\\), solver iterations 10 \\(given\\)"
+expect_run("bench with given settings" 0 "settings: solver exact \\(world default\\), dt 0.03333 s \\(given\\), substeps 1 \\(given\\), solver iterations 10 \\(given\\)"
            bench superbots_200 --modules 2 --steps 2 --dt 0.0333333 --substeps 1 --iterations 10 --json ${OUT}/bench2.json)
 file(READ ${OUT}/bench2.json bench2)
 string(JSON bench2_sub GET "${bench2}" scenes 0 settings substeps)
@@ -421,3 +421,24 @@ if(NOT sum_forward OR NOT mods_forward STREQUAL mods_reverse OR NOT mods_forward
 else()
   message(STATUS "ok: noise streams keyed by name (${sum_forward})")
 endif()
+
+# Each solver's own substeps and iterations where world.set does not give them, recorded in the
+# summary: the default "exact" at 2 x 10, "pgs" alone at its 4 x 30, given values kept across a
+# change of solver.
+function(check_solver_defaults name set want)
+  file(WRITE ${OUT}/solver_${name}.lua "${set}\nworld.set{duration = 0.05}\nworld.ground{}\n")
+  execute_process(COMMAND ${RM3D} run ${OUT}/solver_${name}.lua --headless --quiet --json ${OUT}/solver_${name}.json
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
+  file(READ ${OUT}/solver_${name}.json sj)
+  string(JSON got_solver GET "${sj}" solver)
+  string(JSON got_sub GET "${sj}" substeps)
+  string(JSON got_it GET "${sj}" solver_iterations)
+  if(NOT rc EQUAL 0 OR NOT "${got_solver},${got_sub},${got_it}" STREQUAL "${want}")
+    message(SEND_ERROR "solver defaults (${name}): exit ${rc}, got ${got_solver},${got_sub},${got_it}, expected ${want}")
+  else()
+    message(STATUS "ok: solver defaults (${name}): ${want}")
+  endif()
+endfunction()
+check_solver_defaults(default "" "exact,2,10")
+check_solver_defaults(pgs "world.set{solver = 'pgs'}" "pgs,4,30")
+check_solver_defaults(kept "world.set{substeps = 3}\nworld.set{solver = 'pgs', solver_iterations = 12}" "pgs,3,12")

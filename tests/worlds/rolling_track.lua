@@ -5,7 +5,8 @@
 -- have rolled at least 0.5 m its way, kept all six docks engaged throughout, still stand, and
 -- have no faulted module.
 local track = require("rolling_track_world")
-world.set{dt = 1 / 60, duration = 20, solver_iterations = 60}
+-- On the old "pgs" solver, as worlds/rolling_track.lua explains (the loop's servos fight on "exact").
+world.set{dt = 1 / 60, duration = 20, solver = "pgs", solver_iterations = 60}
 world.ground{friction = 0.8}
 local forward = track.build{at = {0, 0}, name = "forward", direction = 1}
 local backward = track.build{at = {0, 4}, name = "backward", direction = -1}

@@ -1,10 +1,11 @@
--- A 150-module SuperBot snake, started in its gait's pose (lua/snake_chain.lua), crawls 10 s on
--- the exact joint solver (1 substep of 10 iterations) with friction 0.8 and breaks nothing: no
+-- A 150-module SuperBot snake, started in its gait's pose (lua/snake_chain.lua), crawls 10 s at
+-- the world's defaults (the exact solver, 2 substeps of 10 iterations) with friction 0.8 and
+-- breaks nothing (measured: largest dock load 62 N, head 1.17 m; at 1 substep, 60 N and 1.35 m): no
 -- dock reaches the SuperBot's 100 N / 10 N m, its hinges stay closed, and it moves forward.
 -- Started straight, the chain must shorten against friction and its middle docks break; put down
 -- tilted (levelled head to tail instead of on its troughs), its raised end falls and 21 break.
 local n = 150
-world.set{duration = 10, solver = "exact", substeps = 1, solver_iterations = 10}
+world.set{duration = 10}
 world.ground{friction = 0.8}
 local chain = require("snake_chain").build{n = n, behavior = "behaviors/snake.lua"}
 

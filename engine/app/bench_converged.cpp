@@ -38,8 +38,9 @@ constexpr double kLoadPercent = 10.0;
 /// finds change with the substep), so single steps cannot tell a converged run from another.
 constexpr double kLoadWindow = 0.1;  ///< s
 
-/// The snake, as in `bench snake_1000`; solver settings only where given (0: the world's default).
+/// The snake, as in `bench snake_1000`; solver settings only where given (0 or "": the world's default).
 const char* kSnake = R"(world.set{dt = args.dt, duration = 1e9}
+if args.solver ~= "" then world.set{solver = args.solver} end
 if args.substeps > 0 then world.set{substeps = args.substeps} end
 if args.iterations > 0 then world.set{solver_iterations = args.iterations} end
 if args.joint_iterations > 0 then world.set{joint_iterations = args.joint_iterations} end
@@ -81,6 +82,7 @@ bool runSnake(const BenchArgs& a, const std::string& root, double dt, long long 
               {"substeps", std::to_string(substeps)},
               {"iterations", std::to_string(iterations)},
               {"joint_iterations", std::to_string(jointIterations)},
+              {"solver", a.solver.value_or("")},
               {"type", a.type}};
   World w(o);
   try {

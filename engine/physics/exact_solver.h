@@ -185,6 +185,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   double m_h = 0;
   int m_groupBegin = 0;  // first cluster of the current group
   bool m_groupHasJoints = false;
+  bool m_clamped = false;  // a bounded row was fixed at its bound in this group's substep
   std::vector<Body> m_bodies;
   std::vector<Node> m_nodes;
   std::vector<Cluster> m_clusters;

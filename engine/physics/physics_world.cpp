@@ -16,6 +16,7 @@
 #include "physics/cloth_system.h"
 #include "physics/exact_solver.h"
 #include "physics/plane_contacts.h"
+#include "physics/solver_world.h"
 
 #if defined(__SSE__)
 #include <xmmintrin.h>
@@ -222,7 +223,7 @@ struct PhysicsWorld::Impl {
   btDbvtBroadphase broadphase;
   ExactSolver solver;
   int stepSubsteps = 1;  // substeps of the step being taken
-  btSoftRigidDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+  SolverWorld world{&dispatcher, &broadphase, &solver, &config};
   std::unique_ptr<ClothSystem> cloth;    // made by the first cloth
   std::optional<double> groundFriction;  // set by addGroundPlane: the ground is there (cloth, particles)
   OwnerFilter filter;

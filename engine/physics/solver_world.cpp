@@ -1,0 +1,102 @@
+// Joints handed to simulation islands in linear time (see solver_world.h).
+#include "physics/solver_world.h"
+
+#include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
+#include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+
+namespace rm3d {
+
+namespace {
+
+/// A joint's island: its first body's, or its second's when the first is static (as Bullet).
+int islandOf(const btTypedConstraint* c) {
+  const int a = c->getRigidBodyA().getIslandTag();
+  return a >= 0 ? a : c->getRigidBodyB().getIslandTag();
+}
+
+struct IslandOrder {
+  bool operator()(const btTypedConstraint* l, const btTypedConstraint* r) const { return islandOf(l) < islandOf(r); }
+};
+
+/// Bullet's InplaceSolverIslandCallback, with each island's joints looked up instead of searched.
+class Batches : public btSimulationIslandManager::IslandCallback {
+ public:
+  Batches(btConstraintSolver& solver, btContactSolverInfo& info, btIDebugDraw* draw, btDispatcher* dispatcher,
+          btTypedConstraint** sorted, int count, const std::vector<int>& start, const std::vector<int>& runs)
+      : m_solver(solver), m_info(info), m_draw(draw), m_dispatcher(dispatcher), m_sorted(sorted), m_count(count),
+        m_start(start), m_runs(runs) {}
+
+  void processIsland(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds, int numManifolds,
+                     int island) override {
+    if (island < 0) {  // islands not split: everything at once
+      m_solver.solveGroup(bodies, numBodies, manifolds, numManifolds, m_sorted, m_count, m_info, m_draw,
+                          m_dispatcher);
+      return;
+    }
+    const bool known = island < int(m_start.size()) && m_start[size_t(island)] >= 0;
+    btTypedConstraint** first = known ? m_sorted + m_start[size_t(island)] : nullptr;
+    const int n = known ? m_runs[size_t(island)] : 0;
+    if (m_info.m_minimumSolverBatchSize <= 1) {
+      m_solver.solveGroup(bodies, numBodies, manifolds, numManifolds, first, n, m_info, m_draw, m_dispatcher);
+      return;
+    }
+    for (int i = 0; i < numBodies; ++i) m_bodies.push_back(bodies[i]);
+    for (int i = 0; i < numManifolds; ++i) m_manifolds.push_back(manifolds[i]);
+    for (int i = 0; i < n; ++i) m_constraints.push_back(first[i]);
+    if (m_constraints.size() + m_manifolds.size() > m_info.m_minimumSolverBatchSize) flush();
+  }
+
+  void flush() {
+    m_solver.solveGroup(m_bodies.size() ? &m_bodies[0] : nullptr, m_bodies.size(),
+                        m_manifolds.size() ? &m_manifolds[0] : nullptr, m_manifolds.size(),
+                        m_constraints.size() ? &m_constraints[0] : nullptr, m_constraints.size(), m_info, m_draw,
+                        m_dispatcher);
+    m_bodies.resize(0);
+    m_manifolds.resize(0);
+    m_constraints.resize(0);
+  }
+
+ private:
+  btConstraintSolver& m_solver;
+  btContactSolverInfo& m_info;
+  btIDebugDraw* m_draw;
+  btDispatcher* m_dispatcher;
+  btTypedConstraint** m_sorted;
+  int m_count;
+  const std::vector<int>&m_start, &m_runs;
+  btAlignedObjectArray<btCollisionObject*> m_bodies;
+  btAlignedObjectArray<btPersistentManifold*> m_manifolds;
+  btAlignedObjectArray<btTypedConstraint*> m_constraints;
+};
+
+}  // namespace
+
+void SolverWorld::solveConstraints(btContactSolverInfo& info) {
+  // As btDiscreteDynamicsWorld::solveConstraints, with the islands' runs found in one pass.
+  m_sortedConstraints.resize(m_constraints.size());
+  for (int i = 0; i < m_constraints.size(); ++i) m_sortedConstraints[i] = m_constraints[i];
+  m_sortedConstraints.quickSort(IslandOrder());
+  const int n = m_sortedConstraints.size();
+  m_islandStart.assign(size_t(getNumCollisionObjects()) + 1, -1);
+  m_islandCount.assign(m_islandStart.size(), 0);
+  for (int i = 0; i < n; ++i) {
+    const int island = islandOf(m_sortedConstraints[i]);
+    if (island < 0) continue;
+    if (size_t(island) >= m_islandStart.size()) {
+      m_islandStart.resize(size_t(island) + 1, -1);
+      m_islandCount.resize(size_t(island) + 1, 0);
+    }
+    if (m_islandStart[size_t(island)] < 0) m_islandStart[size_t(island)] = i;
+    ++m_islandCount[size_t(island)];
+  }
+  btTypedConstraint** sorted = n ? &m_sortedConstraints[0] : nullptr;
+  Batches batches(*m_constraintSolver, info, getDebugDrawer(), getDispatcher(), sorted, n, m_islandStart,
+                  m_islandCount);
+  m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
+  m_islandManager->buildAndProcessIslands(getDispatcher(), this, &batches);
+  batches.flush();
+  m_constraintSolver->allSolved(info, m_debugDrawer);
+}
+
+}  // namespace rm3d

@@ -38,20 +38,15 @@ constexpr double kLoadPercent = 10.0;
 /// finds change with the substep), so single steps cannot tell a converged run from another.
 constexpr double kLoadWindow = 0.1;  ///< s
 
-/// The snake, as in `bench snake_1000`; solver settings only where given (0 or "": the world's default).
+/// The snake, as in `bench snake_1000` (started in its gait's pose, lua/snake_chain.lua); solver settings
+/// only where given (0 or "": the world's default).
 const char* kSnake = R"(world.set{dt = args.dt, duration = 1e9}
 if args.solver ~= "" then world.set{solver = args.solver} end
 if args.substeps > 0 then world.set{substeps = args.substeps} end
 if args.iterations > 0 then world.set{solver_iterations = args.iterations} end
 if args.joint_iterations > 0 then world.set{joint_iterations = args.joint_iterations} end
 world.ground{}
-local prev
-for i = 1, args.n do
-  local m = world.spawn(args.type, {at = {-(i - 1) * 0.19, 0, 0.053}, behavior = "behaviors/snake.lua",
-                                     params = {index = i - 1}})
-  if prev then world.connect(prev, "back", m, "front") end
-  prev = m
-end)";
+require("snake_chain").build{n = args.n, type = args.type, behavior = "behaviors/snake.lua"})";
 
 using ConnectionKey = std::tuple<int, int, int, int>;
 

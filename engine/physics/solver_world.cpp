@@ -16,7 +16,9 @@ int islandOf(const btTypedConstraint* c) {
 }
 
 struct IslandOrder {
-  bool operator()(const btTypedConstraint* l, const btTypedConstraint* r) const { return islandOf(l) < islandOf(r); }
+  bool operator()(const btTypedConstraint* l, const btTypedConstraint* r) const {
+    return islandOf(l) < islandOf(r);
+  }
 };
 
 /// Bullet's InplaceSolverIslandCallback, with each island's joints looked up instead of searched.
@@ -24,11 +26,17 @@ class Batches : public btSimulationIslandManager::IslandCallback {
  public:
   Batches(btConstraintSolver& solver, btContactSolverInfo& info, btIDebugDraw* draw, btDispatcher* dispatcher,
           btTypedConstraint** sorted, int count, const std::vector<int>& start, const std::vector<int>& runs)
-      : m_solver(solver), m_info(info), m_draw(draw), m_dispatcher(dispatcher), m_sorted(sorted), m_count(count),
-        m_start(start), m_runs(runs) {}
+      : m_solver(solver),
+        m_info(info),
+        m_draw(draw),
+        m_dispatcher(dispatcher),
+        m_sorted(sorted),
+        m_count(count),
+        m_start(start),
+        m_runs(runs) {}
 
-  void processIsland(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds, int numManifolds,
-                     int island) override {
+  void processIsland(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds,
+                     int numManifolds, int island) override {
     if (island < 0) {  // islands not split: everything at once
       m_solver.solveGroup(bodies, numBodies, manifolds, numManifolds, m_sorted, m_count, m_info, m_draw,
                           m_dispatcher);
@@ -50,8 +58,8 @@ class Batches : public btSimulationIslandManager::IslandCallback {
   void flush() {
     m_solver.solveGroup(m_bodies.size() ? &m_bodies[0] : nullptr, m_bodies.size(),
                         m_manifolds.size() ? &m_manifolds[0] : nullptr, m_manifolds.size(),
-                        m_constraints.size() ? &m_constraints[0] : nullptr, m_constraints.size(), m_info, m_draw,
-                        m_dispatcher);
+                        m_constraints.size() ? &m_constraints[0] : nullptr, m_constraints.size(), m_info,
+                        m_draw, m_dispatcher);
     m_bodies.resize(0);
     m_manifolds.resize(0);
     m_constraints.resize(0);

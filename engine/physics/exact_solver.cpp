@@ -25,6 +25,7 @@ constexpr double kLimitMargin = 0.25;   // rad: a limit row may engage only this
 constexpr double kLimitRecovery = 0.2;  // share of a limit overshoot removed per substep
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kClaimed = -2;
+constexpr int kParallelNodes = 256;  // bodies and joints a batch needs to be shared among threads
 constexpr int kResweeps = 1;  // contact sweeps after motors saturate (finishJoints); 2 cost 5% more for no
                               // gain  // a body whose joint node is placed, the body not yet
 
@@ -679,7 +680,9 @@ void ExactSolver::solve(Cluster& c) {
 
 void ExactSolver::forEachCluster(int begin, const std::function<void(int)>& fn) {
   const int n = int(m_clusters.size()) - begin;
-  if (forEach && n > 1) {
+  // Waking the workers costs tens of microseconds: only for a batch with work to share.
+  const int nodes = n > 0 ? m_clusters.back().end - m_clusters[size_t(begin)].begin : 0;
+  if (forEach && n > 1 && nodes >= kParallelNodes) {
     forEach(n, [&](int i) { fn(begin + i); });
   } else {
     for (int i = 0; i < n; ++i) fn(begin + i);

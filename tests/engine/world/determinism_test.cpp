@@ -133,7 +133,8 @@ TEST_CASE("determinism: 136 modules docking, toggling, sensing, messaging at 1, 
 
 // The exact solver spreads independent clusters over the same threads (each cluster touches
 // only its own bodies): modules on the ground, some docked into chains, give many clusters of
-// different sizes; the state must not depend on the thread count.
+// different sizes; the state must not depend on the thread count. Three 30-module chains make
+// batches big enough to be shared (kParallelNodes: 43 clusters, 823 bodies and joints in one).
 TEST_CASE("determinism: the exact solver's clusters in parallel at 1, 2, 4 and 8 threads") {
   const char* world = R"(
 world.set{duration = 100, seed = 3, solver = "exact"}
@@ -142,11 +143,13 @@ for i = 0, 39 do
   world.spawn("superbot", {at = {(i % 8) * 0.5, (i // 8) * 0.5, 0.06}, behavior = "behaviors/snake.lua",
                            params = {index = i % 5}})
 end
-local prev
-for i = 1, 12 do
-  local m = world.spawn("superbot", {at = {-1, 0, 0.06}, behavior = "behaviors/snake.lua", params = {index = i - 1}})
-  if prev then world.connect(prev, "back", m, "front") end
-  prev = m
+for c = 0, 2 do
+  local prev
+  for i = 1, 30 do
+    local m = world.spawn("superbot", {at = {-1, c * 0.5, 0.06}, behavior = "behaviors/snake.lua", params = {index = i - 1}})
+    if prev then world.connect(prev, "back", m, "front") end
+    prev = m
+  end
 end
 )";
   auto run = [&](int threads) {

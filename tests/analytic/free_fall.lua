@@ -2,7 +2,7 @@
 -- semi-implicit Euler in n substeps of h = dt / substeps (v += g h, then z += v h), so after n
 -- substeps the drop is exactly g h^2 n (n + 1) / 2 and the speed g h n: both are asserted within
 -- 0.1% of that. The continuous formula g t^2 / 2 is short of it by exactly 1/n (0.42% at t = 1 s
--- with 4 substeps of dt 1/60, the defaults, stated here because n must be known), so the drop is
+-- with 4 substeps of dt 1/60, set here because n must be known), so the drop is
 -- asserted within 1/n + 0.1% of it. `--param solver=pgs` runs it on the old solver.
 if args.solver then world.set{solver = args.solver} end
 local substeps = 4

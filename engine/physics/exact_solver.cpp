@@ -653,7 +653,7 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
     if (e.state == A::Lower && v < e.bound) fixAt = e.bound;
     if (e.state == A::Upper && v > e.bound) fixAt = e.bound;
     if (fixAt != v) {
-      m_clamped = true;
+      c.clamped = true;
       applyAxial(j, fixAt - v);
       e.state = A::Fixed;
       e.fixedImpulse = fixAt;
@@ -735,7 +735,7 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
     if (e.state == A::Lower && l < e.bound) fixAt = e.bound;
     if (e.state == A::Upper && l > e.bound) fixAt = e.bound;
     if (fixAt != l) {
-      m_clamped = true;
+      c.clamped = true;
       r.lambda[5] = l;
       applyAxial(n.joint, fixAt - l);
       e.state = A::Fixed;
@@ -760,7 +760,6 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   m_groupFirstBody = int(m_bodies.size());
   buildClusters(constraints, numConstraints);
   m_groupHasJoints = !m_groupJoints.empty();
-  m_clamped = false;
   for (int j : m_groupJoints) {
     setupJoint(j, m_h);
     const ExactJoint& e = joints[size_t(j)];
@@ -815,7 +814,9 @@ void ExactSolver::finishJoints() {
   // with the saturated hinges splitting their groups. Without this, the raised head of a
   // 10-module snake landing at 2 substeps took 0.6 N s on its own link and its pitch joint spun
   // at 105 rad/s, 50 deg in one step (14.8 deg with it, 14.7 at 20 substeps x 100 iterations).
-  if (m_clamped) {
+  bool clamped = false;
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) clamped |= m_clusters[size_t(ci)].clamped;
+  if (clamped) {
     settle();
     buildGroups(m_groupFirstBody);
     for (int k = 0; k < kResweeps; ++k) {

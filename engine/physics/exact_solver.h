@@ -132,8 +132,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Vec6 y, x;
   };
   struct Cluster {
-    int begin, end;  // nodes, in order root first
-    bool dirty;      // the active set changed since the last factor
+    int begin, end;        // nodes, in order root first
+    bool dirty;            // the active set changed since the last factor
+    bool clamped = false;  // a bounded row was fixed at its bound this substep (threads write their own)
     // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
     // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
     int loopBegin = 0, loopEnd = 0;
@@ -185,7 +186,6 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   double m_h = 0;
   int m_groupBegin = 0;  // first cluster of the current group
   bool m_groupHasJoints = false;
-  bool m_clamped = false;  // a bounded row was fixed at its bound in this group's substep
   std::vector<Body> m_bodies;
   std::vector<Node> m_nodes;
   std::vector<Cluster> m_clusters;

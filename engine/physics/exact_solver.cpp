@@ -103,6 +103,7 @@ void ExactSolver::beginSubstep() {
   m_clusters.clear();
   m_loopJoints.clear();
   m_nodeOfBody.clear();
+  m_bodyCluster.clear();
   if (m_rows.size() < joints.size()) m_rows.resize(joints.size());
 }
 
@@ -233,6 +234,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
   }
   m_bodyNode.assign(size_t(nb), -1);
   m_nodeOfBody.resize(m_bodies.size(), -1);
+  m_bodyCluster.resize(m_bodies.size(), -1);
   if (m_seenJoint.size() < joints.size()) m_seenJoint.resize(joints.size());
   for (int j : m_groupJoints) {
     m_seenJoint[size_t(j)] = 0;
@@ -264,7 +266,10 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     }
     Cluster c{int(m_nodes.size()), 0, true};
     auto addNode = [&](int body, int joint, int parent, bool parentIsA) {
-      if (body >= 0) m_nodeOfBody[size_t(body)] = int(m_nodes.size());
+      if (body >= 0) {
+        m_nodeOfBody[size_t(body)] = int(m_nodes.size());
+        m_bodyCluster[size_t(body)] = int(m_clusters.size());
+      }
       Node& n = m_nodes.emplace_back();
       n.body = body;
       n.joint = joint;
@@ -304,6 +309,9 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
       }
     }
     c.end = int(m_nodes.size());
+    for (int k = c.begin; k < c.end && c.island < 0; ++k)
+      if (m_nodes[size_t(k)].body >= 0)
+        c.island = m_bodies[size_t(m_nodes[size_t(k)].body)].rb->getIslandTag();
     // The component's joints the tree left out close loops: solved through their Schur
     // complement (factorLoops).
     c.loopBegin = int(m_loopJoints.size());
@@ -467,24 +475,34 @@ btScalar ExactSolver::contactSweep() {
   double residual = 0;
   const int nc = m_tmpSolverContactConstraintPool.size(),
             nf = m_tmpSolverContactFrictionConstraintPool.size();
+  // Only the rows of the islands m_sweepIsland names, when it names any.
+  auto wanted = [&](const btSolverConstraint& c) {
+    if (m_sweepIsland.empty()) return true;
+    for (const int sid : {c.m_solverBodyIdA, c.m_solverBodyIdB}) {
+      const btRigidBody* o = m_tmpSolverBodyPool[sid].m_originalBody;
+      const int island = o ? o->getIslandTag() : -1;
+      if (island >= 0 && island < int(m_sweepIsland.size()) && m_sweepIsland[size_t(island)]) return true;
+    }
+    return false;
+  };
   for (int j = 0; j < nc; ++j) {
     const int i = m_orderTmpConstraintPool[j];
     btSolverConstraint& c = m_tmpSolverContactConstraintPool[i];
     const double* x = &m_rowExtra[size_t(3 * i)];
-    if (x[2] != 0) residual = std::max(residual, sweepRow(c, c.m_lowerLimit, c.m_upperLimit, x));
+    if (x[2] != 0 && wanted(c)) residual = std::max(residual, sweepRow(c, c.m_lowerLimit, c.m_upperLimit, x));
   }
   for (int j = 0; j < nf; ++j) {
     const int i = m_orderFrictionConstraintPool[j];
     btSolverConstraint& c = m_tmpSolverContactFrictionConstraintPool[i];
     const double total = m_tmpSolverContactConstraintPool[c.m_frictionIndex].m_appliedImpulse;
     const double* x = &m_rowExtra[size_t(3 * (nc + i))];
-    if (total > 0 && x[2] != 0)
+    if (total > 0 && x[2] != 0 && wanted(c))
       residual = std::max(residual, sweepRow(c, -c.m_friction * total, c.m_friction * total, x));
   }
   for (int j = 0; j < m_tmpSolverContactRollingFrictionConstraintPool.size(); ++j) {
     btSolverConstraint& c = m_tmpSolverContactRollingFrictionConstraintPool[j];
     const btScalar total = m_tmpSolverContactConstraintPool[c.m_frictionIndex].m_appliedImpulse;
-    if (total <= 0) continue;
+    if (total <= 0 || !wanted(c)) continue;
     const btScalar bound = std::min(c.m_friction * total, c.m_friction);
     c.m_lowerLimit = -bound;
     c.m_upperLimit = bound;
@@ -695,6 +713,13 @@ void ExactSolver::exactIteration(bool clamp) {
   forEachCluster(m_groupBegin, [&](int ci) { clusterIteration(m_clusters[size_t(ci)], clamp); });
 }
 
+void ExactSolver::exactIterationWhere(bool clamp, const std::function<bool(const Cluster&)>& want) {
+  forEachCluster(m_groupBegin, [&](int ci) {
+    Cluster& c = m_clusters[size_t(ci)];
+    if (want(c)) clusterIteration(c, clamp);
+  });
+}
+
 /// One exact solve of a cluster's rows. It reads and writes only the cluster's own bodies,
 /// joints and nodes, so clusters may run in parallel.
 void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
@@ -801,12 +826,14 @@ void ExactSolver::finishJoints() {
   using A = ExactJoint::Axial;
   // A row fixed at its bound in the last solve left the structure unsolved: solve again
   // (a row can only leave the active set, so this ends).
+  // Each step below touches only the clusters (or, for contacts, the islands) it concerns, so that
+  // a cluster's result does not depend on which others Bullet batched with it.
   auto settle = [&] {
     for (int pass = 0; pass < 4; ++pass) {
       bool dirty = false;
       for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) dirty |= m_clusters[size_t(ci)].dirty;
       if (!dirty) break;
-      exactIteration(true);
+      exactIterationWhere(true, [](const Cluster& c) { return c.dirty; });
     }
   };
   // The contacts were swept with the structure held; where a motor then reached its rating, the
@@ -815,14 +842,24 @@ void ExactSolver::finishJoints() {
   // 10-module snake landing at 2 substeps took 0.6 N s on its own link and its pitch joint spun
   // at 105 rad/s, 50 deg in one step (14.8 deg with it, 14.7 at 20 substeps x 100 iterations).
   bool clamped = false;
-  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) clamped |= m_clusters[size_t(ci)].clamped;
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
+    const Cluster& c = m_clusters[size_t(ci)];
+    if (!c.clamped || c.island < 0) continue;
+    if (c.island >= int(m_sweepIsland.size())) m_sweepIsland.resize(size_t(c.island) + 1, 0);
+    m_sweepIsland[size_t(c.island)] = 1;
+    clamped = true;
+  }
   if (clamped) {
     settle();
     buildGroups(m_groupFirstBody);
+    auto swept = [&](const Cluster& c) {
+      return c.island >= 0 && c.island < int(m_sweepIsland.size()) && m_sweepIsland[size_t(c.island)];
+    };
     for (int k = 0; k < kResweeps; ++k) {
       contactSweep();
-      exactIteration(true);
+      exactIterationWhere(true, swept);
     }
+    m_sweepIsland.clear();
   }
   // A row fixed at its rating whose joint now moves beyond the command (the load it met went
   // away as the contacts settled, or the rating overshot it) takes its motor back; rows leave
@@ -843,17 +880,19 @@ void ExactSolver::finishJoints() {
         e.rowTarget = e.targetVel;
         r.axialActive = true;
         reentered = true;
+        Cluster& c = m_clusters[size_t(m_bodyCluster[size_t(r.na >= 0 ? r.na : r.nb)])];
+        c.dirty = c.retry = true;
       }
     }
     if (!reentered) break;
-    for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) m_clusters[size_t(ci)].dirty = true;
-    if (round + 1 >= rounds) {
-      // Still switching: the rows that came back hold their command this substep, beyond
-      // their rating if need be, rather than commit a bound the joint does not press against.
-      exactIteration(false);
-      break;
-    }
-    exactIteration(true);
+    auto retrying = [](const Cluster& c) { return c.retry; };
+    // Still switching after the last round: the rows that came back hold their command this
+    // substep, beyond their rating if need be, rather than commit a bound the joint does not
+    // press against.
+    const bool last = round + 1 >= rounds;
+    exactIterationWhere(!last, retrying);
+    for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) m_clusters[size_t(ci)].retry = false;
+    if (last) break;
   }
   for (int j : m_groupJoints) {
     ExactJoint& e = joints[size_t(j)];

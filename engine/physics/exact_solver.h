@@ -135,6 +135,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     int begin, end;        // nodes, in order root first
     bool dirty;            // the active set changed since the last factor
     bool clamped = false;  // a bounded row was fixed at its bound this substep (threads write their own)
+    bool retry = false;    // a fixed row came back this round (finishJoints)
+    int island = -1;       // Bullet's island of its bodies
     // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
     // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
     int loopBegin = 0, loopEnd = 0;
@@ -164,6 +166,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// `positions`, returns the bodies' position changes in the nodes' x without applying them).
   void pushThroughTree(Cluster& c, const Eigen::VectorXd& p, bool positions);
   void exactIteration(bool clamp);
+  /// An exact solve of the current group's clusters for which want(cluster) holds, and only
+  /// those: which clusters share a solver group (Bullet's batches of islands) changes nothing.
+  void exactIterationWhere(bool clamp, const std::function<bool(const Cluster&)>& want);
   struct RowSide {
     btSolverBody* body;
     const btVector3 *n, *rc, *ac;
@@ -210,7 +215,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   int m_groupFirstBody = 0;
   std::vector<int> m_sidToBody;
   std::vector<int> m_bodyNode;
-  std::vector<int> m_nodeOfBody;  // node of each body this substep (any group)
+  std::vector<int> m_nodeOfBody;    // node of each body this substep (any group)
+  std::vector<int> m_bodyCluster;   // cluster of each body this substep (any group)
+  std::vector<char> m_sweepIsland;  // by island: the contact re-sweep takes its rows (empty: all)
   std::vector<int> m_adjStart, m_adj, m_queue, m_component;
   std::vector<char> m_seenJoint;
 };

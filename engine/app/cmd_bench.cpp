@@ -272,9 +272,8 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   const int jointIterations = a.jointIterations.value_or(defaults.jointIterations);
   auto given = [](bool g) { return g ? "given" : "world default"; };
   std::printf(
-      "settings: solver %s (%s), dt %.5f s (%s), substeps %d (%s), solver iterations %d (%s), joint "
-      "iterations "
-      "%d%s (%s)\n",
+      "settings: solver %s (%s), dt %.5f s (%s), substeps %d (%s), "
+      "solver iterations %d (%s), joint iterations %d%s (%s)\n",
       solver == SolverKind::Exact ? "exact" : "pgs", given(a.solver.has_value()), dt, given(a.dt.has_value()),
       substeps, given(a.substeps.has_value()), iterations, given(a.iterations.has_value()), jointIterations,
       jointIterations == 0 ? " (as solver)" : "", given(a.jointIterations.has_value()));

@@ -814,10 +814,11 @@ btScalar ExactSolver::solveSingleIteration(int iteration, btCollisionObject** bo
   }
   r = std::max(r, contactSweep());
   const int last = std::max(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
-  // Bounds apply at the last iteration only: before it the contacts have not settled, and a
-  // motor fixed at its rating on their account would be wrong for the whole substep.
-  if (m_groupHasJoints && (iteration >= last || (iteration + 1) % std::max(1, every) == 0))
-    exactIteration(iteration >= last);
+  // An exact solve after every sweep (swept twice in a row, grouped bodies take the first sweep's
+  // impulses as if free and the second overreacts: a snake diverged). Bounds apply at the last
+  // iteration only: before it the contacts have not settled, and a motor fixed at its rating on
+  // their account would be wrong for the whole substep.
+  exactIteration(iteration >= last);
   // Never stop early on a small contact residual: the joints may still need their solve.
   return m_groupHasJoints && iteration < last ? std::max(r, info.m_leastSquaresResidualThreshold * 2 + 1) : r;
 }

@@ -95,8 +95,6 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
  public:
   /// Indexed by joint id (the hinge index of PhysicsWorld); ExactLinks name them.
   std::vector<ExactJoint> joints;
-  /// An exact solve after every `every`-th contact sweep, and always after the last.
-  int every = 1;
   /// Runs fn(i) for i in [0, n), in parallel if it can; null: in order on this thread.
   std::function<void(int, const std::function<void(int)>&)> forEach;
 

@@ -90,7 +90,7 @@ bool runSnake(const BenchArgs& a, const std::string& root, double dt, long long 
   out.substeps = s.substeps;
   out.iterations = s.solverIterations;
   out.jointIterations = s.jointIterations;
-  out.solver = s.solver == SolverKind::Pgs ? "pgs" : "exact";
+  out.solver = solverName(s.solver);
   for (const Module& m : w.modules()) {
     out.moduleNames.push_back(m.name);
     for (const JointDef& j : m.type->joints) out.jointNames.push_back(m.name + " " + j.name);

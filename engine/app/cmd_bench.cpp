@@ -274,8 +274,8 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   std::printf(
       "settings: solver %s (%s), dt %.5f s (%s), substeps %d (%s), "
       "solver iterations %d (%s), joint iterations %d%s (%s)\n",
-      solver == SolverKind::Exact ? "exact" : "pgs", given(a.solver.has_value()), dt, given(a.dt.has_value()),
-      substeps, given(a.substeps.has_value()), iterations, given(a.iterations.has_value()), jointIterations,
+      solverName(solver), given(a.solver.has_value()), dt, given(a.dt.has_value()), substeps,
+      given(a.substeps.has_value()), iterations, given(a.iterations.has_value()), jointIterations,
       jointIterations == 0 ? " (as solver)" : "", given(a.jointIterations.has_value()));
   std::printf(
       "paper: ReMod3D (section IV.G), dt 1/30, one step per frame, a 2013 quad-core laptop (particle scenes: "
@@ -287,7 +287,7 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   std::printf("%s\n", "  (last two columns: connections at the end, messages sent)");
   nlohmann::json out = {
       {"threads", a.threads},
-      {"solver", solver == SolverKind::Exact ? "exact" : "pgs"},
+      {"solver", solverName(solver)},
       {"dt", dt},
       {"iterations", iterations},
       {"substeps", substeps},

@@ -272,7 +272,8 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
         }
       }
     }
-    Cluster c{int(m_nodes.size()), 0, true};
+    Cluster c;
+    c.begin = int(m_nodes.size());
     auto addNode = [&](int body, int joint, int parent, bool parentIsA) {
       if (body >= 0) {
         m_nodeOfBody[size_t(body)] = int(m_nodes.size());

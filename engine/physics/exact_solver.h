@@ -17,10 +17,10 @@
 // for the pivot, two keeping the axes parallel) and one axial row that carries the motor, or the limit stop
 // near a limit. The axial row is a box-bounded unknown (the motor's rated torque); it is in the factor while
 // its impulse is inside its bounds and leaves it, fixed at the bound, once it reaches one (a saturated
-// servo). Rows only leave within a step, so the active set cannot cycle; between steps a fixed row comes back
-// as soon as its joint moves the way the bound resists (complementarity). Every iteration is one block
-// Gauss-Seidel pass: Bullet's sweep over the contact rows, then the exact solve of all hinge rows, so the
-// last iteration always leaves the hinges exact and the motors within their torque.
+// servo). Within a substep a fixed row comes back at most once, when its joint moves the way the bound
+// resists (complementarity), so the active set cannot cycle; the next substep starts by checking it again.
+// Every iteration is one block Gauss-Seidel pass: Bullet's sweep over the contact rows, then the exact solve
+// of all hinge rows, so the last iteration always leaves the hinges exact and the motors within their torque.
 //
 // Contacts and friction stay Bullet's rows, swept by this solver: a body joined to others by
 // hinges whose motors hold them moves, within the sweep, with its rigid group (the group's mass
@@ -133,11 +133,11 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Vec6 y, x;
   };
   struct Cluster {
-    int begin, end;        // nodes, in order root first
-    bool dirty;            // the active set changed since the last factor
-    bool clamped = false;  // a bounded row was fixed at its bound this substep (threads write their own)
-    bool retry = false;    // a fixed row came back this round (finishJoints)
-    int island = -1;       // Bullet's island of its bodies
+    int begin = 0, end = 0;  // nodes, in order root first
+    bool dirty = true;       // the active set changed since the last factor
+    bool clamped = false;    // a bounded row was fixed at its bound this substep (threads write their own)
+    bool retry = false;      // a fixed row came back this round (finishJoints)
+    int island = -1;         // Bullet's island of its bodies
     // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
     // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
     int loopBegin = 0, loopEnd = 0;

@@ -22,6 +22,10 @@ namespace rm3d {
 /// their true articulated inertia (engine/physics/exact_solver.h). Pgs: Bullet's
 /// sequential impulses over every row (the first versions' solver, kept for comparison).
 enum class SolverKind { Exact, Pgs };
+/// The solver's name in world scripts (`world.set{solver=}`), the JSON summary and `rm3d bench`.
+constexpr const char* solverName(SolverKind k) {
+  return k == SolverKind::Exact ? "exact" : "pgs";
+}
 
 struct PhysicsSettings {
   SolverKind solver = SolverKind::Pgs;

@@ -22,7 +22,7 @@ nlohmann::json World::summary(double wallSeconds) const {
   j["sim_time"] = m_time;
   j["steps"] = m_steps;
   j["dt"] = m_settings.dt;
-  j["solver"] = m_settings.solver == SolverKind::Exact ? "exact" : "pgs";
+  j["solver"] = solverName(m_settings.solver);
   j["substeps"] = m_settings.substeps;
   j["solver_iterations"] = m_settings.solverIterations;
   j["wall_seconds"] = wallSeconds;

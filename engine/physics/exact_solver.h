@@ -27,6 +27,12 @@
 // and inertia take the impulse), and after the sweep each impulse goes to the body it hit for the
 // exact solve to pass on through the hinges.
 //
+// The structural rows aim at J v = -(h/2) dJ/dt v (dJ/dt v at the velocities of the last exact
+// solve), not 0: with J v = 0 each substep's projection, at a pose turned by h w from the last,
+// takes a share (h w)^2 of the joints' kinetic energy (a free pendulum let go at 90 deg swung 54
+// deg after 10 s); with half the turn ahead it takes O((h w)^4). Only clusters touching nothing
+// outside themselves, with no loop and at most one anchor, take it (updateCentripetal).
+//
 // After integration, the position error of the hinges (pivot gap, axis tilt) is projected out
 // with the same factor (post-stabilisation): no Baumgarte velocity, so no energy is added. Where
 // an error above 10 um or 10 urad is left (bodies turning fast, whose separate integration opens
@@ -137,6 +143,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     bool dirty = true;       // the active set changed since the last factor
     bool clamped = false;    // a bounded row was fixed at its bound this substep (threads write their own)
     bool retry = false;      // a fixed row came back this round (finishJoints)
+    bool touching = false;   // a contact row has one of its bodies this substep
     int island = -1;         // Bullet's island of its bodies
     // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
     // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
@@ -147,13 +154,24 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   struct Row {                        // per joint, this substep
     int node = -1, na = -1, nb = -1;  // body indices (into m_bodies) or -1 static
     Mat6 ja, jb;                      // rows x body dofs (linear, angular), world frame
+    Eigen::Vector3d ra, rb;           // the joint's frame (jointFrame) the rows were made at
+    Eigen::Matrix3d frame;
+    bool centripetal = true;   // its cluster has no loop (updateCentripetal)
+    Vec6 bias = Vec6::Zero();  // (h/2) dJ/dt v: the structural rows aim at J v = -bias
     Vec6 lambda;
     bool axialActive = false;
   };
 
   void buildClusters(btTypedConstraint** constraints, int numConstraints);
   void setupJoint(int j, double h);
+  struct JointFrame {
+    Eigen::Vector3d ra, rb;  // pivot from each body's centre of mass, world frame
+    Eigen::Matrix3d frame;   // the joint's frame on body a: x, y, z (the axis) in the columns
+  };
+  JointFrame jointFrame(int j) const;
   void jointRows(int j);
+  Vec6 structuralResidual(int j) const;
+  void updateCentripetal(int j);
   void factor(Cluster& c);
   void solve(Cluster& c);
   /// Loop joints: S from one tree solve per loop row (after factor), and the step that makes

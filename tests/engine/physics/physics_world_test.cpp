@@ -238,13 +238,14 @@ namespace {
 /// Four 0.1 m links around a square (link i along +x turned 90 deg x i about z), hinged corner to
 /// corner about z, motors off: a planar four-bar. With `grounded`, link 0 is static.
 /// Four links in a square joined by hinges about z; `closed`: the fourth hinge closes the loop.
-std::vector<int> fourBar(PhysicsWorld& w, bool grounded, bool closed = true) {
+/// `oneOwner`: the links never collide with each other.
+std::vector<int> fourBar(PhysicsWorld& w, bool grounded, bool closed = true, bool oneOwner = false) {
   std::vector<int> parts;
   for (int i = 0; i < 4; ++i) {
     PartDesc p;
     p.shapes = {box(0.1, 0.02, 0.02)};
     p.mass = grounded && i == 0 ? 0.0 : 0.1;
-    p.owner = i;
+    p.owner = oneOwner ? 0 : i;
     p.pose.rot = Quat(Eigen::AngleAxisd(kPi / 2 * i, Vec3::UnitZ()));
     p.pose.pos = Vec3(0, 0, 1) + p.pose.rot * Vec3(0, -0.05, 0);
     parts.push_back(w.addPart(p));
@@ -294,18 +295,22 @@ TEST_CASE("exact solver: a four-bar anchored twice holds every hinge exactly, un
 
 /// Pulls link 2 along x and pushes link 0 off centre, down and out of the plane, for 90 steps of
 /// 1/60 s at one substep (the square shears and tumbles); returns the largest hinge gap and
-/// axis angle over every step, and leaves the corner angle between links 0 and 1 in `corner`.
+/// axis angle over every step, and leaves in `corner` the most the corner angle between links 0
+/// and 1 moved from its square 90 deg.
 std::pair<double, double> shearAndTumble(PhysicsWorld& w, const std::vector<int>& parts, double force,
                                          double& corner) {
   double gap = 0, angle = 0;
+  corner = 0;
   for (int i = 0; i < 90; ++i) {
     w.addForce(parts[2], force * Vec3(2, 0, 0), w.partPose(parts[2]).pos);
     w.addForce(parts[0], force * Vec3(0, -1, 0.5), w.partPose(parts[0]).pos + Vec3(0.05, 0, 0));
     w.step(1.0 / 60, 1);
     gap = std::max(gap, w.hingeQuality().maxGap);
     angle = std::max(angle, w.hingeQuality().maxAngle);
+    const double a =
+        angleBetween(w.partPose(parts[0]).rot * Vec3::UnitX(), w.partPose(parts[1]).rot * Vec3::UnitX());
+    corner = std::max(corner, std::abs(a - kPi / 2));
   }
-  corner = angleBetween(w.partPose(parts[0]).rot * Vec3::UnitX(), w.partPose(parts[1]).rot * Vec3::UnitX());
   return {gap, angle};
 }
 
@@ -321,7 +326,7 @@ TEST_CASE("exact solver: a free ring of four links closes its loop exactly (Schu
   // still comes apart: folding flat at speed, the loop's rows lose rank.)
   double corner = 0;
   const auto [gap, angle] = shearAndTumble(w, fourBar(w, false), 0.5, corner);
-  CHECK(std::abs(corner - kPi / 2) > 0.05);
+  CHECK(corner > 0.05);
   CHECK(gap < 1e-5);
   CHECK(angle < 1e-4);
 }
@@ -338,7 +343,7 @@ TEST_CASE(
   PhysicsWorld w(s);
   double corner = 0;
   const auto [gap, angle] = shearAndTumble(w, fourBar(w, false, false), 1.0, corner);
-  CHECK(std::abs(corner - kPi / 2) > 0.05);
+  CHECK(corner > 0.05);
   CHECK(gap < 1e-5);
   CHECK(angle < 1e-4);
 }
@@ -368,4 +373,44 @@ end)
     const std::string what = std::string(solver) + ": " + messages;
     CHECK_MESSAGE(w->failures().empty(), what);
   }
+}
+
+TEST_CASE("exact solver: a free chain turning in zero gravity keeps its kinetic energy") {
+  // Four 0.1 m links hinged end to end, motors off, links not colliding with each other, kicked
+  // out of the plane and left to turn and flail for 10 s at the defaults' substep (1/120 s; links
+  // up to 20 rad/s). Nothing dissipates, so the kinetic energy stays. Measured: -0.7% .. +0.3%;
+  // with the hinge rows aiming at J v = 0 (no centripetal target) it fell by 57%.
+  PhysicsSettings s;
+  s.solver = SolverKind::Exact;
+  s.gravity = Vec3::Zero();
+  PhysicsWorld w(s);
+  const std::vector<int> parts = fourBar(w, false, false, true);
+  for (int i = 0; i < 10; ++i) {
+    w.addForce(parts[0], Vec3(0, -0.3, 0.15), w.partPose(parts[0]).pos + Vec3(0.05, 0, 0));
+    w.addForce(parts[3], Vec3(0.15, 0, -0.3), w.partPose(parts[3]).pos);
+    w.step(1.0 / 60, 2);
+  }
+  auto energy = [&] {
+    double e = 0;
+    const Vec3 inertia = 0.1 / 12 * Vec3(0.02 * 0.02 * 2, 0.1 * 0.1 + 0.02 * 0.02, 0.1 * 0.1 + 0.02 * 0.02);
+    for (int p : parts) {
+      const Vec3 wl = w.partPose(p).rot.conjugate() * w.partAngularVelocity(p);
+      e += 0.5 * 0.1 * w.partLinearVelocity(p).squaredNorm() + 0.5 * wl.dot(inertia.cwiseProduct(wl));
+    }
+    return e;
+  };
+  const double start = energy();
+  double lo = start, hi = start, fastest = 0;
+  for (int i = 0; i < 600; ++i) {
+    w.step(1.0 / 60, 2);
+    lo = std::min(lo, energy());
+    hi = std::max(hi, energy());
+    for (int p : parts) fastest = std::max(fastest, w.partAngularVelocity(p).norm());
+  }
+  MESSAGE("kinetic energy " << start << " J, then " << lo << " .. " << hi << " J over 10 s; links up to "
+                            << fastest << " rad/s");
+  CHECK(fastest > 10);
+  CHECK(lo > 0.98 * start);
+  CHECK(hi < 1.02 * start);
+  CHECK(w.hingeQuality().maxGap < 1e-5);
 }

@@ -380,7 +380,8 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     // rows lose rank and a centripetal target cannot be met (updateCentripetal).
     int anchors = 0;
     for (int j : m_component) anchors += m_rows[size_t(j)].na < 0 || m_rows[size_t(j)].nb < 0;
-    for (int j : m_component) m_rows[size_t(j)].centripetal = c.loopEnd == c.loopBegin && anchors <= 1;
+    c.centripetal = c.loopEnd == c.loopBegin && anchors <= 1;
+    for (int j : m_component) m_rows[size_t(j)].centripetal = c.centripetal;
     m_clusters.push_back(std::move(c));
   }
 }
@@ -808,7 +809,7 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
     }
   }
   // The centripetal targets at these joint-consistent velocities, before any row is clamped.
-  for (int k = c.begin; k < c.end; ++k)
+  for (int k = c.begin; k < c.end && c.centripetal; ++k)
     if (const int j = m_nodes[size_t(k)].joint; j >= 0) updateCentripetal(j);
   for (int k = c.begin; k < c.end; ++k) {
     Node& n = m_nodes[size_t(k)];
@@ -863,7 +864,8 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   }
   for (int j : m_groupJoints) {
     Row& r = m_rows[size_t(j)];
-    if (m_clusters[size_t(m_bodyCluster[size_t(r.na >= 0 ? r.na : r.nb)])].touching) r.centripetal = false;
+    Cluster& c = m_clusters[size_t(m_bodyCluster[size_t(r.na >= 0 ? r.na : r.nb)])];
+    if (c.touching) r.centripetal = c.centripetal = false;
   }
   for (int j : m_groupJoints) setupJoint(j, m_h);  // all at the velocities before any impulse
   for (int j : m_groupJoints) {

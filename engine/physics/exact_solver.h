@@ -139,12 +139,13 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Vec6 y, x;
   };
   struct Cluster {
-    int begin = 0, end = 0;  // nodes, in order root first
-    bool dirty = true;       // the active set changed since the last factor
-    bool clamped = false;    // a bounded row was fixed at its bound this substep (threads write their own)
-    bool retry = false;      // a fixed row came back this round (finishJoints)
-    bool touching = false;   // a contact row has one of its bodies this substep
-    int island = -1;         // Bullet's island of its bodies
+    int begin = 0, end = 0;    // nodes, in order root first
+    bool dirty = true;         // the active set changed since the last factor
+    bool clamped = false;      // a bounded row was fixed at its bound this substep (threads write their own)
+    bool retry = false;        // a fixed row came back this round (finishJoints)
+    bool touching = false;     // a contact row joins one of its bodies to another's this substep
+    bool centripetal = false;  // its rows take a centripetal target (updateCentripetal)
+    int island = -1;           // Bullet's island of its bodies
     // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
     // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
     int loopBegin = 0, loopEnd = 0;

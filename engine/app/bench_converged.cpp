@@ -141,6 +141,9 @@ struct Comparison {
   Worst forcePercent, torquePercent;          ///< loads averaged over kLoadWindow (thresholds)
   Worst forceStepPercent, torqueStepPercent;  ///< step by step (reported only)
   int missingConnections = 0;                 ///< connection-steps present in one run only (a dock broke)
+  /// Root mean square over every step and joint (module): what the whole run is off by, where the
+  /// largest difference is one moment's (a landing a substep early or late).
+  double jointRmsDeg = 0, positionRmsMm = 0;
 };
 
 /// Trailing means of each connection's load over `window` steps (over the steps where it exists).
@@ -200,21 +203,29 @@ void compareLoads(const std::vector<std::map<ConnectionKey, Load>>& run,
 Comparison compare(const Trace& run, const Trace& ref, double dt) {
   Comparison c;
   const size_t steps = std::min(run.joints.size(), ref.joints.size());
+  double jointSq = 0, positionSq = 0;
+  size_t jointN = 0, positionN = 0;
   for (size_t i = 0; i < steps; ++i) {
     const double t = double(i + 1) * dt;
     for (size_t j = 0; j < run.joints[i].size() && j < ref.joints[i].size(); ++j) {
       const double d = std::abs(run.joints[i][j] - ref.joints[i][j]) * 180.0 / kPi;
       if (d > c.jointDeg.value) c.jointDeg = {d, run.jointNames[j], t};
+      jointSq += d * d;
+      ++jointN;
     }
     for (size_t m = 0; m < run.positions[i].size() && m < ref.positions[i].size(); ++m) {
       const double d = (run.positions[i][m] - ref.positions[i][m]).norm() * 1000.0;
       if (d > c.positionMm.value) c.positionMm = {d, run.moduleNames[m], t};
+      positionSq += d * d;
+      ++positionN;
     }
     for (const auto& [k, l] : ref.loads[i])
       if (!run.loads[i].count(k)) ++c.missingConnections;
     for (const auto& [k, l] : run.loads[i])
       if (!ref.loads[i].count(k)) ++c.missingConnections;
   }
+  c.jointRmsDeg = jointN ? std::sqrt(jointSq / double(jointN)) : 0.0;
+  c.positionRmsMm = positionN ? std::sqrt(positionSq / double(positionN)) : 0.0;
   compareLoads(run.loads, ref.loads, ref.connectionNames, dt, c.forceStepPercent, c.torqueStepPercent);
   const size_t window = size_t(std::max(1.0, std::round(kLoadWindow / dt)));
   compareLoads(windowed(run.loads, window), windowed(ref.loads, window), ref.connectionNames, dt,
@@ -246,7 +257,9 @@ nlohmann::json comparisonJson(const Comparison& c, bool withThresholds) {
           {"load_window_seconds", kLoadWindow},
           {"dock_force_step_percent", worstJson(c.forceStepPercent, 0)},
           {"dock_torque_step_percent", worstJson(c.torqueStepPercent, 0)},
-          {"connection_steps_in_one_run_only", c.missingConnections}};
+          {"connection_steps_in_one_run_only", c.missingConnections},
+          {"joint_rms_deg", c.jointRmsDeg},
+          {"position_rms_mm", c.positionRmsMm}};
 }
 
 /// threshold 0: reported only.
@@ -292,6 +305,10 @@ int convergedCommand(const BenchArgs& a, const std::string& root) {
               "ref-finer", "where (run-ref)");
   printRow("joint angle (deg)", c.jointDeg, kJointDeg, self.jointDeg.value);
   printRow("module position (mm)", c.positionMm, kPositionMm, self.positionMm.value);
+  std::printf("  %-24s %10.3f %10s %10s %12.3f   over every joint and step\n", "joint angle, RMS (deg)",
+              c.jointRmsDeg, "-", "", self.jointRmsDeg);
+  std::printf("  %-24s %10.3f %10s %10s %12.3f   over every module and step\n", "module position, RMS (mm)",
+              c.positionRmsMm, "-", "", self.positionRmsMm);
   printRow("dock force (%)", c.forcePercent, kLoadPercent, self.forcePercent.value);
   printRow("dock torque (%)", c.torquePercent, kLoadPercent, self.torquePercent.value);
   printRow("dock force, 1 step (%)", c.forceStepPercent, 0, self.forceStepPercent.value);

@@ -144,7 +144,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     bool clamped = false;      // a bounded row was fixed at its bound this substep (threads write their own)
     bool retry = false;        // a fixed row came back this round (finishJoints)
     bool touching = false;     // a contact row joins one of its bodies to another's this substep
-    bool centripetal = false;  // its rows take a centripetal target (updateCentripetal)
+    bool centripetal = false;  // no loop, one anchor at most, not touching: a centripetal target
     int island = -1;           // Bullet's island of its bodies
     // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
     // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
@@ -157,7 +157,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Mat6 ja, jb;                      // rows x body dofs (linear, angular), world frame
     Eigen::Vector3d ra, rb;           // the joint's frame (jointFrame) the rows were made at
     Eigen::Matrix3d frame;
-    bool centripetal = true;   // its cluster has no loop (updateCentripetal)
+    bool centripetal = true;   // as its cluster's (updateCentripetal)
     Vec6 bias = Vec6::Zero();  // (h/2) dJ/dt v: the structural rows aim at J v = -bias
     Vec6 lambda;
     bool axialActive = false;

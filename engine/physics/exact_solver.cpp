@@ -141,6 +141,11 @@ void ExactSolver::applyAxial(int j, double impulse) {
   }
 }
 
+ExactSolver::Cluster& ExactSolver::jointCluster(int j) {
+  const Row& r = m_rows[size_t(j)];
+  return m_clusters[size_t(m_bodyCluster[size_t(r.na >= 0 ? r.na : r.nb)])];
+}
+
 /// A joint's pivot arms and frame at its bodies' current poses.
 ExactSolver::JointFrame ExactSolver::jointFrame(int j) const {
   const ExactJoint& e = joints[size_t(j)];
@@ -198,7 +203,7 @@ Vec6 ExactSolver::structuralResidual(int j) const {
 void ExactSolver::updateCentripetal(int j) {
   Row& r = m_rows[size_t(j)];
   r.bias.setZero();
-  if (!r.centripetal) return;
+  if (!jointCluster(j).centripetal) return;
   const Vec3d wa = r.na >= 0 ? Vec3d(bodyVelocity(r.na).tail<3>()) : Vec3d::Zero();
   const Vec3d wb = r.nb >= 0 ? Vec3d(bodyVelocity(r.nb).tail<3>()) : Vec3d::Zero();
   const Vec3d dw = wa - wb;
@@ -381,7 +386,6 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     int anchors = 0;
     for (int j : m_component) anchors += m_rows[size_t(j)].na < 0 || m_rows[size_t(j)].nb < 0;
     c.centripetal = c.loopEnd == c.loopBegin && anchors <= 1;
-    for (int j : m_component) m_rows[size_t(j)].centripetal = c.centripetal;
     m_clusters.push_back(std::move(c));
   }
 }
@@ -859,13 +863,8 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   for (int i = 0; i < contacts.size(); ++i) {
     const int ca = clusterOf(contacts[i].m_solverBodyIdA), cb = clusterOf(contacts[i].m_solverBodyIdB);
     if (ca == cb) continue;
-    if (ca >= 0) m_clusters[size_t(ca)].touching = true;
-    if (cb >= 0) m_clusters[size_t(cb)].touching = true;
-  }
-  for (int j : m_groupJoints) {
-    Row& r = m_rows[size_t(j)];
-    Cluster& c = m_clusters[size_t(m_bodyCluster[size_t(r.na >= 0 ? r.na : r.nb)])];
-    if (c.touching) r.centripetal = c.centripetal = false;
+    if (ca >= 0) m_clusters[size_t(ca)].centripetal = false;
+    if (cb >= 0) m_clusters[size_t(cb)].centripetal = false;
   }
   for (int j : m_groupJoints) setupJoint(j, m_h);  // all at the velocities before any impulse
   for (int j : m_groupJoints) {
@@ -965,7 +964,7 @@ void ExactSolver::finishJoints() {
       e.rowTarget = e.targetVel;
       r.axialActive = true;
       reentered = true;
-      Cluster& c = m_clusters[size_t(m_bodyCluster[size_t(r.na >= 0 ? r.na : r.nb)])];
+      Cluster& c = jointCluster(j);
       c.dirty = c.retry = true;
     }
   }

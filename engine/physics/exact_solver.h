@@ -139,13 +139,14 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Vec6 y, x;
   };
   struct Cluster {
-    int begin = 0, end = 0;    // nodes, in order root first
-    bool dirty = true;         // the active set changed since the last factor
-    bool clamped = false;      // a bounded row was fixed at its bound this substep (threads write their own)
-    bool retry = false;        // a fixed row came back this round (finishJoints)
-    bool touching = false;     // a contact row joins one of its bodies to another's this substep
-    bool centripetal = false;  // no loop, one anchor at most, not touching: a centripetal target
-    int island = -1;           // Bullet's island of its bodies
+    int begin = 0, end = 0;  // nodes, in order root first
+    bool dirty = true;       // the active set changed since the last factor
+    bool clamped = false;    // a bounded row was fixed at its bound this substep (threads write their own)
+    bool retry = false;      // a fixed row came back this round (finishJoints)
+    // Its rows take a centripetal target (updateCentripetal): no loop, one anchor at most, and no
+    // contact row joining one of its bodies to anything else this substep.
+    bool centripetal = false;
+    int island = -1;  // Bullet's island of its bodies
     // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
     // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
     int loopBegin = 0, loopEnd = 0;
@@ -157,7 +158,6 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Mat6 ja, jb;                      // rows x body dofs (linear, angular), world frame
     Eigen::Vector3d ra, rb;           // the joint's frame (jointFrame) the rows were made at
     Eigen::Matrix3d frame;
-    bool centripetal = true;   // as its cluster's (updateCentripetal)
     Vec6 bias = Vec6::Zero();  // (h/2) dJ/dt v: the structural rows aim at J v = -bias
     Vec6 lambda;
     bool axialActive = false;
@@ -173,6 +173,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void jointRows(int j);
   Vec6 structuralResidual(int j) const;
   void updateCentripetal(int j);
+  Cluster& jointCluster(int j);  ///< the cluster of a joint of this substep
   void factor(Cluster& c);
   void solve(Cluster& c);
   /// Loop joints: S from one tree solve per loop row (after factor), and the step that makes

@@ -302,14 +302,16 @@ void Docking::dock(const DockingScene& s) {
             s.physics.addForce(pa, pull * dir, fa.pose.pos);
             s.physics.addForce(pb, -pull * dir, fb.pose.pos);
             // Torques of the order pull x face size turn the faces square to each other and
-            // twist them about the normal into the nearest of their mating orientations.
+            // twist them about the normal into the nearest of their mating orientations: `turn`
+            // acts on b, whose normal nb turns towards -na about nb x (-na) = na x nb, and its
+            // opposite on a.
             const double arm = pull * std::min(da.size, db.size);
             const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
             const Vec3 wantUp =
                 matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym).rot *
                 Vec3::UnitZ();
             const Vec3 turn =
-                na.cross(-nb) * arm + (fb.pose.rot * Vec3::UnitZ()).cross(wantUp).dot(nb) * nb * arm;
+                na.cross(nb) * arm + (fb.pose.rot * Vec3::UnitZ()).cross(wantUp).dot(nb) * nb * arm;
             s.physics.addTorque(pa, -turn);
             s.physics.addTorque(pb, turn);
           }

@@ -107,37 +107,6 @@ bool prepareOutputFile(const char* flag, const std::string& path, std::string& e
   return true;
 }
 
-namespace {
-bool samePath(const std::string& a, const std::string& b) {
-  std::error_code ec1, ec2;
-  if (fs::exists(a, ec1) && fs::exists(b, ec2)) return fs::equivalent(a, b, ec1) && !ec1;
-  const fs::path ca = fs::weakly_canonical(fs::absolute(a, ec1), ec1);
-  const fs::path cb = fs::weakly_canonical(fs::absolute(b, ec2), ec2);
-  return ca.lexically_normal() == cb.lexically_normal();
-}
-}  // namespace
-
-bool checkOutputsApart(const std::vector<NamedPath>& inputs, const std::vector<NamedPath>& outputs,
-                       std::string& err) {
-  for (size_t i = 0; i < outputs.size(); ++i) {
-    const NamedPath& o = outputs[i];
-    if (o.path.empty()) continue;
-    for (const NamedPath& in : inputs)
-      if (!in.path.empty() && samePath(o.path, in.path)) {
-        err = o.name + " " + o.path + ": is also " + in.name + " " + in.path +
-              " (an output may not overwrite an input of the same run; write it elsewhere)";
-        return false;
-      }
-    for (size_t j = 0; j < i; ++j)
-      if (!outputs[j].path.empty() && samePath(o.path, outputs[j].path)) {
-        err = o.name + " " + o.path + ": is also the output of " + outputs[j].name + " " + outputs[j].path +
-              " (each output needs its own file)";
-        return false;
-      }
-  }
-  return true;
-}
-
 bool sourceCallsExpect(const std::string& file) {
   std::ifstream in(file);
   std::string line;

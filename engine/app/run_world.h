@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/path_rule.h"  // checkOutputsApart, the output-overwrite rule
 #include "world/world.h"
 
 namespace rm3d {
@@ -54,15 +55,6 @@ const char* signalName(int sig);
 /// Creates the folder an output file goes into (and its parents). False, and `err` naming the
 /// flag, the path and why, when that fails or the path is a folder.
 bool prepareOutputFile(const char* flag, const std::string& path, std::string& err);
-/// A named file of one run: the flag (or "the world script") and the path as given.
-struct NamedPath {
-  std::string name, path;
-};
-/// The output-overwrite rule: no output may be one of the run's inputs, and no two outputs the
-/// same file (compared after resolving `..` and symlinks, and by inode where both exist). False
-/// and `err` naming both ("--json w.lua: is also the world script w.lua; ...") otherwise.
-bool checkOutputsApart(const std::vector<NamedPath>& inputs, const std::vector<NamedPath>& outputs,
-                       std::string& err);
 /// Creates an output folder (and its parents); false and `err` when that fails.
 bool prepareOutputFolder(const char* flag, const std::string& path, std::string& err);
 

@@ -4,7 +4,8 @@
 // resolved, and the file must really lie inside one of the allowed folders (a world's own folder
 // and the project root; for `require`, its search folders). An absolute name is allowed only
 // inside those folders. A file outside is never opened, so no message can show its content.
-// docs/limits.md states the rule for users.
+// checkOutputsApart is the rule for what a run writes: no output overwrites an input or another
+// output. docs/limits.md states both rules for users.
 #pragma once
 
 #include <string>
@@ -27,6 +28,16 @@ ScriptFile findScriptFile(const std::string& name, const std::vector<std::string
 
 /// "'NAME' lies outside the folders scripts may read files from (A/ and B/; see docs/limits.md)".
 std::string outsideMessage(const std::string& name, const std::vector<std::string>& allowed);
+
+/// A named file of one run: the flag (or "the world script") and the path as given.
+struct NamedPath {
+  std::string name, path;
+};
+/// The output-overwrite rule: no output may be one of the run's inputs, and no two outputs the
+/// same file (compared after resolving `..` and symlinks, and by inode where both exist). False
+/// and `err` naming both ("--json w.lua: is also the world script w.lua; ...") otherwise.
+bool checkOutputsApart(const std::vector<NamedPath>& inputs, const std::vector<NamedPath>& outputs,
+                       std::string& err);
 
 /// True when `p` is `dir` or lies below it (both absolute and normal; compared by components).
 bool pathInside(const std::string& p, const std::string& dir);

@@ -1,4 +1,4 @@
-// The output-overwrite rule (app/run_world.h checkOutputsApart): no output is an input of the
+// The output-overwrite rule (core/path_rule.h checkOutputsApart): no output is an input of the
 // same run or another output, compared after `..`, symlinks and hard links.
 #include <doctest/doctest.h>
 #include <unistd.h>
@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/run_world.h"
+#include "core/path_rule.h"
 
 namespace fs = std::filesystem;
 

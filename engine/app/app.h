@@ -26,6 +26,7 @@ struct RunArgs {
   bool quiet = false;
   bool watch = false;                    ///< real time, reload edits
   double watchdog = 5;                   ///< --watchdog S (RunOptions::watchdogSeconds)
+  double memoryBudget = 2048;            ///< --memory-budget MIB (RunOptions::memoryBudget)
   std::string trace;                     ///< --trace FILE.csv (world/trace_writer.h)
   int traceEvery = 0;                    ///< --trace-every N (0: not given, every step)
   std::vector<std::string> commandLine;  ///< argv as given, for the summary

@@ -23,6 +23,7 @@
 
 #include "app/app.h"
 #include "app/run_world.h"
+#include "script/lua_vm.h"
 
 extern char** environ;
 
@@ -62,7 +63,7 @@ bool parseNumber(const std::string& text, double& v) {
   if (text.empty()) return false;
   char* end = nullptr;
   v = std::strtod(text.c_str(), &end);
-  return *end == '\0';
+  return *end == '\0' && std::isfinite(v);  // nan and inf cells are not points
 }
 
 /// Text inside single quotes in a gnuplot script ('' is a quote).
@@ -162,6 +163,8 @@ int plotCommand(const PlotArgs& a) {
   if (!a.size.empty() && (std::sscanf(a.size.c_str(), "%dx%d", &width, &height) != 2 || width < 64 ||
                           height < 64 || width > 8192 || height > 8192))
     return fail("--size " + a.size + ": expected WIDTHxHEIGHT, 64 to 8192 each, e.g. 1000x600");
+  std::string perr;
+  if (!checkOutputsApart({{"the input", a.file}}, {{"--out", out}}, perr)) return fail(perr);
   std::error_code ec;
   if (!fs::is_regular_file(a.file, ec))
     return fail(a.file + ": cannot read the file (" +
@@ -179,6 +182,15 @@ int plotCommand(const PlotArgs& a) {
     if (!std::getline(in, line) || line.empty())
       return fail(a.file + ": empty, expected a CSV file with a header row (rm3d run --trace writes one)");
     header = splitCsv(line);
+    // Column names end up in messages and the picture: text only (the UTF-8 rule).
+    std::string shown = line;
+    makeValidUtf8(shown);
+    const bool control = std::any_of(line.begin(), line.end(),
+                                     [](char c) { return (unsigned char)c < 32 && c != '\t' && c != '\r'; });
+    if (shown != line || control)
+      return fail(a.file +
+                  ":1: the header row is not UTF-8 text (expected a CSV file with a header row of column "
+                  "names; rm3d run --trace writes one)");
     long long rowNo = 1;
     while (std::getline(in, line)) {
       ++rowNo;
@@ -250,8 +262,9 @@ int plotCommand(const PlotArgs& a) {
       return fail("--module " + a.modules[k] + ": no rows for module '" + a.modules[k] + "' in " + a.file +
                   " (modules: " + joined(modules, 40) + ")");
   if (series.empty())
-    return fail("nothing to plot: no row of " + a.file + " has numbers in both --x " + xName + " and --y " +
-                joined(a.y, 10) + (a.modules.empty() ? "" : " for --module " + joined(a.modules, 10)));
+    return fail("nothing to plot in " + a.file + ": no row has finite numbers in both --x " + xName +
+                " and --y " + joined(a.y, 10) +
+                (a.modules.empty() ? "" : " for --module " + joined(a.modules, 10)));
 
   // --mean: one point per x value, the mean of its y values, with their standard deviation.
   std::vector<std::vector<double>> spread(series.size());

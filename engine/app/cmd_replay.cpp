@@ -51,6 +51,11 @@ nlohmann::json stateJson(const SceneLayout& lay, const SceneState& st) {
 
 int replayCommand(const ReplayArgs& a) {
   std::string err;
+  if (!checkOutputsApart({{"the recording", a.file}},
+                         {{"--png", a.png}, {"--video", a.video}, {"--json", a.json}}, err)) {
+    std::fprintf(stderr, "rm3d replay: %s\n", err.c_str());
+    return 2;
+  }
   Recording rec;
   if (!rec.load(a.file, err)) {
     std::fprintf(stderr, "rm3d replay: %s\n", err.c_str());

@@ -174,6 +174,11 @@ int runCommand(const RunArgs& a, const std::string& root) {
   o.chunkSize = a.chunk;
   o.echoLog = !a.quiet;
   o.watchdogSeconds = a.watchdog;
+  if (!(a.memoryBudget >= 1 && a.memoryBudget <= 1048576)) {  // CLI11's Range lets nan through
+    std::fprintf(stderr, "rm3d run: --memory-budget %g: expected MiB, 1 to 1048576\n", a.memoryBudget);
+    return 2;
+  }
+  o.memoryBudget = a.memoryBudget * 1048576.0;
   if (!a.video.empty() && !onPath("ffmpeg")) {
     std::fprintf(stderr,
                  "rm3d run: --video needs ffmpeg, which is not installed (apt-get install ffmpeg); --png and "
@@ -181,6 +186,17 @@ int runCommand(const RunArgs& a, const std::string& root) {
     return 2;
   }
   // Output paths are checked (and their folders made) before a long run, not after it.
+  if (!checkOutputsApart({{"the world script", a.world}, {"--fork", a.fork}},
+                         {{"--json", a.json},
+                          {"--png", a.png},
+                          {"--graph", a.graph},
+                          {"--video", a.video},
+                          {"--trace", a.trace},
+                          {"--record", a.record}},
+                         err)) {
+    std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
+    return 2;
+  }
   if (!a.frames.empty() && !prepareOutputFolder("--frames", a.frames, err)) {
     std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
     return 2;

@@ -410,8 +410,12 @@ bool expandSweep(const std::vector<std::string>& params, const std::string& seed
       if (s == hi || seedList.size() > size_t(kMaxRuns)) break;
     }
   }
+  // Each factor is checked before multiplying: eight lists of 256 values would overflow.
   long long total = (long long)seedList.size();
-  for (const auto& l : lists) total *= (long long)l.second.size();
+  for (const auto& l : lists)
+    total = total > kMaxRuns / (long long)std::max<size_t>(l.second.size(), 1)
+                ? kMaxRuns + 1
+                : total * (long long)l.second.size();
   if (total > kMaxRuns) {
     err = "the sweep has more than " + std::to_string(kMaxRuns) + " runs (params x seeds); split it";
     return false;
@@ -483,6 +487,16 @@ int sweepCommand(const SweepArgs& a, const std::string& root) {
     std::fprintf(stderr, "rm3d sweep: --dry-run, --wait, --script and --slurm-option go with --slurm\n");
     return kExitBadInput;
   }
+  for (const std::string& o : a.slurmOptions)
+    if (o.empty() || o.find_first_of("\r\n") != std::string::npos || o.find('\0') != std::string::npos) {
+      std::string shown;
+      for (char c : o) shown += c == '\n' ? "\\n" : c == '\r' ? "\\r" : std::string(1, c);
+      std::fprintf(
+          stderr,
+          "rm3d sweep: --slurm-option '%s': expected one #SBATCH option on one line (no line breaks)\n",
+          shown.c_str());
+      return kExitBadInput;
+    }
   std::error_code ec;
   if (!fs::is_regular_file(a.world, ec)) {
     std::fprintf(stderr, "rm3d sweep: %s: cannot read world file (expected a .lua file)\n", a.world.c_str());

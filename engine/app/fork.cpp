@@ -50,6 +50,14 @@ bool prepareFork(const std::string& file, double at, const std::string& world, R
   }
   plan.at = at;
   plan.step = rec.frameAt(at);
+  // Every frame is decoded now (in order: each from the one before): a damaged recording is bad
+  // input (exit 2) before the run, not a "re-simulation differs" warning after it.
+  SceneState probe;
+  for (int64_t i = 0; i < rec.frameCount(); ++i)
+    if (!rec.frame(i, probe, nullptr, err)) {
+      err = "--fork " + err;
+      return false;
+    }
   plan.worldFile = SourceFiles::key(world);
   const fs::path oldWorld(rec.meta().worldFile), oldRoot(rec.meta().projectRoot);
   const fs::path newDir = fs::path(plan.worldFile).parent_path(), newRoot = SourceFiles::key(o.projectRoot);

@@ -104,6 +104,11 @@ int run(int argc, char** argv) {
                    "run in real time and reload behaviours, lua/ and the world as they are saved");
   const char* watchdogHelp = "stop a run that hangs this many seconds of wall time (exit code 3)";
   runCmd->add_option("--watchdog", run.watchdog, watchdogHelp)->check(kWatchdogSeconds);
+  runCmd
+      ->add_option("--memory-budget", run.memoryBudget,
+                   "MiB for everything the world script adds: bodies, modules, cloth, particles (default "
+                   "2048; docs/limits.md)")
+      ->check(CLI::Range(1.0, 1048576.0));
   runCmd->add_option(
       "--trace", run.trace,
       "write a time series as CSV: a row per module per traced step (README: Traces and plots)");

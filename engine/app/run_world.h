@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/path_rule.h"  // checkOutputsApart, the output-overwrite rule
 #include "world/world.h"
 
 namespace rm3d {

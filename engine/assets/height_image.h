@@ -22,5 +22,12 @@ bool loadGrayImage(const std::string& path, GrayImage& out, std::string& err);
 
 /// The largest image side loadGrayImage accepts (pixels).
 constexpr int kMaxImageSide = 1024;
+/// The largest image file read (bytes): far above any 1024 x 1024 image, far below memory.
+constexpr long long kMaxImageBytes = 64ll << 20;
+
+/// The decoder loadGrayImage uses, on bytes in memory (`name` for messages); the fuzz target's
+/// entry point. Sizes in the image's header are checked before pixels are allocated.
+bool decodeGrayImage(const unsigned char* data, size_t size, const std::string& name, GrayImage& out,
+                     std::string& err);
 
 }  // namespace rm3d

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 namespace rm3d {
@@ -20,6 +21,7 @@ constexpr uint32_t tag(const char (&s)[5]) {
 constexpr uint32_t kMeta = tag("META"), kLayout = tag("LAYO"), kFrame = tag("FRAM"), kSources = tag("SRCS"),
                    kEnd = tag("END_");
 constexpr uint64_t kMaxChunk = uint64_t(1) << 32;  // 4 GiB unpacked: more is a damaged size field
+constexpr uint64_t kMaxRatio = 1032;  // zlib's best: no chunk unpacks to more than 1032x its packed size
 
 std::string tagName(uint32_t t) {
   std::string s;
@@ -502,6 +504,13 @@ bool Recording::load(const std::string& path, std::string& err) {
           std::to_string(kRecordingVersion) + ")";
     return false;
   }
+  // Every size field is checked against what the file really holds before anything is allocated.
+  std::error_code ec;
+  const uint64_t fileSize = std::filesystem::file_size(path, ec);
+  if (ec) {
+    err = path + ": cannot read the recording (" + ec.message() + ")";
+    return false;
+  }
   bool haveMeta = false, haveLayout = false, haveEnd = false;
   uint64_t offset = 16;
   int64_t endFrames = -1;
@@ -517,9 +526,16 @@ bool Recording::load(const std::string& path, std::string& err) {
             (haveEnd ? "nothing more" : "more frames and the END_ chunk a finished run writes") + ")";
       return false;
     }
-    if (rawSize > kMaxChunk || packedSize > kMaxChunk || packedSize > compressBound(uLong(rawSize)) + 64) {
+    if (rawSize > kMaxChunk || packedSize > kMaxChunk || packedSize > compressBound(uLong(rawSize)) + 64 ||
+        rawSize > packedSize * kMaxRatio + 64) {
       err =
           path + ": damaged recording (a chunk at byte " + std::to_string(offset) + " has impossible sizes)";
+      return false;
+    }
+    if (packedSize > fileSize - std::min(fileSize, offset + 24)) {
+      err = path + ": truncated recording (the " + tagName(t) + " chunk at byte " + std::to_string(offset) +
+            " claims " + std::to_string(packedSize) + " bytes, the file has " +
+            std::to_string(fileSize - std::min(fileSize, offset + 24)) + " left; was the run killed?)";
       return false;
     }
     Packed p;

@@ -30,6 +30,7 @@ bool Behaviour::load(const std::string& path, std::string& err) {
                        (fs::path(root) / "behaviors").string()});
   // Percepts, actions and noise models load on first use (installLazyPrelude), then the behaviour.
   installLazyPrelude();
+  m_file = m_vm.displayName(path);
   if (!m_vm.runFile(path, 0, err)) return false;
   // Check the percept and action declarations now, so a misspelt sensor is a load error.
   if (!checkDeclarations(path, err)) return false;
@@ -100,10 +101,16 @@ int refreshCallbackRefs(lua_State* L) {
     luaL_unref(L, LUA_REGISTRYINDEX, *s.ref);
     *s.ref = LUA_NOREF;
     lua_pushstring(L, s.name);
-    if (lua_rawget(L, g) == LUA_TFUNCTION)
+    const int type = lua_rawget(L, g);
+    if (type == LUA_TFUNCTION) {
       *s.ref = luaL_ref(L, LUA_REGISTRYINDEX);
-    else
+    } else if (type != LUA_TNIL) {
+      // A callback that is not a function would never run: a fault, not silence.
+      return luaL_error(L, "the global '%s' is a %s; expected a function %s(...) or nil", s.name,
+                        luaL_typename(L, -1), s.name);
+    } else {
       lua_pop(L, 1);
+    }
   }
   return 0;
 }
@@ -190,7 +197,9 @@ std::string Behaviour::locateDeclaration(const std::string& path, const std::str
 }
 
 bool Behaviour::refreshCallbacks(std::string& err) {
-  return m_vm.protect(refreshCallbackRefs, &m_ctx, 0, err, "the callback look-up");
+  if (m_vm.protect(refreshCallbackRefs, &m_ctx, 0, err, "the callback look-up")) return true;
+  if (err.rfind(m_file + ":", 0) != 0) err = m_file + ": " + err;
+  return false;
 }
 
 bool Behaviour::reload(const std::string& path, const std::string& source, std::string& err) {
@@ -198,6 +207,7 @@ bool Behaviour::reload(const std::string& path, const std::string& source, std::
   const int top = lua_gettop(L);
   std::string chunk = "@";
   chunk += m_vm.displayName(path);
+  m_file = m_vm.displayName(path);
   if (luaL_loadbufferx(L, source.data(), source.size(), chunk.c_str(), "t") != LUA_OK) {
     err = lua_tostring(L, -1);
     lua_settop(L, top);

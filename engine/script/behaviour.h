@@ -52,6 +52,7 @@ class Behaviour : public ModuleProgram {
   std::string locateDeclaration(const std::string& path, const std::string& err) const;
   LuaVm m_vm;
   BehaviourContext m_ctx;
+  std::string m_file;  ///< the behaviour file as messages show it
 };
 
 }  // namespace rm3d

@@ -5,6 +5,7 @@
 #include "script/behaviour.h"
 #include "script/behaviour_bindings.h"
 #include "script/lua_value.h"
+#include "script/lua_vm.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -141,6 +142,7 @@ void openDockType(lua_State* L) {
       {"enable", dockEnable},   {"disable", dockDisable}, {"send", dockSend},
       {"name", dockName},       {"peer", dockPeer},       {nullptr, nullptr}};
   luaL_newmetatable(L, kDockMeta);
+  sealMetatable(L);
   behaviourContext(L).dockMeta = lua_topointer(L, -1);
   luaL_newlib(L, methods);
   lua_setfield(L, -2, "__index");

@@ -5,6 +5,7 @@
 
 #include "script/behaviour.h"
 #include "script/behaviour_bindings.h"
+#include "script/lua_vm.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -132,6 +133,7 @@ void openJointType(lua_State* L) {
                                      {"limits", jointLimits},
                                      {nullptr, nullptr}};
   luaL_newmetatable(L, kJointMeta);
+  sealMetatable(L);
   behaviourContext(L).jointMeta = lua_topointer(L, -1);
   luaL_newlib(L, methods);
   lua_setfield(L, -2, "__index");

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 
 #include "script/linalg_internal.h"
 #include "script/lua_vm.h"
@@ -31,6 +32,10 @@ MatHeader* newMat(lua_State* L, lua_Integer rows, lua_Integer cols, bool vector,
   if (rows < 1 || cols < 1 || rows > kMaxDim || cols > kMaxDim || rows * cols > kMaxEntries)
     luaL_error(L, "linalg: %s: bad size %dx%d (expected 1 to %d rows and columns, at most %d entries)", fn,
                int(rows), int(cols), int(kMaxDim), int(kMaxEntries));
+  const double bytes = double(sizeof(MatHeader)) + double(rows) * double(cols) * sizeof(double);
+  char what[96];
+  std::snprintf(what, sizeof what, "linalg: %s: a %dx%d matrix", fn, int(rows), int(cols));
+  LuaVm::checkRoom(L, bytes, what);
   auto* h = static_cast<MatHeader*>(
       lua_newuserdatauv(L, sizeof(MatHeader) + size_t(rows) * size_t(cols) * sizeof(double), 0));
   h->rows = int32_t(rows);
@@ -39,6 +44,17 @@ MatHeader* newMat(lua_State* L, lua_Integer rows, lua_Integer cols, bool vector,
   h->pad = 0;
   luaL_setmetatable(L, kMatrixMeta);
   return h;
+}
+
+void checkFinite(lua_State* L, MatHeader* a, const char* fn) {
+  const double* d = a->data();
+  for (int64_t k = 0; k < int64_t(a->rows) * a->cols; ++k)
+    if (!std::isfinite(d[k]))
+      luaL_error(L, "linalg: %s: entry (%d, %d) is %s; expected finite numbers", fn, int(k % a->rows) + 1,
+                 int(k / a->rows) + 1,
+                 std::isnan(d[k]) ? "nan"
+                 : d[k] > 0       ? "inf"
+                                  : "-inf");
 }
 
 MatHeader* newLike(lua_State* L, const MatHeader* a, const char* fn) {
@@ -185,8 +201,7 @@ void newMeta(lua_State* L, const char* name, const luaL_Reg* metamethods, const 
   lua_setfield(L, -2, "__index");
   lua_pushstring(L, name);
   lua_setfield(L, -2, "__name");
-  lua_pushboolean(L, 0);
-  lua_setfield(L, -2, "__metatable");  // scripts cannot swap or read the metatable
+  sealMetatable(L);  // scripts cannot swap or read the metatable
   lua_pop(L, 1);
 }
 

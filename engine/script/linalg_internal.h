@@ -87,6 +87,9 @@ int needSquare(lua_State* L, const char* fn, const MatHeader* a);
 int anyMul(lua_State* L);
 /// A copy of a scaled by s.
 int matScaled(lua_State* L, MatHeader* a, double s);
+/// Raises "linalg: FN: entry (i, j) is nan; expected finite numbers" for a NaN or inf entry:
+/// decompositions are only defined on finite input (Eigen's SVD of a NaN leaves garbage).
+void checkFinite(lua_State* L, MatHeader* a, const char* fn);
 /// Registers a metatable with methods (as __index), __name, and a hidden __metatable.
 void newMeta(lua_State* L, const char* name, const luaL_Reg* metamethods, const luaL_Reg* methods);
 

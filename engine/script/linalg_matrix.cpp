@@ -93,6 +93,7 @@ int matCopy(lua_State* L) {
 /// A:inv() (square; errors when singular)
 int matInv(lua_State* L) {
   MatHeader* a = checkMat(L, 1, "inv");
+  checkFinite(L, a, "inv");
   if (a->rows != a->cols) return needSquare(L, "inv", a);
   chargeFlops(L, double(a->rows) * a->rows * a->rows);
   MatHeader* r = newMat(L, a->rows, a->rows, false, "inv");
@@ -113,6 +114,7 @@ int matInv(lua_State* L) {
 /// A:det()
 int matDet(lua_State* L) {
   MatHeader* a = checkMat(L, 1, "det");
+  checkFinite(L, a, "det");
   if (a->rows != a->cols) return needSquare(L, "det", a);
   chargeFlops(L, double(a->rows) * a->rows * a->rows);
   double det = 0;
@@ -129,6 +131,8 @@ int matDet(lua_State* L) {
 int matSolve(lua_State* L) {
   MatHeader* a = checkMat(L, 1, "solve");
   MatHeader* b = checkMat(L, 2, "solve");
+  checkFinite(L, a, "solve");
+  checkFinite(L, b, "solve");
   if (a->rows != b->rows) {
     return luaL_error(
         L, "linalg: shape mismatch: solve of %dx%d with a right-hand side of %dx%d (expected %d rows)",
@@ -163,6 +167,7 @@ int matSolve(lua_State* L) {
 /// eps * max(r, c) * largest) count as zero
 int matPinv(lua_State* L) {
   MatHeader* a = checkMat(L, 1, "pinv");
+  checkFinite(L, a, "pinv");
   const double tol = luaL_optnumber(L, 2, -1);
   chargeFlops(L, 4.0 * a->rows * a->cols * std::min(a->rows, a->cols));
   MatHeader* r = newMat(L, a->cols, a->rows, false, "pinv");
@@ -184,6 +189,7 @@ int matPinv(lua_State* L) {
 /// A:svd() -> U, s, V with A = U diag(s) V^T (thin: k = min(r, c) columns; s descending)
 int matSvd(lua_State* L) {
   MatHeader* a = checkMat(L, 1, "svd");
+  checkFinite(L, a, "svd");
   chargeFlops(L, 4.0 * a->rows * a->cols * std::min(a->rows, a->cols));
   const int k = std::min(a->rows, a->cols);
   MatHeader* u = newMat(L, a->rows, k, false, "svd");
@@ -228,6 +234,8 @@ int dlsSolve(MatHeader* a, MatHeader* b, double lambda, MatHeader* x) {
 int matDls(lua_State* L) {
   MatHeader* a = checkMat(L, 1, "dls");
   MatHeader* b = checkMat(L, 2, "dls");
+  checkFinite(L, a, "dls");
+  checkFinite(L, b, "dls");
   if (lua_type(L, 3) != LUA_TNUMBER)
     return luaL_error(L, "linalg: dls: the damping lambda (argument 2) must be a number, got %s",
                       kindName(L, 3));

@@ -14,6 +14,7 @@
 #include <lua.hpp>
 #include <sstream>
 
+#include "core/path_rule.h"
 #include "core/source_files.h"
 #include "script/linalg_binding.h"
 #include "script/watchdog.h"
@@ -91,16 +92,7 @@ int safeRep(lua_State* L) {
   luaL_optlstring(L, 3, "", &seplen);
   if (n > 1) {
     const double total = double(len) * double(n) + double(seplen) * double(n - 1);
-    LuaVm* vm = LuaVm::from(L);
-    const size_t limit = vm->memoryLimit();
-    if (limit) {
-      const double room = limit > vm->memoryUsed() ? double(limit - vm->memoryUsed()) : 0.0;
-      if (total > room)
-        return luaL_error(L,
-                          "out of memory: string.rep would make a string of %I bytes, more than the memory "
-                          "cap (%d MiB) leaves room for",
-                          lua_Integer(total), int((limit + (1 << 19)) >> 20));
-    }
+    LuaVm::checkRoom(L, total, "string.rep");
     LuaVm::charge(L, int64_t(total / 16), "string.rep");  // about one instruction's time per 16 bytes copied
   }
   lua_pushvalue(L, lua_upvalueindex(1));
@@ -126,13 +118,22 @@ bool validModuleName(const char* name) {
   return !start;
 }
 
-bool isInside(const fs::path& p, const fs::path& dir) {
-  auto [a, b] = std::mismatch(dir.begin(), dir.end(), p.begin(), p.end());
-  (void)b;
-  return a == dir.end();
+}  // namespace
+
+void LuaVm::checkRoom(lua_State* L, double bytes, const char* what) {
+  LuaVm* vm = LuaVm::from(L);
+  const size_t limit = vm->memoryLimit();
+  if (!limit) return;
+  const double room = limit > vm->memoryUsed() ? double(limit - vm->memoryUsed()) : 0.0;
+  if (bytes > room)
+    luaL_error(L, "out of memory: %s would take %I bytes, more than the memory cap (%d MiB) leaves room for",
+               what, lua_Integer(std::min(bytes, 9e18)), int((limit + (1 << 19)) >> 20));
 }
 
-}  // namespace
+void sealMetatable(lua_State* L) {
+  lua_pushboolean(L, 0);
+  lua_setfield(L, -2, "__metatable");
+}
 
 void makeValidUtf8(std::string& s) {
   // Invalid bytes become U+FFFD (as the JSON writer does), so a message reads the same everywhere.
@@ -523,41 +524,25 @@ int LuaVm::require(lua_State* L) {
       if (c == '.') c = '/';
     rel += ".lua";
     std::string tried, problem;
-    for (const std::string& dir : vm->m_requirePath) {
-      const fs::path path = fs::path(dir) / rel;
-      std::error_code ec;
-      if (vm->m_sources ? !vm->m_sources->isFile(path.string()) : !fs::is_regular_file(path, ec)) {
-        tried += "\n\tno file '" + vm->displayName(path.string()) + "'";
-        continue;
-      }
-      // The file must really lie inside one of the allowed folders (no symlinks out).
-      const fs::path real = fs::canonical(path, ec);
-      bool inside = vm->m_sources && vm->m_sources->overlaid(path.string());  // checked when recorded
-      for (const std::string& allowed : vm->m_requirePath) {
-        std::error_code ec2;
-        const fs::path realDir = fs::canonical(allowed, ec2);
-        if (!ec && !ec2 && isInside(real, realDir)) inside = true;
-      }
-      const std::string shown = vm->displayName(path.string());
-      std::string text;
-      if (!inside) {
-        problem = "require: '" + shown +
-                  "' leads outside the folders scripts may load from (lua/, behaviors/, the script's folder)";
-      } else if (vm->m_sources ? !vm->m_sources->read(path.string(), text)
-                               : !readTextFile(path.string(), text)) {
-        problem = "require: cannot read '" + shown + "'";
-      } else {
-        const std::string chunk = "@" + shown;
-        if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") == LUA_OK)
-          found = true;
-        else
-          problem =
-              lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "require: cannot load '" + shown + "'";
-        if (!found) lua_pop(L, 1);
-      }
-      tried.clear();
-      if (!found && problem.empty()) problem = "require: cannot load '" + shown + "'";
-      break;
+    const ScriptFile f = findScriptFile(rel, vm->m_requirePath, vm->m_requirePath, vm->m_sources);
+    const std::string shown = vm->displayName(f.path);
+    std::string text;
+    if (f.status == ScriptFile::Status::Missing) {
+      for (const std::string& dir : vm->m_requirePath)
+        tried += "\n\tno file '" + vm->displayName((fs::path(dir) / rel).string()) + "'";
+    } else if (f.status == ScriptFile::Status::Outside) {
+      problem = "require: '" + shown +
+                "' leads outside the folders scripts may load from (lua/, behaviors/, the script's folder)";
+    } else if (vm->m_sources ? !vm->m_sources->read(f.path, text) : !readTextFile(f.path, text)) {
+      problem = "require: cannot read '" + shown + "'";
+    } else {
+      const std::string chunk = "@" + shown;
+      if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") == LUA_OK)
+        found = true;
+      else
+        problem =
+            lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "require: cannot load '" + shown + "'";
+      if (!found) lua_pop(L, 1);
     }
     if (!found) {
       luaL_where(L, 1);

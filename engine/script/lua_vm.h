@@ -86,6 +86,11 @@ class LuaVm {
 
   /// The LuaVm that owns a state (stored in the state's extra space slot next to the user slot).
   static LuaVm* from(lua_State* L);
+  /// Raises "out of memory: WHAT would take N bytes, more than the memory cap (M MiB) leaves room
+  /// for" (a Lua error, so it carries file:line) when `bytes` do not fit under the VM's cap:
+  /// called before anything large is built on a script's behalf (string.rep, linalg matrices,
+  /// particle position tables).
+  static void checkRoom(lua_State* L, double bytes, const char* what);
   /// A per-state pointer for bindings (the module or world context).
   void setUser(void* p) { m_user = p; }
   void* user() const { return m_user; }
@@ -141,6 +146,11 @@ class LuaVm {
   std::string m_owner = "module";
   std::string m_name;
 };
+
+/// Seals the metatable on the top of the stack: getmetatable on a handle returns false, and
+/// setmetatable refuses it, so no script can add __gc (or any other metamethod) to a handle type.
+/// Every handle type (Body, Module, Cloth, Heightfield, Particles, Joint, Dock, linalg) uses it.
+void sealMetatable(lua_State* L);
 
 /// Replaces bytes that are not valid UTF-8 with '?' (fault texts end up in JSON and logs).
 void makeValidUtf8(std::string& s);

@@ -16,6 +16,7 @@
 
 #include "assets/mesh_loader.h"
 #include "core/error.h"
+#include "core/path_rule.h"
 #include "script/lua_vm.h"
 
 namespace fs = std::filesystem;
@@ -498,26 +499,14 @@ class TypeReader {
   /// Finds the mesh file (the module-type file's folder first, then the project root), loads it
   /// (once per file and scale) and fills the hull fields of s.
   void loadHull(const std::string& name, double scale, const std::string& where, ShapeDef& s) {
-    const fs::path given(name);
-    std::vector<fs::path> candidates;
-    if (given.is_absolute())
-      candidates = {given};
-    else
-      candidates = {m_dir / given, m_root / given};
-    std::string path;
-    std::error_code ec;
-    for (const fs::path& c : candidates) {
-      if (fs::is_regular_file(c, ec)) {
-        path = c.lexically_normal().string();
-        break;
-      }
-    }
+    const std::vector<std::string> folders = {m_dir.string(), m_root.string()};
+    const ScriptFile f = findScriptFile(name, folders, folders, nullptr);
+    if (f.status == ScriptFile::Status::Outside) fail(where, "mesh file " + outsideMessage(name, folders));
+    const std::string path = f.path;
     if (path.empty())
-      fail(where,
-           "mesh file '" + name + "' not found" +
-               (given.is_absolute() ? std::string()
-                                    : " (looked in " + (m_dir / "").lexically_normal().string() + " and " +
-                                          (m_root / "").lexically_normal().string() + ", the project root)"));
+      fail(where, "mesh file '" + name + "' not found (looked in " +
+                      (m_dir / "").lexically_normal().string() + " and " +
+                      (m_root / "").lexically_normal().string() + ", the project root)");
     const std::string display = m_vm.displayName(path);
     auto key = std::make_pair(path, scale);
     auto it = m_meshes.find(key);

@@ -152,6 +152,9 @@ int worldGround(lua_State* L) {
   const double friction = optNumberField(L, 1, fn, "friction", 0.8);
   const double restitution = optNumberField(L, 1, fn, "restitution", 0.0);
   if (friction < 0) return luaL_error(L, "%s: friction must not be negative", fn);
+  if (!(restitution >= 0 && restitution <= 1))
+    return luaL_error(L, "%s: restitution must be in [0, 1] (0: no bounce, 1: a full bounce), got %s", fn,
+                      numText(restitution).s);
   return callWorld(L, fn, [&] {
     world(L).addGround(friction, restitution);
     return 0;

@@ -6,6 +6,7 @@
 #include "assets/mesh_loader.h"
 #include "core/error.h"
 #include "script/lua_options.h"
+#include "script/lua_vm.h"
 #include "script/world_bindings.h"
 #include "world/world.h"
 
@@ -56,6 +57,7 @@ void openBodyHandle(lua_State* L) {
                                          {"sleeping", bodySleeping},
                                          {nullptr, nullptr}};
   luaL_newmetatable(L, kBodyMeta);
+  sealMetatable(L);
   luaL_newlib(L, bodyMethods);
   lua_setfield(L, -2, "__index");
   lua_pop(L, 1);

@@ -6,6 +6,7 @@
 
 #include "physics/cloth.h"
 #include "script/lua_options.h"
+#include "script/lua_vm.h"
 #include "script/world_bindings.h"
 #include "world/world.h"
 
@@ -181,6 +182,7 @@ void openClothHandle(lua_State* L) {
                                      {"pin", clothPin},       {"unpin", clothUnpin},
                                      {"pinned", clothPinned}, {nullptr, nullptr}};
   luaL_newmetatable(L, kClothMeta);
+  sealMetatable(L);
   luaL_newlib(L, methods);
   lua_setfield(L, -2, "__index");
   lua_pop(L, 1);

@@ -7,6 +7,7 @@
 #include "assets/height_image.h"
 #include "core/error.h"
 #include "script/lua_options.h"
+#include "script/lua_vm.h"
 #include "script/world_bindings.h"
 #include "world/world.h"
 
@@ -187,6 +188,7 @@ void openHeightfieldHandle(lua_State* L) {
       {"velocity", hfVelocity},  {"count", hfCount},       {"resolution", hfResolution},
       {"bounds", hfBounds},      {nullptr, nullptr}};
   luaL_newmetatable(L, kHeightfieldMeta);
+  sealMetatable(L);
   luaL_newlib(L, methods);
   lua_setfield(L, -2, "__index");
   lua_pop(L, 1);

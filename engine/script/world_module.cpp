@@ -5,6 +5,7 @@
 
 #include "script/lua_options.h"
 #include "script/lua_value.h"
+#include "script/lua_vm.h"
 #include "script/sensor_reading.h"
 #include "script/world_bindings.h"
 #include "world/world.h"
@@ -329,6 +330,7 @@ void openModuleHandle(lua_State* L) {
       {"dock_gender", moduleDockGender},   {"sensor", moduleSensorRead},
       {"inject_fault", moduleInjectFault}, {nullptr, nullptr}};
   luaL_newmetatable(L, kModuleMeta);
+  sealMetatable(L);
   luaL_newlib(L, moduleMethods);
   lua_setfield(L, -2, "methods");
   lua_pushcfunction(L, moduleIndex);

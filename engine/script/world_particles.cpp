@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "script/lua_options.h"
+#include "script/lua_vm.h"
 #include "script/world_bindings.h"
 #include "world/world.h"
 
@@ -54,6 +55,9 @@ int particlesMeanVelocity(lua_State* L) {
 int particlesPositions(lua_State* L) {
   const ParticleSystem& ps = checkParticles(L);
   const int n = ps.count();
+  // About 136 bytes a particle (a slot in the list, a 3-entry table): checked against the memory
+  // cap before anything is built, so a huge system is an error with file:line.
+  LuaVm::checkRoom(L, double(n) * 136.0, "p:positions() (a table per particle)");
   lua_createtable(L, n, 0);
   for (int i = 0; i < n; ++i) {
     lua_createtable(L, 3, 0);
@@ -162,6 +166,11 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
   if (iterations < 1 || iterations > 50) return range("iterations", double(iterations), 1, 50);
   d.iterations = int(iterations);
   if (substeps < 1 || substeps > 50) return range("substeps", double(substeps), 1, 50);
+  if (substeps > iterations)
+    return luaL_error(L,
+                      "%s: substeps (%d) must not exceed iterations (%d): the iterations are spread over the "
+                      "substeps, so at most %d substeps can run; raise iterations or lower substeps",
+                      fn, int(substeps), int(iterations), int(iterations));
   d.substeps = int(substeps);
   return callWorld(L, fn, [&] {
     const int index = scriptWorld(L).addParticles(d);
@@ -195,6 +204,7 @@ void openParticleApi(lua_State* L) {
                                      {"count_in", particlesCountIn},
                                      {nullptr, nullptr}};
   luaL_newmetatable(L, kParticlesMeta);
+  sealMetatable(L);
   luaL_newlib(L, methods);
   lua_setfield(L, -2, "__index");
   lua_pushcfunction(L, particlesToString);

@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "world/behaviour_pool.h"
+#include "world/budget.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -22,6 +23,8 @@ int World::addParticles(const ParticleDef& def) {
                   kMaxParticles);
     throw InputError(buf);
   }
+  chargeBudget(def.particleCount() * budget::kParticle,
+               std::to_string((long long)def.particleCount()) + " particles");
   m_particles.push_back(std::make_unique<ParticleSystem>(def));
   return int(m_particles.size()) - 1;
 }

@@ -11,10 +11,12 @@
 #include <string_view>
 
 #include "core/error.h"
+#include "core/path_rule.h"
 #include "core/source_files.h"
 #include "core/text_file.h"
 #include "docking/dock_frame.h"
 #include "world/behaviour_pool.h"
+#include "world/budget.h"
 #include "world/module_handle.h"
 
 namespace fs = std::filesystem;
@@ -168,6 +170,10 @@ int World::addObstacle(const ShapeDef& shape, const Pose& pose, double mass, dou
       (!shape.grid || shape.grid->nx < 2 || shape.grid->ny < 2 ||
        shape.grid->heights.size() != size_t(shape.grid->nx) * size_t(shape.grid->ny)))
     throw InputError("a heightfield needs a grid of at least 2 x 2 heights");
+  double bytes = budget::kBody + double(shape.points.size()) * budget::kMeshPoint +
+                 double(shape.triangles.size()) * budget::kMeshIndex;
+  if (shape.grid) bytes += double(shape.grid->heights.size()) * budget::kHeightSample;
+  chargeBudget(bytes, "a body");
   ensurePhysics();
   PartDesc d;
   d.shapes = {shape};
@@ -180,7 +186,23 @@ int World::addObstacle(const ShapeDef& shape, const Pose& pose, double mass, dou
   return part;
 }
 
+void World::chargeBudget(double bytes, const std::string& what) {
+  const double budget = m_options.memoryBudget;
+  if (!(m_budgetUsed + bytes <= budget)) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "the world's memory budget: %s would take %.0f MiB, %.0f MiB of the %.0f MiB budget are "
+                  "left (everything a world script adds shares it; see docs/limits.md)",
+                  what.c_str(), bytes / 1048576, std::max(0.0, budget - m_budgetUsed) / 1048576,
+                  budget / 1048576);
+    throw InputError(buf);
+  }
+  m_budgetUsed += bytes;
+}
+
 int World::addCloth(const ClothDesc& desc, const std::array<float, 4>& color) {
+  chargeBudget(double(desc.nx) * double(desc.ny) * budget::kClothNode,
+               "a cloth of " + std::to_string(desc.nx) + " x " + std::to_string(desc.ny) + " nodes");
   ensurePhysics();
   const int c = m_physics->addCloth(desc);
   m_cloths.push_back({desc.nx, desc.ny, color});
@@ -217,15 +239,11 @@ bool World::obstacleSleeping(int part) const {
 }
 
 std::string World::resolvePath(const std::string& path) const {
-  const fs::path p(path);
-  if (p.is_absolute()) return p.string();
-  const fs::path worldDir = fs::path(m_worldFile).parent_path();
-  for (const fs::path& base : {worldDir, fs::path(m_options.projectRoot)}) {
-    const fs::path c = (base / p).lexically_normal();
-    const bool overlaid = m_options.sources && m_options.sources->overlayOn() && c.extension() == ".lua";
-    if (overlaid ? m_options.sources->isFile(c.string()) : fs::exists(c)) return c.string();
-  }
-  return {};
+  const std::vector<std::string> folders = {fs::path(m_worldFile).parent_path().string(),
+                                            m_options.projectRoot};
+  const ScriptFile f = findScriptFile(path, folders, folders, m_options.sources.get());
+  if (f.status == ScriptFile::Status::Outside) throw InputError(outsideMessage(path, folders));
+  return f.path;
 }
 
 bool World::sourceExists(const std::string& path) const {
@@ -289,6 +307,7 @@ const ModuleTypeDef* World::loadedModuleType(const std::string& name) const {
 int World::spawn(const SpawnDef& def) {
   if (m_started) throw InputError("modules are spawned while the world script runs, before the first step");
   const ModuleTypeDef& type = moduleType(def.type);
+  chargeBudget(budget::kBody * double(type.links.size()), "a module");
   ensurePhysics();
   std::string behaviourPath;
   if (!def.behaviour.empty()) {

@@ -51,6 +51,7 @@ struct RunOptions {
   int64_t behaviourBudget = 10'000'000;       ///< Lua instructions per callback
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
   size_t worldMemoryLimit = 256u << 20;       ///< bytes for the world VM
+  double memoryBudget = 2048.0 * (1 << 20);   ///< bytes for what the world script adds (--memory-budget)
   size_t mailboxLimit = 8u << 20;             ///< bytes of unread messages per module; more are dropped
   double watchdogSeconds = 5;                 ///< wall-clock limit on one call into a VM (0: none)
   bool echoLog = true;                        ///< print module log lines to stderr
@@ -206,6 +207,13 @@ class World {
   /// Throws InputError (too many particles in the world, or none in the box).
   int addParticles(const ParticleDef& def);
   static constexpr double kMaxParticles = 2'000'000;  ///< in one world, all systems together
+  /// One budget for everything a world allocates on behalf of its script (bodies, meshes and
+  /// heightfields, modules, cloth nodes, particles), in estimated bytes (world/budget.h):
+  /// RunOptions::memoryBudget. Each addition is charged before it is built; one past the budget
+  /// throws InputError ("the world's memory budget: WHAT would take N MiB, M MiB of the 2048 MiB
+  /// budget are left"; docs/limits.md).
+  void chargeBudget(double bytes, const std::string& what);
+  double budgetUsed() const { return m_budgetUsed; }
   const std::vector<std::unique_ptr<ParticleSystem>>& particleSystems() const { return m_particles; }
   bool hasGround() const { return m_groundAdded; }
   void setCamera(const CameraDef& c) { m_camera = c; }
@@ -255,7 +263,8 @@ class World {
   void setMetric(const std::string& name, double value) { m_metrics[name] = value; }
   const std::map<std::string, double>& metrics() const { return m_metrics; }
   void requestStop() { m_stopRequested = true; }
-  /// Resolves a path from a world script: the world's folder first, then the project root.
+  /// Resolves a path from a world script: the world's folder first, then the project root (the
+  /// path rule, core/path_rule.h). Empty when not found; InputError when it lies outside both.
   std::string resolvePath(const std::string& path) const;
   /// A source file exists (through options().sources when set, else on disk).
   bool sourceExists(const std::string& path) const;
@@ -334,6 +343,7 @@ class World {
   std::map<std::string, double> m_metrics;
   std::vector<Obstacle> m_obstacles;
   std::vector<Cloth> m_cloths;
+  double m_budgetUsed = 0;  ///< bytes charged by chargeBudget
   std::vector<std::unique_ptr<ParticleSystem>> m_particles;
   ColliderSet m_colliders;  ///< reused every step
   CameraDef m_camera;

@@ -3,7 +3,7 @@
 local pitch = module.joint("pitch")
 local target = 0
 function on_dock(dock, event)
-  assert(getmetatable(dock) and dock:name(), "on_dock gets a Dock")
+  assert(type(dock) == "userdata" and dock:name(), "on_dock gets a Dock")
   if event == "engaged" then target = 0.5
   elseif event == "disengaged" then target = -0.5
   elseif event == "broken" then target = -1.0

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets into build-fuzz/ (clang, -DRM3D_FUZZ=ON) and runs them.
-# Usage: tests/fuzz/run.sh TARGET SECONDS    TARGET: module_type, world_script, lua_value or all
+# Usage: tests/fuzz/run.sh TARGET SECONDS    TARGET: module_type, world_script, lua_value, recording,
+#        height_image or all
 #        (all: each target in turn for SECONDS). Env: FUZZ_JOBS (parallel fuzzing processes per
 #        target, default 1), FUZZ_ARGS (extra libFuzzer flags).
 # The corpus grows in build-fuzz/corpus/TARGET (seeded from the project's module types or worlds,
@@ -11,9 +12,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 root=$(pwd)
-[ $# -eq 2 ] || { echo "usage: $0 module_type|world_script|lua_value|all SECONDS" >&2; exit 2; }
+[ $# -eq 2 ] || { echo "usage: $0 module_type|world_script|lua_value|recording|height_image|all SECONDS" >&2; exit 2; }
 target=$1 seconds=$2
-targets=(module_type world_script lua_value)
+targets=(module_type world_script lua_value recording height_image)
 if [ "$target" = all ]; then
   sel=("${targets[@]}")
 else
@@ -41,9 +42,12 @@ for t in "${sel[@]}"; do
   [ -f "tests/fuzz/$t.dict" ] && dict=(-dict="tests/fuzz/$t.dict")
   # Seeds: the project's own files of that kind (read in place, not copied), plus hand-made ones.
   seeds=()
+  maxlen=${FUZZ_MAX_LEN:-8192}
   case $t in
     module_type) seeds=(assets/modules tests/modules) ;;
     world_script) seeds=(worlds tests/worlds) ;;
+    height_image) ;;  # seeds: tests/fuzz/corpus/height_image (small gray and colour PNGs)
+    recording) maxlen=${FUZZ_MAX_LEN:-65536} ;;  # seeds: tests/fuzz/corpus/recording (small runs)
   esac
   [ -d "tests/fuzz/corpus/$t" ] && seeds+=("tests/fuzz/corpus/$t")
   echo "== fuzz_$t for $seconds s"
@@ -52,7 +56,7 @@ for t in "${sel[@]}"; do
   # reports still come through.
   rc=0
   "build-fuzz/fuzz_$t" -fork="${FUZZ_JOBS:-1}" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
-    -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=8192 -close_fd_mask=3 \
+    -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=$maxlen -close_fd_mask=3 \
     -artifact_prefix="$crashes/" -print_final_stats=1 "${dict[@]}" ${FUZZ_ARGS:-} \
     "$corpus" "${seeds[@]}" || rc=$?
   n=$(find "$crashes" -type f | wc -l)

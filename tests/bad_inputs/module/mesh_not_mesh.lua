@@ -1,4 +1,4 @@
 return {
   name = 't',
-  links = { { name = 'body', mass = 1, shapes = { { mesh = '/etc/hostname' } } } },
+  links = { { name = 'body', mass = 1, shapes = { { mesh = 'mesh_not_mesh.lua' } } } },
 }

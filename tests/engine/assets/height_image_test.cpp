@@ -42,3 +42,19 @@ TEST_CASE("colour images, non-images, folders and missing files are refused, nam
   CHECK_FALSE(rm3d::loadGrayImage(kRoot + "/no_such.png", img, err));
   CHECK(err.find("no_such.png' not found") != std::string::npos);
 }
+
+TEST_CASE("a PNG whose header claims 65535 x 65535 pixels is 'too large', read from the header") {
+  rm3d::GrayImage img;
+  std::string err;
+  CHECK_FALSE(rm3d::loadGrayImage(kRoot + "/tests/bad_inputs/world/heightfield_huge.png", img, err));
+  CHECK(err.find("heightfield_huge.png' is too large: 65535 x 65535 pixels; at most 1024 x 1024") !=
+        std::string::npos);
+  CHECK(img.values.empty());
+  // The same bytes in memory, and a header cut short: a message, never an allocation.
+  const unsigned char header[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0,    13,
+                                  'I',  'H', 'D', 'R', 0,    0,    0xff, 0xff, 0, 0, 0xff, 0xff};
+  CHECK_FALSE(rm3d::decodeGrayImage(header, sizeof header, "mem.png", img, err));
+  CHECK(err.find("'mem.png' is too large: 65535 x 65535 pixels") == 0);
+  CHECK_FALSE(rm3d::decodeGrayImage(header, 10, "short.png", img, err));
+  CHECK(err.find("'short.png' is not an image") == 0);
+}

@@ -149,7 +149,7 @@ TEST_CASE("the memory cap is soft: the error names file:line and has a traceback
   CHECK(runString(vm, "local s = 0 for i = 1, 10 do s = s + i end", err));  // the garbage is collected
   // string.rep checks the size before building the string.
   CHECK_FALSE(runString(vm, "local s = string.rep('x', 1e9)", err));
-  CHECK(has(err, "probe.lua:1: out of memory: string.rep would make a string of 1000000000 bytes"));
+  CHECK(has(err, "probe.lua:1: out of memory: string.rep would take 1000000000 bytes"));
   // table.concat and string.format are bounded by the cap too.
   CHECK_FALSE(runString(vm,
                         "local t = {} for i = 1, 64 do t[i] = string.rep('y', 100000) end\nlocal s = t\nfor "

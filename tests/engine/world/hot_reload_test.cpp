@@ -24,14 +24,14 @@ TEST_CASE("a rewritten behaviour takes over, keeping state; a broken one is reje
   write(file,
         "state.steps = state.steps or 0\n"
         "function step(dt) state.steps = state.steps + 1; module.joint('pitch'):set_target(0.3) end\n");
-  const std::string script =
-      "world.set{gravity = {0, 0, 0}}\n"
-      "world.spawn('superbot', {behavior = '" +
-      file.string() +
-      "'})\n"
-      "world.spawn('superbot', {at = {1, 0, 0}, behavior = '" +
-      file.string() + "'})\n";
-  auto w = test::makeWorld(script);
+  // The world lies beside the behaviour: a script names files in its own folder or the project
+  // root (the path rule, docs/limits.md).
+  write(dir / "world.lua",
+        "world.set{gravity = {0, 0, 0}}\n"
+        "world.spawn('superbot', {behavior = 'nod.lua'})\n"
+        "world.spawn('superbot', {at = {1, 0, 0}, behavior = 'nod.lua'})\n");
+  auto w = std::make_unique<World>(test::options());
+  w->loadFile((dir / "world.lua").string());
   test::stepFor(*w, 1.0);
   CHECK(w->jointAngle(0, 0) == doctest::Approx(0.3).epsilon(0.02));
 

@@ -1,0 +1,3 @@
+function step()
+  getmetatable(module.dock("front")).__index = nil --!
+end

@@ -1,0 +1,3 @@
+function init()
+  on_dock = {} --!
+end

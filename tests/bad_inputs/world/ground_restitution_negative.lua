@@ -1,0 +1,2 @@
+world.set{duration = 0.2}
+world.ground{restitution = -3} --!

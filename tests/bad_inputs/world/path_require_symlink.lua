@@ -1,0 +1,2 @@
+world.set{duration = 0.2}
+local evil = require("evil_link") --!

@@ -1,6 +1,6 @@
 -- ATRON: a lattice-type module, a sphere 0.11 m across made of two hemispheres (`north`,
 -- `south`, 0.425 kg each) that turn against each other about the polar axis z through the
--- joint `equator` (continuous, 1.5 N m, 1 rad/s), with eight gendered docks (see MODULES.md).
+-- joint `equator` (continuous, 1.5 N m, 1 rad/s), with eight gendered docks (see docs/module-types.md).
 -- The format of this file is documented at the top of assets/modules/superbot.lua.
 --
 -- ===== Geometry =====

@@ -1,5 +1,5 @@
 -- SuperBot: a chain-type module with three joints (pitch, roll, yaw) and six genderless docks,
--- about 0.19 m long dock face to dock face, 0.084 m square, 0.72 kg (see MODULES.md).
+-- about 0.19 m long dock face to dock face, 0.084 m square, 0.72 kg (see docs/module-types.md).
 --
 -- ===== Module-type file format (the reference for every file in assets/modules/) =====
 --

@@ -1,4 +1,4 @@
--- Wheelbot: a small mobile robot (MODULES.md): a 0.20 x 0.12 x 0.05 m chassis (1.0 kg) on four
+-- Wheelbot: a small mobile robot (docs/module-types.md): a 0.20 x 0.12 x 0.05 m chassis (1.0 kg) on four
 -- velocity-driven wheels (radius 0.04 m, 0.02 m wide, 0.05 kg; 10 rad/s, 0.5 N m), a forward
 -- range sensor `range:front` (0.02 to 2.0 m, drawn as a ray) and genderless docks front and back
 -- so it can tow or join other modules. Module frame: x forward, z up, origin at the chassis

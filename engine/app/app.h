@@ -75,14 +75,14 @@ struct BenchArgs {
 };
 
 struct PlotArgs {
-  std::string file;                  ///< CSV with a header row (a --trace file)
-  std::vector<std::string> y;        ///< columns to plot
-  std::string x;                     ///< default: time (else the first column)
-  std::vector<std::string> modules;  ///< --module NAME|ID (default: all)
-  std::string out;                   ///< .png or .svg (default: FILE with .png)
-  std::string title, ylabel;
-  std::string size;   ///< WxH
-  std::string by;     ///< --by COLUMN: one line per value of this column (default: module)
+  std::string file;                   ///< CSV with a header row (a --trace file)
+  std::vector<std::string> y;         ///< columns to plot
+  std::string x;                      ///< default: time (else the first column)
+  std::vector<std::string> modules;   ///< --module NAME|ID (default: all)
+  std::string out;                    ///< .png or .svg (default: FILE with .png)
+  std::string title, xlabel, ylabel;  ///< axis labels default to the columns' names
+  std::string size;                   ///< WxH
+  std::string by;                     ///< --by COLUMN: one line per value of this column (default: module)
   bool mean = false;  ///< --mean: per x value, the mean of y with its standard deviation as bars
 };
 

@@ -72,6 +72,7 @@ bool runSnake(const BenchArgs& a, const std::string& root, double dt, long long 
   o.projectRoot = root;
   o.threads = a.threads;
   o.echoLog = false;
+  o.echoWorldLog = false;
   o.params = {{"n", std::to_string(a.modules.value_or(10))},
               {"dt", std::to_string(dt)},
               {"substeps", std::to_string(substeps)},

@@ -163,6 +163,7 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
   o.projectRoot = root;
   o.threads = a.threads;
   o.echoLog = false;
+  o.echoWorldLog = false;
   o.params = {{"n", std::to_string(a.modules.value_or(s.modules))}, {"type", a.type}};
   // Only what was given: the rest stays at the world's defaults (WorldSettings).
   auto number = [](double x) {

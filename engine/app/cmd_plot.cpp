@@ -305,9 +305,15 @@ int plotCommand(const PlotArgs& a) {
       << " noenhanced\n";
     g << "set output " << gpQuote(out) << "\n";
     if (!a.title.empty()) g << "set title " << gpQuote(a.title) << "\n";
-    g << "set xlabel " << gpQuote(xName == "time" ? "time (s)" : xName) << "\n";
+    g << "set xlabel "
+      << gpQuote(!a.xlabel.empty() ? a.xlabel
+                 : xName == "time" ? "time (s)"
+                                   : xName)
+      << "\n";
     g << "set ylabel " << gpQuote(a.ylabel.empty() ? (a.y.size() == 1 ? a.y[0] : "") : a.ylabel) << "\n";
     g << "set grid\n";
+    // Points and error bars (a sweep, --mean) at the ends of the range would sit on the frame.
+    if (sweep || a.mean) g << "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n";
     if (series.size() > 16)
       g << "unset key\n";
     else

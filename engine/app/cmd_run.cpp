@@ -362,7 +362,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
       outputErrors.push_back(rerr);
     } else {
       const double frames = double(std::max<int64_t>(1, capture.writer().frames()));
-      std::printf("recorded %lld frames (%.1f KiB, %.2f KiB and %.3f ms per step) to %s\n",
+      std::printf("wrote %lld frames (%.1f KiB, %.2f KiB and %.3f ms per step) to %s (the recording)\n",
                   (long long)capture.writer().frames(), double(capture.writer().bytes()) / 1024,
                   double(capture.writer().bytes()) / 1024 / frames, capture.recordSeconds() * 1000 / frames,
                   a.record.c_str());
@@ -373,7 +373,10 @@ int runCommand(const RunArgs& a, const std::string& root) {
                  r.world->time());
   if (!forkMatched)
     std::fprintf(stderr, "rm3d run: warning: the re-simulation differs from the recording at the fork\n");
-  if (!framesError.empty()) outputErrors.push_back("--frames: " + framesError);
+  if (!framesError.empty())
+    outputErrors.push_back("--frames: " + framesError);
+  else if (!a.frames.empty() && frameNo > 0)
+    std::printf("wrote %lld frames to %s\n", frameNo, a.frames.c_str());
   World& w = *r.world;
   if (!r.loadError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.loadError.c_str());
   if (!r.runError.empty()) std::fprintf(stderr, "rm3d: %s\n", r.runError.c_str());
@@ -412,6 +415,8 @@ int runCommand(const RunArgs& a, const std::string& root) {
     if (!f) {
       std::fprintf(stderr, "rm3d run: --graph %s: cannot write the file\n", a.graph.c_str());
       outputErrors.push_back("--graph " + a.graph + ": cannot write the file");
+    } else {
+      std::printf("wrote %s (the connection graph)\n", a.graph.c_str());
     }
   }
   if (!a.png.empty() && r.loadError.empty()) {
@@ -429,6 +434,8 @@ int runCommand(const RunArgs& a, const std::string& root) {
       if (!renderer.writePng(a.png, perr)) {
         std::fprintf(stderr, "rm3d run: --png: %s\n", perr.c_str());
         outputErrors.push_back("--png: " + perr);
+      } else {
+        std::printf("wrote %s (the last frame, %dx%d)\n", a.png.c_str(), width, height);
       }
     }
   }
@@ -452,6 +459,8 @@ int runCommand(const RunArgs& a, const std::string& root) {
     if (!f) {
       std::fprintf(stderr, "rm3d run: --json %s: cannot write the file\n", a.json.c_str());
       outputErrors.push_back("--json " + a.json + ": cannot write the file");
+    } else {
+      std::printf("wrote %s (the run's summary)\n", a.json.c_str());
     }
   }
   // An output that could not be written is exit code 2; an interrupt (130, 143) outranks it.

@@ -174,6 +174,7 @@ int testCommand(const TestArgs& a, const std::string& root) {
     o.chunkSize = a.chunk;
     o.strict = a.strict;
     o.echoLog = false;
+    o.echoWorldLog = false;
     o.watchdogSeconds = a.watchdog;
     WorldRun r = runWorldFile(file, o, std::nullopt, std::nullopt);
     const World& w = *r.world;

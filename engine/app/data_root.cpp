@@ -4,9 +4,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -79,6 +83,148 @@ DataRoot findDataRoot(const std::string& given) {
   for (const std::string& l : r.looked) r.error += "\n  " + l;
   r.error += "\ngive the project with --root DIR or RM3D_ROOT=DIR";
   return r;
+}
+
+// --- World paths, `rm3d worlds`, `rm3d init` ------------------------------------------------------
+
+std::string resolveWorldPath(const std::string& path, const std::string& root, std::string* note) {
+  std::error_code ec;
+  if (path.empty() || fs::exists(path, ec) || fs::path(path).is_absolute() || root.empty()) return path;
+  const fs::path inRoot = fs::path(root) / path;
+  if (!fs::exists(inRoot, ec)) {
+    if (note)
+      *note = path + ": not found in the working folder (" + fs::current_path(ec).string() +
+              ") nor in the data root (" + root + "); `rm3d worlds` lists the shipped worlds";
+    return path;
+  }
+  const std::string found = inRoot.lexically_normal().string();
+  if (note) *note = path + ": not found here; using " + found + " (the data root's)";
+  return found;
+}
+
+namespace {
+
+/// The first comment line of a Lua file, without the dashes ("" when it opens with code).
+std::string firstComment(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("--", 0) != 0) return "";
+  size_t at = line.find_first_not_of("- ");
+  std::string text = at == std::string::npos ? "" : line.substr(at);
+  if (text.size() > 100) text = text.substr(0, 97) + "...";
+  return text;
+}
+
+}  // namespace
+
+int listWorldsCommand(const std::string& root) {
+  const fs::path dir = fs::path(root) / "worlds";
+  std::error_code ec;
+  std::vector<fs::path> worlds;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().extension() == ".lua") worlds.push_back(it->path());
+  if (ec || worlds.empty()) {
+    std::fprintf(stderr, "rm3d worlds: no worlds in %s (the data root is %s)\n", dir.string().c_str(),
+                 root.c_str());
+    return 2;
+  }
+  std::sort(worlds.begin(), worlds.end());
+  std::printf("%zu worlds in %s/ (run one from any folder: rm3d run worlds/NAME.lua):\n", worlds.size(),
+              dir.string().c_str());
+  for (const fs::path& w : worlds) {
+    const std::string name = "worlds/" + w.filename().string();
+    std::printf("  %-28s %s\n", name.c_str(), firstComment(w).c_str());
+  }
+  return 0;
+}
+
+namespace {
+
+const char* const kHelloWorld =
+    R"(-- hello.lua: one SuperBot nodding on the ground; a first world to change (docs/getting-started.md).
+world.set{dt = 1 / 60, duration = 3, seed = 1}
+world.ground{friction = 0.8}
+local bot = world.spawn("superbot", {name = "bot", behavior = "../behaviors/hello.lua"})
+world.place_on_ground(bot)
+world.on_end(function(t)
+  expect(bot:error() == nil, "the module did not fault")
+  print(string.format("bot at x=%.3f m after %.1f s", bot:position().x, t))
+end)
+)";
+
+const char* const kHelloBehaviour =
+    R"(-- hello.lua: nods the front bracket once a second (module.joint, params, sim, log).
+local pitch = module.joint("pitch")
+local steps = 0
+
+function step(dt)
+  pitch:set_target(0.5 * math.sin(2 * math.pi * sim.time()))
+  if steps % math.floor(1 / dt + 0.5) == 0 then log(string.format("pitch %.3f rad", pitch:angle())) end
+  steps = steps + 1
+end
+)";
+
+/// JSON text of a string (paths may hold quotes or backslashes).
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+int initProjectCommand(const std::string& dir, const std::string& root) {
+  const fs::path base(dir);
+  const std::string meta = (fs::path(root) / "lua" / "meta").lexically_normal().string();
+  const std::string lib = (fs::path(root) / "lua").lexically_normal().string();
+  const std::string luarc =
+      "{\n  \"runtime.version\": \"Lua 5.4\",\n"
+      "  \"runtime.path\": [\"?.lua\", \"lua/?.lua\", \"behaviors/?.lua\"],\n"
+      "  \"workspace.library\": [" +
+      jsonString(meta) + ", " + jsonString(lib) +
+      "],\n"
+      "  \"workspace.checkThirdParty\": false,\n"
+      "  \"diagnostics.globals\": [\"world\", \"expect\", \"args\", \"log\", \"module\", \"sim\", "
+      "\"params\", "
+      "\"state\", \"noise\",\n                          \"percepts\", \"actions\", \"init\", \"step\", "
+      "\"on_reload\", \"on_dock\"]\n}\n";
+  const std::vector<std::pair<fs::path, std::string>> files = {
+      {base / "worlds" / "hello.lua", kHelloWorld},
+      {base / "behaviors" / "hello.lua", kHelloBehaviour},
+      {base / ".luarc.json", luarc},
+  };
+  std::error_code ec;
+  for (const auto& [path, text] : files) {
+    if (fs::exists(path, ec)) {
+      std::fprintf(stderr, "rm3d init: %s already exists (init never overwrites; choose a new folder)\n",
+                   path.string().c_str());
+      return 2;
+    }
+  }
+  for (const fs::path& d : {base / "worlds", base / "behaviors", base / "lua"}) {
+    fs::create_directories(d, ec);
+    if (ec) {
+      std::fprintf(stderr, "rm3d init: cannot make %s: %s\n", d.string().c_str(), ec.message().c_str());
+      return 2;
+    }
+  }
+  for (const auto& [path, text] : files) {
+    std::ofstream out(path);
+    out << text;
+    out.close();
+    if (!out) {
+      std::fprintf(stderr, "rm3d init: cannot write %s\n", path.string().c_str());
+      return 2;
+    }
+    std::printf("wrote %s\n", path.string().c_str());
+  }
+  std::printf(
+      "module types, lua/ and behaviours also come from %s\nnext: cd %s && rm3d run worlds/hello.lua\n",
+      root.c_str(), dir.c_str());
+  return 0;
 }
 
 }  // namespace rm3d

@@ -232,6 +232,8 @@ int run(int argc, char** argv) {
                       "only this module, by name or id (repeat for more; default: all)");
   plotCmd->add_option("--out", plot.out, "FILE.png or FILE.svg (default: the CSV's name with .png)");
   plotCmd->add_option("--title", plot.title, "title above the plot");
+  plotCmd->add_option("--xlabel", plot.xlabel,
+                      "label of the x axis (default: the column; 'time (s)' for time)");
   plotCmd->add_option("--ylabel", plot.ylabel, "label of the y axis (default: the column, when one)");
   plotCmd->add_option("--size", plot.size, "picture size WxH (default 1000x600)");
   plotCmd->add_option("--by", plot.by,
@@ -242,6 +244,14 @@ int run(int argc, char** argv) {
   rm3d::SweepArgs sweep;
   CLI::App* sweepCmd = rm3d::addSweepCommand(app, sweep);
 
+  CLI::App* worldsCmd = app.add_subcommand(
+      "worlds", "list the shipped sample worlds (in the data root's worlds/; run one from any folder)");
+  std::string initDir;
+  CLI::App* initCmd = app.add_subcommand(
+      "init", "make a project folder for your own worlds and behaviours, with a .luarc.json for editors");
+  initCmd->add_option("dir", initDir, "the folder to make (existing files are never overwritten)")
+      ->required();
+
   // Before parsing: CLI11 would first insist on a subcommand.
   if (argc == 2 && std::string(argv[1]) == "--version") {
     std::printf("rm3d %s\n", rm3dVersion().c_str());
@@ -250,12 +260,11 @@ int run(int argc, char** argv) {
   if (argc > 1 && argv[1][0] != '-') {
     const std::string cmd = argv[1];
     if (cmd != "run" && cmd != "test" && cmd != "bench" && cmd != "view" && cmd != "plot" &&
-        cmd != "replay" && cmd != "sweep") {
-      std::fprintf(
-          stderr,
-          "rm3d: unknown command '%s' (expected run, test, bench, view, plot, replay or sweep; see rm3d "
-          "--help)\n",
-          cmd.c_str());
+        cmd != "replay" && cmd != "sweep" && cmd != "worlds" && cmd != "init") {
+      std::fprintf(stderr,
+                   "rm3d: unknown command '%s' (expected run, test, bench, view, plot, replay, sweep, worlds "
+                   "or init; see rm3d --help)\n",
+                   cmd.c_str());
       return 2;
     }
   }
@@ -283,6 +292,19 @@ int run(int argc, char** argv) {
     return 2;
   }
   const std::string& r = dataRoot.path;
+  // A shipped world named from another folder (rm3d run worlds/snake.lua in /tmp) is the data root's.
+  auto resolve = [&r](std::string& path) {
+    std::string note;
+    path = rm3d::resolveWorldPath(path, r, &note);
+    if (!note.empty()) std::fprintf(stderr, "rm3d: %s\n", note.c_str());
+  };
+  if (*worldsCmd) return rm3d::listWorldsCommand(r);
+  if (*initCmd) return rm3d::initProjectCommand(initDir, r);
+  if (*runCmd) resolve(run.world);
+  if (*viewCmd) resolve(view.world);
+  if (*sweepCmd) resolve(sweep.world);
+  if (*testCmd)
+    for (std::string& p : test.paths) resolve(p);
   if (*runCmd) return rm3d::runCommand(run, r);
   if (*replayCmd) return rm3d::replayCommand(replay);
   if (*testCmd) return rm3d::testCommand(test, r);
@@ -316,6 +338,9 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
   // A reader that goes away (ffmpeg, `| head`) is an error from write(), not a silent death.
   std::signal(SIGPIPE, SIG_IGN);
+  // Line by line, also into a pipe or file: stdout's lines ("wrote ...", the summary) then keep
+  // their place among stderr's (log lines, warnings) when both go to the same place.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   try {
     return run(argc, argv);
   } catch (const std::exception& e) {

@@ -208,18 +208,20 @@ int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
                       "%s: a concave mesh (concave = true) is static: leave out mass and velocity (for a "
                       "dynamic mesh use its convex hull, concave = false)",
                       fn);
-  return callWorld(L, fn, [&] {
+  int part = -1;
+  callWorld(L, fn, [&] {
     ShapeDef s;
     s.kind = kind;
     s.size = size;
     s.radius = radius;
     s.length = length;
     if (fromFile) loadMeshShape(world(L), file, scale, kind, s);
-    const int part = world(L).addObstacle(s, pose, mass, friction, rolling);
+    part = world(L).addObstacle(s, pose, mass, friction, rolling);
     if (mass > 0 && velocity.squaredNorm() > 0) world(L).physics().setPartVelocity(part, velocity);
-    pushBody(L, part);
-    return 1;
+    return 0;
   });
+  pushBody(L, part);  // outside the try: pushing may raise a Lua error (a longjmp)
+  return 1;
 }
 
 /// world.box{size={x,y,z}, at=, rot=, mass=, friction=, velocity=} -> Body (mass 0: static)
@@ -321,7 +323,8 @@ int worldSpawn(lua_State* L) {
   const int paramsType = lua_getfield(L, 2, "params");
   if (paramsType != LUA_TNIL && paramsType != LUA_TTABLE)
     return luaL_error(L, "%s: option 'params' must be a table", fn);
-  return callWorld(L, fn, [&] {
+  int spawned = -1;
+  callWorld(L, fn, [&] {
     World::SpawnDef def;
     def.type = type;
     if (jointsType == LUA_TTABLE) def.joints = readJointAngles(L, jointsIndex, world(L).moduleType(type));
@@ -335,9 +338,11 @@ int worldSpawn(lua_State* L) {
     for (const Module& m : world(L).modules())
       if (!def.name.empty() && m.name == def.name)
         throw InputError("a module named '" + def.name + "' exists already");
-    pushModule(L, world(L).spawn(def));
-    return 1;
+    spawned = world(L).spawn(def);
+    return 0;
   });
+  pushModule(L, spawned);  // outside the try: pushing may raise a Lua error (a longjmp)
+  return 1;
 }
 
 /// world.connect(a, dock_a, b, dock_b [, orientation 0..3]): place b so the docks mate, lock them
@@ -362,10 +367,13 @@ int worldPlaceOnGround(lua_State* L) {
   const double z = luaL_optnumber(L, 2, 0.0);
   if (!std::isfinite(z)) return luaL_error(L, "%s: the height must be a finite number of metres", fn);
   checkInBounds(L, fn, Vec3(0, 0, z));
-  return callWorld(L, fn, [&] {
-    lua_pushnumber(L, world(L).placeOnGround(m, z));
-    return 1;
+  double moved = 0;
+  callWorld(L, fn, [&] {
+    moved = world(L).placeOnGround(m, z);
+    return 0;
   });
+  lua_pushnumber(L, moved);
+  return 1;
 }
 
 /// world.camera{eye={x,y,z}, target={x,y,z}, follow=module, fov=degrees}: the picture's view;
@@ -409,11 +417,20 @@ int worldChannel(lua_State* L) {
 int worldGraph(lua_State* L) {
   static const char* const formats[] = {"json", "dot", nullptr};
   const int f = luaL_checkoption(L, 1, "json", formats);
-  return callWorld(L, "world.graph", [&] {
+  // The text leaves the try in a plain buffer (no destructor for a Lua error's longjmp to skip;
+  // should pushing fail for want of memory, only the buffer is lost).
+  char* copy = nullptr;
+  size_t size = 0;
+  callWorld(L, "world.graph", [&] {
     const std::string text = f == 0 ? world(L).graphJson() : world(L).graphDot();
-    lua_pushlstring(L, text.data(), text.size());
-    return 1;
+    size = text.size();
+    copy = new char[size + 1];
+    std::memcpy(copy, text.data(), size);
+    return 0;
   });
+  lua_pushlstring(L, copy, size);
+  delete[] copy;
+  return 1;
 }
 
 /// world.events([since]) -> array of {time=, event=, module_a=, dock_a=, module_b=, dock_b=,
@@ -642,7 +659,7 @@ int worldLog(lua_State* L) {
     if (i < n) luaL_addchar(&b, '\t');
   }
   luaL_pushresult(&b);
-  if (world(L).options().echoLog)
+  if (world(L).options().echoWorldLog)
     std::fprintf(stderr, "[%8.3f world] %s\n", world(L).time(), lua_tostring(L, -1));
   return 0;
 }

@@ -237,17 +237,20 @@ int worldCloth(lua_State* L) {
   const std::array<float, 4> color{float(rgb.x()), float(rgb.y()), float(rgb.z()), 1.0f};
   // Lua errors are longjmps: everything that allocates lives inside the call below, whose
   // exceptions unwind it before the error is raised.
-  return callWorld(L, fn, [&] {
+  int c = -1;
+  callWorld(L, fn, [&] {
     ClothDesc desc = d;
     std::vector<int> corners;
     readIndices(L, "pinned", corners);
     for (int k : corners) desc.pinned.push_back(clothCornerNode(desc.nx, desc.ny, k));
     readIndices(L, "pinned_nodes", desc.pinned);
-    const int c = world(L).addCloth(desc, color);
-    *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = c;
-    luaL_setmetatable(L, kClothMeta);
-    return 1;
+    c = world(L).addCloth(desc, color);
+    return 0;
   });
+  // The handle is made outside the try: making it may raise a Lua error (a longjmp).
+  *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = c;
+  luaL_setmetatable(L, kClothMeta);
+  return 1;
 }
 
 }  // namespace rm3d

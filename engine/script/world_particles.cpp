@@ -172,12 +172,15 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
                       "substeps, so at most %d substeps can run; raise iterations or lower substeps",
                       fn, int(substeps), int(iterations), int(iterations));
   d.substeps = int(substeps);
-  return callWorld(L, fn, [&] {
-    const int index = scriptWorld(L).addParticles(d);
-    *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = index;
-    luaL_setmetatable(L, kParticlesMeta);
-    return 1;
+  int index = -1;
+  callWorld(L, fn, [&] {
+    index = scriptWorld(L).addParticles(d);
+    return 0;
   });
+  // The handle is made outside the try: making it may raise a Lua error (a longjmp).
+  *static_cast<int*>(lua_newuserdatauv(L, sizeof(int), 0)) = index;
+  luaL_setmetatable(L, kParticlesMeta);
+  return 1;
 }
 
 /// world.fluid{min=, max=, spacing=, density=, viscosity=, tension=, friction=, iterations=,

@@ -641,10 +641,6 @@ std::vector<std::vector<int>> World::components() const {
   return out;
 }
 
-}  // namespace rm3d
-
-namespace rm3d {
-
 std::vector<std::string> World::watchedFiles() const {
   std::vector<std::string> out;
   if (!m_worldFile.empty()) out.push_back(m_worldFile);

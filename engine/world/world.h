@@ -55,7 +55,8 @@ struct RunOptions {
   size_t mailboxLimit = 8u << 20;             ///< bytes of unread messages per module; more are dropped
   double watchdogSeconds = 5;                 ///< wall-clock limit on one call into a VM (0: none)
   bool echoLog = true;                        ///< print module log lines to stderr
-  bool keepHistory = false;                   ///< keep recent log lines and messages per module (viewer)
+  bool echoWorldLog = true;  ///< print the world script's log/print lines (run --quiet keeps them)
+  bool keepHistory = false;  ///< keep recent log lines and messages per module (viewer)
   /// Where Lua sources are read (core/source_files.h): noted for --record, a recording's texts
   /// for --fork; null: straight from the disk.
   std::shared_ptr<SourceFiles> sources;

@@ -1,18 +1,22 @@
 ---@meta
--- LuaLS definitions of the behaviour API (behaviors/*.lua): the globals a module's VM gets. Kept
--- complete by the ctest `luals_meta` (tests/cli/luals_meta.cmake). Reference: README.md.
+-- LuaLS definitions of the behaviour API (behaviors/*.lua): the globals a module's VM gets.
+-- Generated from docs/api/lua_api.lua by docs/api/generate.lua: edit that file, not this one.
+-- Reference page: docs/api/lua.md.
 
 ---A joint of the module (module.joint(name)).
 ---@class Joint
 local Joint = {}
+---Radians (child relative to parent, right-handed about the axis), rad/s.
 ---@return number radians, child relative to parent
 function Joint:angle() end
+---Radians (child relative to parent, right-handed about the axis), rad/s.
 ---@return number rad/s
 function Joint:velocity() end
----Torque (N m) applied over the last step, and whether it was saturated.
+---The torque the motor (with the limit stop, when in contact) applied over the last step, and whether it gave its full rating (it could not hold or reach its command).
 ---@return number torque
 ---@return boolean saturated
 function Joint:torque() end
+---The torque the motor (with the limit stop, when in contact) applied over the last step, and whether it gave its full rating (it could not hold or reach its command).
 ---@return boolean
 function Joint:saturated() end
 ---Position servo within limits, torque and speed.
@@ -23,31 +27,41 @@ function Joint:set_target(rad) end
 function Joint:set_velocity(rad_s) end
 ---Motor off.
 function Joint:free() end
+---Last servo target or nil.
 ---@return number? last servo target
 function Joint:target() end
+---Lower, upper.
 ---@return number lower
 ---@return number upper
 function Joint:limits() end
+---Name.
 ---@return string
 function Joint:name() end
 
 ---A dock of the module (module.dock(name)).
 ---@class Dock
 local Dock = {}
+---State; `peer` gives the peer's module id and dock name.
 ---@return boolean
 function Dock:enabled() end
+---State; `peer` gives the peer's module id and dock name.
 ---@return boolean
 function Dock:engaged() end
----@return "male"|"female"|"genderless"
+---State; `peer` gives the peer's module id and dock name.
+---@return "male"|"female"|"none"
 function Dock:gender() end
+---Willing / unwilling to connect.
 function Dock:enable() end
+---Willing / unwilling to connect.
 function Dock:disable() end
----Queues a plain value for the module docked here (readable next step).
+---Queue a plain value (nil, boolean, number, string, tables of these; at most 64 KiB) for the module docked here, readable next step; false when nothing is engaged, or when this step's sends already fill 8 MiB (counted as dropped).
 ---@param value any nil, boolean, number, string, tables of these
 ---@return boolean sent false when nothing is engaged
 function Dock:send(value) end
+---State; `peer` gives the peer's module id and dock name.
 ---@return string
 function Dock:name() end
+---State; `peer` gives the peer's module id and dock name.
 ---@return integer? peer module id
 ---@return string? peer dock name
 function Dock:peer() end
@@ -57,42 +71,47 @@ function Dock:peer() end
 ---@field name string
 ---@field type string
 module = {}
+---Joints of the type.
 ---@param name string
 ---@return Joint
 function module.joint(name) end
+---Joints of the type.
 ---@return string[]
 function module.joints() end
----This module's type as data, or that of another type spawned in the world.
+---This module's type as data (the table `world.module_type` gives), or that of another type a module of this world was spawned with.
 ---@param name? string
 ---@return ModuleTypeData
 function module.type_data(name) end
+---Docks of the type.
 ---@param name string
 ---@return Dock
 function module.dock(name) end
+---Docks of the type.
 ---@return string[]
 function module.docks() end
 ---The oldest pending message (on that dock), consumed.
 ---@param dock? string
 ---@return {dock: string, data: any, time: number}?
 function module.receive(dock) end
----A raw sensor reading this step ("accelerometer", "joint:pitch", "range:front", ...).
+---A raw sensor reading this step (see Sensors).
 ---@param name string
 ---@param field? "velocity"
 ---@return any
 function module.sensor(name, field) end
+---Whether the type has that sensor (and, if not, what it has).
 ---@param name string
 ---@return boolean
 ---@return string? the sensors it has, when not
 function module.has_sensor(name) end
----A declared percept's value this step (noise and map applied), or nil.
+---A declared percept's value this step.
 ---@param name string
 ---@return any
 function module.sense(name) end
----A command through a declared action (map and noise applied).
+---A command through a declared action (see Percepts).
 ---@param name string
 ---@param value any
 function module.act(name, value) end
----A series in --trace output.
+---Records a number in the series `name` (column `trace.<name>` of this module's rows in `--trace`, and the viewer's plots); names are 1 to 64 letters, digits, `_`, `.`, `-`; the value a finite number; at most 256 names per behaviour.
 ---@param name string
 ---@param value number
 function module.trace(name, value) end
@@ -108,24 +127,26 @@ function module.publish(key, value) end
 
 ---@class sim
 sim = {}
+---The clock.
 ---@return number seconds since the start
 function sim.time() end
+---The clock.
 ---@return number the control step
 function sim.dt() end
----Like math.random, from the module's own seeded stream.
+---The module's own random stream (`math.random` and `math.randomseed` use it too).
 ---@param m? integer
 ---@param n? integer
 ---@return number
 function sim.random(m, n) end
+---The module's own random stream (`math.random` and `math.randomseed` use it too).
 ---@param mu? number
 ---@param sigma? number
 ---@return number
 function sim.gaussian(mu, sigma) end
----A stream of its own, seeded from the world seed, the module's stream and `key`.
+---A random stream of its own, seeded from the world seed, the module's stream and `key`: draws elsewhere never shift it (`stream.random()`, `stream.gaussian(mu, sigma)`, called with a dot).
 ---@param key string
 ---@return RandomStream
 function sim.stream(key) end
-
 ---A copy of the spawn params.
 ---@type table<string, any>
 params = {}
@@ -151,12 +172,14 @@ percepts = {}
 ---@field map? fun(v: any): any
 ---@type table<string, ActionSpec>
 actions = {}
-
 ---Callbacks a behaviour may define.
 function init() end
+---Called every control step (after `on_dock` events).
 ---@param dt number
 function step(dt) end
+---Called after a hot reload replaced the behaviour's definitions (`state` survives).
 function on_reload() end
----@param dock string
+---Called at the start of the module's next step for each dock event: `dock` is the Dock handle (compare `dock:name() == "front"`), `event` what happened.
+---@param dock Dock
 ---@param event "engaged"|"disengaged"|"broken"
 function on_dock(dock, event) end

@@ -1,6 +1,6 @@
 ---@meta linalg
 -- LuaLS definitions of `require("linalg")` (vectors, matrices, quaternions, rigid transforms;
--- README, "Linear algebra") and of the module-type data tables (world.module_type,
+-- docs/api/lua.md, "Linear algebra"; generated from docs/api/lua_api.lua) and of the module-type data tables (world.module_type,
 -- module.type_data). Indices start at 1.
 
 ---A link, joint and dock description of a module type (poses in the module frame at zero angles).
@@ -23,60 +23,68 @@
 ---@operator unm: linalg.matrix
 ---@operator len: integer
 local Matrix = {}
+---Shape.
 ---@return integer
 function Matrix:rows() end
+---Shape.
 ---@return integer
 function Matrix:cols() end
----A:get(i, j), or v:get(i) for a vector.
+---Read and write one entry (`set` returns A).
 ---@param i integer
 ---@param j? integer
 ---@return number
 function Matrix:get(i, j) end
----A:set(i, j, x), or v:set(i, x) for a vector; returns the matrix.
+---Read and write one entry (`set` returns A).
 ---@param i integer
 ---@param j number
 ---@param x? number
 ---@return linalg.matrix
 function Matrix:set(i, j, x) end
----Transpose.
+---Transpose (of a vector: a 1 x n matrix).
 ---@return linalg.matrix
 function Matrix:t() end
----Inverse; an error when singular.
+---Inverse (an error when singular), determinant.
 ---@return linalg.matrix
 function Matrix:inv() end
+---Inverse (an error when singular), determinant.
 ---@return number
 function Matrix:det() end
----x with A x = b (least squares when A is not square).
+---X with A x = b (b a vector or a matrix); least squares when A is not square; an error when a square A is singular.
 ---@param b linalg.matrix
 ---@return linalg.matrix
 function Matrix:solve(b) end
----Moore-Penrose pseudo-inverse.
+---Moore-Penrose pseudo-inverse (singular values below tol, default eps x max(r, c) x the largest, count as zero).
 ---@param tol? number
 ---@return linalg.matrix
 function Matrix:pinv(tol) end
----Thin SVD: A = U diag(s) V^T.
+---Thin SVD: A = U diag(s) Vᵀ, s a vector in descending order.
 ---@return linalg.matrix U
 ---@return linalg.matrix s
 ---@return linalg.matrix V
 function Matrix:svd() end
----Damped least squares (A^T A + lambda^2 I)^-1 A^T b.
+---Damped least squares `(AᵀA + λ²I)⁻¹Aᵀb`, solved through the smaller of AᵀA and AAᵀ.
 ---@param b linalg.matrix
 ---@param lambda number
 ---@return linalg.matrix
 function Matrix:dls(b, lambda) end
+---Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.
 ---@return number
 function Matrix:norm() end
+---Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.
 ---@param w linalg.matrix
 ---@return number
 function Matrix:dot(w) end
+---Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.
 ---@param w linalg.matrix|number[]
 ---@return linalg.matrix
 function Matrix:cross(w) end
+---Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.
 ---@return linalg.matrix
 function Matrix:normalized() end
+---A copy.
 ---@return linalg.matrix
 function Matrix:copy() end
----Rows as nested tables, or a flat table for a vector.
+---Plain nested tables (rows), or a flat table for a vector.
 ---@return table
 function Matrix:totable() end
 
@@ -84,15 +92,20 @@ function Matrix:totable() end
 ---@class linalg.quat
 ---@operator mul(linalg.quat): linalg.quat
 local Quat = {}
+---Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
 ---@param v linalg.matrix|number[]
 ---@return linalg.matrix
 function Quat:rotate(v) end
+---Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
 ---@return linalg.quat
 function Quat:inv() end
+---Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
 ---@return linalg.matrix 3 x 3 rotation
 function Quat:matrix() end
+---Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
 ---@return number radians, 0..pi
 function Quat:angle() end
+---Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
 ---@return number[] {w, x, y, z}
 function Quat:totable() end
 
@@ -100,46 +113,51 @@ function Quat:totable() end
 ---@class linalg.transform
 ---@operator mul(linalg.transform): linalg.transform
 local Transform = {}
+---Composition, applying, inverse, parts, 4 x 4 homogeneous.
 ---@return linalg.transform
 function Transform:inv() end
+---Composition, applying, inverse, parts, 4 x 4 homogeneous.
 ---@return linalg.quat
 function Transform:rotation() end
+---Composition, applying, inverse, parts, 4 x 4 homogeneous.
 ---@return linalg.matrix
 function Transform:translation() end
+---Composition, applying, inverse, parts, 4 x 4 homogeneous.
 ---@return linalg.matrix 4 x 4 homogeneous
 function Transform:matrix() end
-
 local linalg = {}
----A matrix from its rows: linalg.matrix{{1, 2}, {3, 4}}.
+---A matrix from its rows.
 ---@param rows number[][]
 ---@return linalg.matrix
 function linalg.matrix(rows) end
----A vector from its entries, or n zeros.
+---A vector (an n x 1 column that stays a vector through products), or n zeros.
 ---@param entries number[]|integer
 ---@return linalg.matrix
 function linalg.vector(entries) end
+---Identity; zero matrix; zero vector.
 ---@param n integer
 ---@return linalg.matrix
 function linalg.identity(n) end
----An r x c zero matrix, or a zero vector of r entries.
+---Identity; zero matrix; zero vector.
 ---@param r integer
 ---@param c? integer
 ---@return linalg.matrix
 function linalg.zeros(r, c) end
----linalg.quat(w, x, y, z) or linalg.quat{w, x, y, z}; normalised.
+---Unit quaternions (normalised when made).
 ---@param w number|number[]
 ---@param x? number
 ---@param y? number
 ---@param z? number
 ---@return linalg.quat
 function linalg.quat(w, x, y, z) end
+---Unit quaternions (normalised when made).
 ---@param axis linalg.matrix|number[]
 ---@param angle number
 ---@return linalg.quat
 function linalg.quat_axis_angle(axis, angle) end
+---A rigid transform from a quat or 3 x 3 rotation and a 3-vector (`{x, y, z}` tables work wherever a 3-vector is asked).
 ---@param R? linalg.quat|linalg.matrix
 ---@param p? linalg.matrix|number[]
 ---@return linalg.transform
 function linalg.transform(R, p) end
-
 return linalg

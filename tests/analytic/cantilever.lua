@@ -59,7 +59,7 @@ world.at(2.0, function()
   local tau2, sat2 = two[1]:joint_torque("pitch")
   -- the static moment on the base pitch: the carried module (its 0.72 kg at its frame) and the
   -- base's own front bracket (0.13 kg at its link origin; its centre of mass is a little further
-  -- out), from MODULES.md's masses: an estimate, hence 10%
+  -- out), from the SuperBot's masses (docs/module-types.md): an estimate, hence 10%
   local pivot = one[1]:position().x + 0.043
   local static = moment(one) + 0.13 * 9.81 * (one[1]:link_position("front_outer").x - pivot)
   log(string.format("base pitch torque: one module %.3f N m (static %.3f N m); two modules %.3f N m, saturated %s",

@@ -1,8 +1,8 @@
-# The README's Lua API reference names every function the bindings register (luaL_Reg tables in
+# The Lua API reference (docs/api/lua.md) names every function the bindings register (luaL_Reg tables in
 # engine/script/*.cpp), so the reference cannot silently fall behind the code.
 # Run as: cmake -DSRC=<source dir> -P api_reference.cmake
 file(GLOB sources ${SRC}/engine/script/*.cpp)
-file(READ ${SRC}/README.md readme)
+file(READ ${SRC}/docs/api/lua.md readme)
 set(missing "")
 foreach(f ${sources})
   file(READ ${f} text)
@@ -17,6 +17,6 @@ foreach(f ${sources})
   endforeach()
 endforeach()
 if(missing)
-  message(FATAL_ERROR "README.md's Lua API reference does not mention: ${missing}")
+  message(FATAL_ERROR "docs/api/lua.md does not mention: ${missing}")
 endif()
-message(STATUS "every bound Lua function is in the README")
+message(STATUS "every bound Lua function is in docs/api/lua.md")

@@ -442,3 +442,23 @@ endfunction()
 check_solver_defaults(default "" "exact,2,10")
 check_solver_defaults(pgs "world.set{solver = 'pgs'}" "pgs,4,30")
 check_solver_defaults(kept "world.set{substeps = 3}\nworld.set{solver = 'pgs', solver_iterations = 12}" "pgs,3,12")
+
+# --quiet hides the modules' log lines but keeps the world script's prints (the experiment's
+# output); every output file is reported as "wrote FILE (what)".
+file(WRITE ${OUT}/quiet_world.lua "world.set{duration = 0.1}\nworld.ground{}\nprint('world says hi')\nworld.spawn('superbot', {at = {0, 0, 0.053}, behavior = '${OUT}/quiet_chatty.lua'})\n")
+file(WRITE ${OUT}/quiet_chatty.lua "function step() log('module chatter') end\n")
+execute_process(COMMAND ${RM3D} run ${OUT}/quiet_world.lua --quiet --json ${OUT}/quiet.json --png ${OUT}/quiet.png
+                --size 64x48 --graph ${OUT}/quiet.dot RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+set(all "${out}${err}")
+if(NOT rc EQUAL 0 OR NOT all MATCHES "world says hi" OR all MATCHES "module chatter")
+  message(SEND_ERROR "run --quiet: exit ${rc}; expected the world's print and no module log line:\n${all}")
+elseif(NOT out MATCHES "wrote [^\n]*quiet.json \\(the run's summary\\)" OR NOT out MATCHES "wrote [^\n]*quiet.png \\(the last frame, 64x48\\)"
+       OR NOT out MATCHES "wrote [^\n]*quiet.dot \\(the connection graph\\)")
+  message(SEND_ERROR "run: a 'wrote FILE (what)' line is missing:\n${out}")
+else()
+  message(STATUS "ok: --quiet keeps world prints, hides module logs; every output reported")
+endif()
+execute_process(COMMAND ${RM3D} run ${OUT}/quiet_world.lua RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT "${out}${err}" MATCHES "module chatter")
+  message(SEND_ERROR "run without --quiet: the module's log line is missing:\n${out}${err}")
+endif()

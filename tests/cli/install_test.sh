@@ -37,6 +37,26 @@ check "installed --version" 0 "^rm3d [0-9]+\.[0-9]+\.[0-9]+" -- "$prefix/bin/rm3
 check "installed rm3d runs a stock world" 0 "10 modules, 0 faults" -- \
   "$prefix/bin/rm3d" run "$prefix/share/rm3d/worlds/snake.lua" --seconds 0.2 --json "$tmp/elsewhere/snake.json"
 grep -q '"modules"' "$tmp/elsewhere/snake.json" || fail "no summary from the installed rm3d"
+# A shipped world named as in the docs, from a folder that does not hold it, is the data root's;
+# `rm3d worlds` lists them; a missing one names both places it looked.
+check "installed rm3d runs worlds/snake.lua from elsewhere" 0 "10 modules, 0 faults" -- \
+  "$prefix/bin/rm3d" run worlds/snake.lua --seconds 0.2
+check "and says which file it ran" 0 "worlds/snake.lua: not found here; using $prefix/share/rm3d/worlds/snake.lua" -- \
+  "$prefix/bin/rm3d" run worlds/snake.lua --seconds 0.1
+check "installed rm3d tests a shipped world from elsewhere" 0 "1 passed, 0 failed" -- \
+  "$prefix/bin/rm3d" test worlds/nodders.lua
+check "rm3d worlds lists the shipped worlds" 0 "^  worlds/snake.lua +[A-Z]" -- \
+  "$prefix/bin/rm3d" worlds
+check "a world in neither place names both" 2 "worlds/nowhere.lua: not found in the working folder \($tmp/elsewhere\) nor in the data root \($prefix/share/rm3d\)" -- \
+  "$prefix/bin/rm3d" run worlds/nowhere.lua
+# rm3d init: a project folder outside the checkout whose first world runs, with a .luarc.json that
+# points at the installed API definitions; it never overwrites.
+check "rm3d init makes a project" 0 "wrote $tmp/proj/worlds/hello.lua" -- "$prefix/bin/rm3d" init "$tmp/proj"
+grep -q "\"$prefix/share/rm3d/lua/meta\"" "$tmp/proj/.luarc.json" || fail ".luarc.json does not name $prefix/share/rm3d/lua/meta"
+[ -f "$prefix/share/rm3d/lua/meta/world.lua" ] || fail "the API definitions are not installed"
+check "the project's world runs" 0 "1 modules, 0 faults" -- bash -c "cd '$tmp/proj' && '$prefix/bin/rm3d' run worlds/hello.lua"
+check "the project's world passes rm3d test" 0 "1 passed, 0 failed" -- bash -c "cd '$tmp/proj' && '$prefix/bin/rm3d' test worlds/hello.lua"
+check "rm3d init never overwrites" 2 "$tmp/proj/worlds/hello.lua already exists" -- "$prefix/bin/rm3d" init "$tmp/proj"
 # Not found: the errors name the installed data's folders.
 printf 'world.spawn("megabot")\n' >unknown_type.lua
 check "unknown type names the installed folder" 2 "unknown module type 'megabot'.*looked in $prefix/share/rm3d/assets/modules/" -- \

@@ -39,7 +39,7 @@ for w in "$src/tests/cli/fork/world.lua" "$src/worlds/wheelbot.lua"; do
   n=$(basename "$(dirname "$w")")_$(basename "$w" .lua)
   "$rm3d" run "$w" --quiet --seconds 1.5 --record "$dir/$n.bin" --png "$dir/$n-live.png" --size 320x240 \
     > "$dir/$n-run.txt" 2>&1
-  check "$n: run with --record (exit $?)" grep -q "recorded 91 frames" "$dir/$n-run.txt"
+  check "$n: run with --record (exit $?)" grep -q "wrote 91 frames (.*) to .* (the recording)" "$dir/$n-run.txt"
   "$rm3d" replay "$dir/$n.bin" --png "$dir/$n-replay.png" --size 320x240 > /dev/null
   check "$n: replay exit code" test $? -eq 0
   check "$n: the replayed last frame is the live one byte for byte" cmp "$dir/$n-live.png" "$dir/$n-replay.png"
@@ -51,7 +51,7 @@ check "different frames differ" bash -c "! cmp -s '$dir/fork_world-live.png' '$d
 # Particles (fluid) are recorded and drawn again: the replayed last frame is the live one.
 "$rm3d" run "$src/worlds/fluid.lua" --param particles=3000 --quiet --seconds 0.5 --record "$dir/fluid.bin" \
   --png "$dir/fluid-live.png" --size 320x240 > "$dir/fluid-run.txt" 2>&1
-check "fluid: run with --record" grep -q "recorded 31 frames" "$dir/fluid-run.txt"
+check "fluid: run with --record" grep -q "wrote 31 frames (.*) to .* (the recording)" "$dir/fluid-run.txt"
 "$rm3d" replay "$dir/fluid.bin" --png "$dir/fluid-replay.png" --size 320x240 > /dev/null
 check "fluid: the replayed last frame (particles drawn) is the live one byte for byte" cmp "$dir/fluid-live.png" "$dir/fluid-replay.png"
 

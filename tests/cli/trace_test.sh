@@ -155,6 +155,13 @@ check "sweep plot exits 0" [ $rc -eq 0 ]
 check "sweep plot: 2 lines (p = 2, p = 4), 3 mean points (the failed run has no metric)" \
   grep -q "wrote .*sweep.png: 2 lines, 3 points" "$dir/sweep.log"
 check "sweep plot is a PNG" [ "$(head -c 8 "$dir/sweep.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]
+# Axis labels and a title of the user's choosing.
+"$rm3d" plot "$dir/sweep.jsonl" --x params.a --y metrics.v --by params.p --mean --out "$dir/labels.svg" \
+  --xlabel "gait amplitude (rad)" --ylabel "speed (m/s)" --title "my sweep" > /dev/null 2>&1
+for label in "gait amplitude (rad)" "speed (m/s)" "my sweep"; do
+  check "plot --xlabel/--ylabel/--title: '$label' in the SVG" grep -qF "$label" "$dir/labels.svg"
+done
+check "plot: the column name is not the x label when --xlabel is given" bash -c "! grep -qF '>params.a<' '$dir/labels.svg'"
 printf '{"params": {"a": 1}}\nnot json\n' > "$dir/bad.jsonl"
 "$rm3d" plot "$dir/bad.jsonl" --x params.a --y metrics.v > "$dir/badj.log" 2>&1
 rc=$?

@@ -83,10 +83,11 @@ for _, page in ipairs(pages) do
   for l in io.lines(path) do lines[#lines + 1] = l end
   local bs = blocks(lines)
   local dir = scratch .. "/" .. page:gsub("[/%.]", "_")
-  -- A project folder like the checkout: the shipped data linked in, outputs written here.
+  -- A project folder like the checkout: the shipped data copied in (not linked: the path rule
+  -- follows links and refuses files outside the project, docs/limits.md), outputs written here.
   run("rm -rf " .. shellQuote(dir) .. " && mkdir -p " .. shellQuote(dir))
   for _, d in ipairs({"assets", "behaviors", "lua", "worlds"}) do
-    run("ln -s " .. shellQuote(src .. "/" .. d) .. " " .. shellQuote(dir .. "/" .. d))
+    run("cp -R " .. shellQuote(src .. "/" .. d) .. " " .. shellQuote(dir .. "/" .. d))
   end
   local replacements = {}
   for n, b in ipairs(bs) do

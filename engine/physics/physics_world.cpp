@@ -295,7 +295,6 @@ struct PhysicsWorld::Impl {
   Pose bodyPose(int b) const { return fromBt(bodies[b].rb->getWorldTransform()); }
   Pose partPose(int p) const { return bodyPose(parts[p].body) * parts[p].inBody; }
 
-  /// Builds one rigid body from parts placed at the given world poses, with the given momentum.
   /// Builds one rigid body from parts placed at the given world poses. With `angIsVelocity`,
   /// `ang` is the angular velocity, else the angular momentum about the new centre of mass.
   int buildBody(const std::vector<int>& ids, const std::vector<Pose>& world_, const Vec3& linMomentum,
@@ -1158,10 +1157,6 @@ BodyDivergence PhysicsWorld::divergenceScan(double maxSpeed, double maxAngularSp
   }
   return out;
 }
-
-}  // namespace rm3d
-
-namespace rm3d {
 
 void PhysicsWorld::collectColliders(ColliderSet& out) const {
   out.shapes.clear();

@@ -457,8 +457,7 @@ class Viewer {
     ImGui::Begin("Connection graph (G)", &open, ImGuiWindowFlags_NoSavedSettings);
     ImGui::Text("%zu connections, %d component%s", w.connections().size(), m_componentCount,
                 m_componentCount == 1 ? "" : "s");
-    ImGui::SameLine();
-    ImGui::Checkbox("colour the view (C)", &m_components);
+    ImGui::Checkbox("colour the modules by component (C)", &m_components);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     const float cw = std::max(120.0f, ImGui::GetContentRegionAvail().x);
     ImGui::InvisibleButton("graph", ImVec2(cw, canvasH));
@@ -470,13 +469,14 @@ class Viewer {
     Eigen::AlignedBox2f box;
     for (size_t i = 0; i < n; ++i) box.extend(w.modulePose(int(i)).pos.head<2>().cast<float>());
     const Eigen::Vector2f size = box.isEmpty() ? Eigen::Vector2f(1, 1) : box.sizes();
+    // Room on the right for the names beside the nodes.
     const float scale =
-        std::min((cw - 24) / std::max(size.x(), 1e-3f), (canvasH - 24) / std::max(size.y(), 1e-3f));
+        std::min((cw - 96) / std::max(size.x(), 1e-3f), (canvasH - 32) / std::max(size.y(), 1e-3f));
     const Eigen::Vector2f mid =
         box.isEmpty() ? Eigen::Vector2f(Eigen::Vector2f::Zero()) : Eigen::Vector2f(box.center());
     for (size_t i = 0; i < n; ++i) {
       const Eigen::Vector2f p = w.modulePose(int(i)).pos.head<2>().cast<float>();
-      at[i] = ImVec2(origin.x + cw / 2 + (p.x() - mid.x()) * scale,
+      at[i] = ImVec2(origin.x + cw / 2 - 36 + (p.x() - mid.x()) * scale,
                      origin.y + canvasH / 2 - (p.y() - mid.y()) * scale);
     }
     for (const Connection& c : w.connections())

@@ -151,7 +151,8 @@ bool readThreeJs(std::string& text, std::string& err) {
   }
   text = s.str();
   std::string lower = text;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   if (lower.find("</script") != std::string::npos) {
     err = std::string(path) + ": contains '</script', which cannot be inlined in a page";
     return false;
@@ -220,14 +221,15 @@ bool writeHtmlReplay(const Recording& rec, const SceneLayout::CameraDef& camera,
     const SceneLayout::Item& it = lay.items[i];
     const Pose& l = it.local;
     const Eigen::Vector2f reach = i < lay.dockReach.size() ? lay.dockReach[i] : Eigen::Vector2f::Zero();
-    nlohmann::json t = {{"kind", int(it.kind)},
-                        {"reach", {reach.x(), reach.y()}},
-                        {"link", it.link},
-                        {"dock", it.dock},
-                        {"mesh", it.mesh},
-                        {"local", {l.pos.x(), l.pos.y(), l.pos.z(), l.rot.w(), l.rot.x(), l.rot.y(), l.rot.z()}},
-                        {"scale", {it.scale.x(), it.scale.y(), it.scale.z()}},
-                        {"color", color(it.color)}};
+    nlohmann::json t = {
+        {"kind", int(it.kind)},
+        {"reach", {reach.x(), reach.y()}},
+        {"link", it.link},
+        {"dock", it.dock},
+        {"mesh", it.mesh},
+        {"local", {l.pos.x(), l.pos.y(), l.pos.z(), l.rot.w(), l.rot.x(), l.rot.y(), l.rot.z()}},
+        {"scale", {it.scale.x(), it.scale.y(), it.scale.z()}},
+        {"color", color(it.color)}};
     const auto [at, added] = templates.emplace(t.dump(), int(itemTypes.size()));
     if (added) itemTypes.push_back(std::move(t));
     items.push_back(at->second);
@@ -256,7 +258,8 @@ bool writeHtmlReplay(const Recording& rec, const SceneLayout::CameraDef& camera,
   j["modules"] = std::move(modules);
   j["cloths"] = nlohmann::json::array();
   for (const SceneLayout::Cloth& c : lay.cloths)
-    j["cloths"].push_back({{"nodes", c.nodes}, {"triangles", base64Of(c.triangles)}, {"color", color(c.color)}});
+    j["cloths"].push_back(
+        {{"nodes", c.nodes}, {"triangles", base64Of(c.triangles)}, {"color", color(c.color)}});
   j["particles"] = nlohmann::json::array();
   for (const SceneLayout::Particles& p : lay.particles)
     j["particles"].push_back({{"count", p.count}, {"radius", p.radius}, {"color", color(p.color)}});
@@ -287,7 +290,8 @@ bool writeHtmlReplay(const Recording& rec, const SceneLayout::CameraDef& camera,
     for (const Eigen::Vector3f& v : s.clothNodes) rows.addPoint(v);
     for (const Eigen::Vector3f& v : s.particles) rows.addPoint(v);
     const Camera cam = sceneCamera(lay, start, s);
-    cams.insert(cams.end(), {cam.eye.x(), cam.eye.y(), cam.eye.z(), cam.target.x(), cam.target.y(), cam.target.z()});
+    cams.insert(cams.end(),
+                {cam.eye.x(), cam.eye.y(), cam.eye.z(), cam.target.x(), cam.target.y(), cam.target.z()});
     if (f == 0) {
       docks = s.docks;
       faulted = s.faulted;
@@ -306,7 +310,8 @@ bool writeHtmlReplay(const Recording& rec, const SceneLayout::CameraDef& camera,
   j["faultChanges"] = std::move(faultChanges);
   nlohmann::json pos, rot, joints, points;
   std::string camData;
-  if (!packStream(rows.pos, poseCount * 3, pos, kPositionUnit) || !packStream(rows.rot, poseCount * 4, rot, 1) ||
+  if (!packStream(rows.pos, poseCount * 3, pos, kPositionUnit) ||
+      !packStream(rows.rot, poseCount * 4, rot, 1) ||
       !packStream(rows.joints, size_t(lay.jointCount), joints, 1) ||
       !packStream(rows.points, pointCount * 3, points, kPositionUnit) ||
       !deflated(reinterpret_cast<const uint8_t*>(cams.data()), cams.size() * sizeof(float), camData)) {

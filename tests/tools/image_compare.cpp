@@ -83,7 +83,8 @@ int main(int argc, char** argv) {
     Image a;
     if (!load(argv[2], a)) return 2;
     long n = 0;
-    for (size_t i = 0; i < a.rgba.size(); i += 4) n += std::min({a.rgba[i], a.rgba[i + 1], a.rgba[i + 2]}) >= 250;
+    for (size_t i = 0; i < a.rgba.size(); i += 4)
+      n += std::min({a.rgba[i], a.rgba[i + 1], a.rgba[i + 2]}) >= 250;
     std::printf("%ld\n", n);
     return 0;
   }

@@ -530,6 +530,14 @@ class Viewer {
     if (!open) m_graph = false;
   }
 
+  /// What the graph panel shows, for the screenshot line (tests): "N connections, M components"
+  /// or "hidden".
+  std::string graphLine() const {
+    if (!m_graph) return "hidden";
+    return std::to_string(m_world->connections().size()) + " connections, " +
+           std::to_string(m_componentCount) + " component" + (m_componentCount == 1 ? "" : "s");
+  }
+
   std::string moduleName(int index) const {
     return index >= 0 && index < int(m_world->modules().size()) ? m_world->module(index).name : "?";
   }
@@ -724,9 +732,9 @@ int Viewer::run(GLFWwindow* window) {
           const PixelStats st = countModulePixels(*m_world, m_snapshot, m_camera, fbWidth, fbHeight, rgba);
           std::printf(
               "screenshot: %d x %d, %d module pixels, %d of them picked as a module, t = %.2f s, selected: "
-              "%s\n",
+              "%s, graph: %s\n",
               fbWidth, fbHeight, st.modulePixels, st.picked, m_world->time(),
-              m_selected >= 0 ? m_world->module(m_selected).name.c_str() : "none");
+              m_selected >= 0 ? m_world->module(m_selected).name.c_str() : "none", graphLine().c_str());
         }
       }
       break;

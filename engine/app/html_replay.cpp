@@ -16,6 +16,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -163,7 +164,8 @@ bool readThreeJs(std::string& text, std::string& err) {
 }  // namespace
 
 const char* htmlThreeJsPath() {
-  return RM3D_THREE_JS;
+  const char* env = std::getenv("RM3D_THREE_JS");
+  return env && *env ? env : RM3D_THREE_JS;
 }
 
 bool htmlReplayReady(std::string& err) {

@@ -20,7 +20,8 @@ struct HtmlReplayStats {
 /// frames); a longer or larger run keeps every n-th frame (said on the page).
 constexpr int64_t kHtmlPoseBudget = 4'000'000;
 
-/// The three.js build inlined into the page (Debian libjs-three; RM3D_THREE_JS at configure time).
+/// The three.js build inlined into the page: the environment variable RM3D_THREE_JS when set,
+/// else the file named at configure time (CMake RM3D_THREE_JS; Debian libjs-three's).
 const char* htmlThreeJsPath();
 
 /// Whether the three.js file can be read (checked before a run, so a long run does not end in

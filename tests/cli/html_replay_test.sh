@@ -12,8 +12,9 @@
 #   t = 5 s (a page that ignored the seek would fail); the engaged docks' green bars show;
 # - a 1000-module snake (`run --html`, 2 s) opens with no console error, 1000 modules, 999
 #   connections at the start and at its end those of the run's --graph;
-# - --html errors: an unwritable path, three.js missing (RM3D_THREE_JS points elsewhere only at
-#   configure time, so this is checked through a recording that is not one).
+# - --html errors: an unwritable path, a file that is not a recording, three.js missing
+#   (RM3D_THREE_JS pointing nowhere: the message names the path and libjs-three; `run` stops
+#   before running).
 # Skipped (exit 77) with a line saying why where Chromium is missing or cannot start.
 # Usage: html_replay_test.sh RM3D SRC OUT IMAGE_COMPARE
 set -u
@@ -139,6 +140,20 @@ echo "not a recording" > "$dir/bad.rec"
 rc=$?
 check "bad recording: exit $rc, expected 2" test $rc -eq 2
 check "bad recording: no page" test ! -e "$dir/bad.html"
+
+RM3D_THREE_JS=/nonexistent/three.min.js "$rm3d" replay "$dir/tts.rec" --html "$dir/nothree.html" > "$dir/e3.txt" 2>&1
+rc=$?
+cat "$dir/e3.txt"
+check "three.js missing: exit $rc, expected 2" test $rc -eq 2
+check "three.js missing: names the path and the package" \
+  grep -q -- "--html .*three.js is not at /nonexistent/three.min.js (install the Debian package libjs-three" "$dir/e3.txt"
+check "three.js missing: no page" test ! -e "$dir/nothree.html"
+RM3D_THREE_JS=/nonexistent/three.min.js "$rm3d" run "$src/worlds/snake.lua" --quiet --html "$dir/nothree_run.html" \
+  > "$dir/e4.txt" 2>&1
+rc=$?
+check "run --html, three.js missing: exit $rc, expected 2" test $rc -eq 2
+check "run --html, three.js missing: stopped before the run" bash -c "! grep -q 'steps,' '$dir/e4.txt'"
+check "run --html, three.js missing: no recording left" test ! -e "$dir/nothree_run.html.rm3drec.part"
 
 echo "$passed passed, $fail failed"
 [ $fail -eq 0 ]

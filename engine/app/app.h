@@ -35,6 +35,8 @@ struct RunArgs {
   std::string fork;              ///< --fork FILE (with --at T)
   std::optional<double> at;      ///< --at T
   std::string eye, target, fov;  ///< --eye X,Y,Z --target X,Y,Z --fov DEG
+  std::string html;              ///< --html FILE: the run as a web page (app/html_replay.h)
+  bool labels = false;           ///< --labels: pictures name every module
 };
 
 /// `rm3d replay FILE`: a recording drawn again, offscreen or in a window (app/cmd_replay.cpp).
@@ -47,6 +49,8 @@ struct ReplayArgs {
   bool view = false;       ///< --view: a window with a time slider
   int viewFrames = 0;      ///< hidden --view-frames N: draw N frames, save --screenshot, exit (tests)
   std::string screenshot;  ///< hidden --screenshot FILE
+  std::string html;        ///< --html FILE: the recording as a web page (app/html_replay.h)
+  bool labels = false;     ///< --labels: pictures name every module
 };
 
 struct TestArgs {

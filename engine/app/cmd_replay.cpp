@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/app.h"
+#include "app/html_replay.h"
 #include "app/run_capture.h"
 #include "app/run_world.h"
 #include "app/video_pipe.h"
@@ -76,8 +77,8 @@ int replayCommand(const ReplayArgs& a) {
     std::fprintf(stderr, "rm3d replay: %s\n", err.c_str());
     return 2;
   }
-  for (const auto& [flag, path] :
-       {std::pair{"--png", a.png}, std::pair{"--video", a.video}, std::pair{"--json", a.json}}) {
+  for (const auto& [flag, path] : {std::pair{"--png", a.png}, std::pair{"--video", a.video},
+                                   std::pair{"--json", a.json}, std::pair{"--html", a.html}}) {
     if (!path.empty() && !prepareOutputFile(flag, path, err)) {
       std::fprintf(stderr, "rm3d replay: %s\n", err.c_str());
       return 2;
@@ -88,6 +89,16 @@ int replayCommand(const ReplayArgs& a) {
   const double end = double(rec.frameCount() - 1) * layout.dt;
   std::printf("%s: %lld frames, %.2f s, %zu modules, recorded from %s\n", a.file.c_str(),
               (long long)rec.frameCount(), end, layout.modules.size(), rec.meta().worldFile.c_str());
+  if (!a.html.empty()) {
+    HtmlReplayStats stats;
+    if (!writeHtmlReplay(rec, camera, a.html, stats, err)) {
+      std::fprintf(stderr, "rm3d replay: %s\n", err.c_str());
+      return 2;
+    }
+    std::printf("wrote %s (%.1f MiB, %lld of %lld frames%s)\n", a.html.c_str(),
+                double(stats.bytes) / (1 << 20), (long long)stats.keptFrames, (long long)stats.recordedFrames,
+                stats.stride > 1 ? ", fewer to keep the page small" : "");
+  }
   if (a.view) return replayViewer(rec, camera, a.viewFrames, a.screenshot);
 
   SceneState start, st;
@@ -95,6 +106,11 @@ int replayCommand(const ReplayArgs& a) {
     std::fprintf(stderr, "rm3d replay: %s\n", err.c_str());
     return 2;
   }
+  const auto picture = [&](const SceneState& now) {
+    Snapshot snap = buildSnapshot(layout, now);
+    if (a.labels) addModuleLabels(layout, now, snap);
+    return snap;
+  };
   int code = 0;
   // Video and frames: every n steps from step n, as the live run drew them.
   if (!a.video.empty() || !a.frames.empty()) {
@@ -117,7 +133,7 @@ int replayCommand(const ReplayArgs& a) {
         break;
       }
       if (st.steps % n != 0) continue;
-      renderer.draw(buildSnapshot(layout, st), sceneCamera(layout, start, st));
+      renderer.draw(picture(st), sceneCamera(layout, start, st));
       if (video.isOpen() && !video.write(renderer.rgba().data(), renderer.rgba().size())) {
         std::fprintf(stderr, "rm3d replay: --video %s: ffmpeg stopped taking frames\n", a.video.c_str());
         code = 2;
@@ -158,7 +174,7 @@ int replayCommand(const ReplayArgs& a) {
       std::fprintf(stderr, "rm3d replay: --png: %s\n", err.c_str());
       return 2;
     }
-    renderer.draw(buildSnapshot(layout, st), sceneCamera(layout, start, st));
+    renderer.draw(picture(st), sceneCamera(layout, start, st));
     if (!renderer.writePng(a.png, err)) {
       std::fprintf(stderr, "rm3d replay: --png: %s\n", err.c_str());
       code = 2;

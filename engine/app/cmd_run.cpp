@@ -12,6 +12,7 @@
 
 #include "app/app.h"
 #include "app/fork.h"
+#include "app/html_replay.h"
 #include "app/progress_line.h"
 #include "app/run_capture.h"
 #include "app/run_identity.h"
@@ -136,8 +137,11 @@ bool checkCaptureArgs(const RunArgs& a, const CameraArgs& camera, std::string& e
     err = "--fork re-simulates with the recorded seed and params; drop --seed and --param";
     return false;
   }
-  if ((!a.fork.empty() || !a.record.empty()) && a.watch) {
-    err = std::string(a.record.empty() ? "--fork" : "--record") + " cannot be combined with --watch";
+  if ((!a.fork.empty() || !a.record.empty() || !a.html.empty()) && a.watch) {
+    err = std::string(!a.record.empty() ? "--record"
+                      : !a.html.empty() ? "--html"
+                                        : "--fork") +
+          " cannot be combined with --watch";
     return false;
   }
   if (!a.fork.empty() && a.seconds && *a.seconds < *a.at) {
@@ -145,10 +149,25 @@ bool checkCaptureArgs(const RunArgs& a, const CameraArgs& camera, std::string& e
     return false;
   }
   if (!a.record.empty() && !prepareOutputFile("--record", a.record, err)) return false;
+  if (!a.html.empty() && (!prepareOutputFile("--html", a.html, err) || !htmlReplayReady(err))) {
+    if (err.rfind("--html", 0) != 0) err = "--html " + a.html + ": " + err;
+    return false;
+  }
   if (!a.record.empty() && !a.fork.empty() && SourceFiles::key(a.record) == SourceFiles::key(a.fork)) {
     err = "--record " + a.record + ": is the recording --fork reads; write the new one elsewhere";
     return false;
   }
+  return true;
+}
+
+/// --html: the page from the recording the run just wrote.
+bool writeRunHtml(const std::string& record, const std::string& html, std::string& err) {
+  Recording rec;
+  if (!rec.load(record, err)) return false;
+  HtmlReplayStats stats;
+  if (!writeHtmlReplay(rec, rec.layout().camera, html, stats, err)) return false;
+  std::printf("wrote %s (%.1f MiB, %lld of %lld frames)\n", html.c_str(), double(stats.bytes) / (1 << 20),
+              (long long)stats.keptFrames, (long long)stats.recordedFrames);
   return true;
 }
 
@@ -241,7 +260,9 @@ int runCommand(const RunArgs& a, const std::string& root) {
     std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
     return 2;
   }
-  if (!a.record.empty() && !o.sources) o.sources = std::make_shared<SourceFiles>();
+  // --html without --record records into a file beside the page, read back and removed at the end.
+  const std::string record = !a.record.empty() || a.html.empty() ? a.record : a.html + ".rm3drec.part";
+  if (!record.empty() && !o.sources) o.sources = std::make_shared<SourceFiles>();
   RecordingMeta meta{SourceFiles::key(a.world),
                      SourceFiles::key(root),
                      a.seed.value_or(1),
@@ -250,8 +271,9 @@ int runCommand(const RunArgs& a, const std::string& root) {
                      0,
                      a.commandLine,
                      ""};
-  RunCapture capture(a.record, meta, cameraArgs);
-  const bool capturing = !a.record.empty() || !a.frames.empty() || !a.video.empty();
+  RunCapture capture(record, meta, cameraArgs);
+  capture.setLabels(a.labels);
+  const bool capturing = !record.empty() || !a.frames.empty() || !a.video.empty();
   bool forkMatched = true;
   auto forkIfDue = [&](World& w) {
     if (a.fork.empty() || fork.done || w.steps() < fork.step) return;
@@ -355,12 +377,19 @@ int runCommand(const RunArgs& a, const std::string& root) {
   else if (video.isOpen() || videoFrames > 0)
     std::printf("wrote %lld frames to %s\n", videoFrames, a.video.c_str());
   if (!videoError.empty()) outputErrors.push_back(videoError);
-  if (!a.record.empty() && capture.started()) {
+  if (!record.empty() && capture.started()) {
     std::string rerr;
     if (!capture.finish(o.sources->taken(), rerr)) {
       std::fprintf(stderr, "rm3d run: %s\n", rerr.c_str());
       outputErrors.push_back(rerr);
-    } else {
+    } else if (std::string herr; !a.html.empty() && !writeRunHtml(record, a.html, herr)) {
+      std::fprintf(stderr, "rm3d run: %s\n", herr.c_str());
+      outputErrors.push_back(herr);
+    }
+    if (a.record.empty()) {
+      std::error_code ec;
+      fs::remove(record, ec);
+    } else if (rerr.empty()) {
       const double frames = double(std::max<int64_t>(1, capture.writer().frames()));
       std::printf("wrote %lld frames (%.1f KiB, %.2f KiB and %.3f ms per step) to %s (the recording)\n",
                   (long long)capture.writer().frames(), double(capture.writer().bytes()) / 1024,

@@ -29,6 +29,7 @@
 #include "core/error.h"
 #include "render/picking.h"
 #include "render/scene_renderer.h"
+#include "render/scene_state.h"
 #include "render/view_math.h"
 #include "render/world_snapshot.h"
 #include "world/world.h"
@@ -109,6 +110,17 @@ PixelStats countModulePixels(const World& w, const Snapshot& snap, const Camera&
   return st;
 }
 
+/// A component's colour (linear RGBA), the graph panel's and the 3D view's: ten distinct hues,
+/// then round again.
+std::array<float, 4> componentColour(int c) {
+  static constexpr float kPalette[10][3] = {
+      {0.12f, 0.47f, 0.71f}, {1.0f, 0.5f, 0.05f},   {0.17f, 0.63f, 0.17f}, {0.84f, 0.15f, 0.16f},
+      {0.58f, 0.4f, 0.74f},  {0.55f, 0.34f, 0.29f}, {0.89f, 0.47f, 0.76f}, {0.5f, 0.5f, 0.5f},
+      {0.74f, 0.74f, 0.13f}, {0.09f, 0.75f, 0.81f}};
+  const float* p = kPalette[size_t(c) % 10];
+  return {p[0], p[1], p[2], 1.0f};
+}
+
 class Viewer {
  public:
   Viewer(const ViewArgs& args, RunOptions options)
@@ -122,6 +134,8 @@ class Viewer {
     }
     m_world = &m_session.world();
     m_orbit = OrbitCamera::from(worldCamera(*m_world));
+    m_graph = m_args.graph;
+    m_components = m_args.components;
     if (m_world->camera().follow >= 0) {
       m_follow = true;
       m_followModule = m_world->camera().follow;
@@ -306,6 +320,14 @@ class Viewer {
         else
           m_notice = "select a module (click it) to follow it";
         break;
+      case 'g':
+      case 'G':
+        m_graph = !m_graph;
+        break;
+      case 'c':
+      case 'C':
+        m_components = !m_components;
+        break;
       case 'q':
       case 'Q':
         m_quit = true;
@@ -329,8 +351,23 @@ class Viewer {
   // --- drawing ---
   /// The world's snapshot plus a box around the selected module; the status is ImGui's.
   void buildFrame() {
-    m_snapshot = buildSnapshot(*m_world);
+    const SceneLayout layout = sceneLayout(*m_world);
+    SceneState state;
+    captureState(*m_world, layout, state);
+    m_snapshot = buildSnapshot(layout, state);
     m_snapshot.overlay.clear();
+    m_componentOf.assign(m_world->modules().size(), 0);
+    const std::vector<std::vector<int>> comps = m_world->components();
+    for (size_t c = 0; c < comps.size(); ++c)
+      for (int m : comps[c]) m_componentOf[size_t(m)] = int(c);
+    m_componentCount = int(comps.size());
+    // Module links (not dock faces, which keep their state colours) in their component's colour.
+    if (m_components)
+      for (size_t i = 0; i < layout.items.size() && i < m_snapshot.items.size(); ++i) {
+        RenderItem& it = m_snapshot.items[i];
+        if (layout.items[i].kind == SceneLayout::Kind::Link && it.tag >= 0)
+          it.color = componentColour(m_componentOf[size_t(it.tag)]);
+      }
     if (m_follow && m_followModule >= 0 && m_followModule < int(m_world->modules().size()))
       m_orbit.target = m_world->modulePose(m_followModule).pos.cast<float>();
     m_camera = m_orbit.camera();
@@ -374,7 +411,9 @@ class Viewer {
                 m_follow ? "   following" : "");
     if (!w.failures().empty())
       ImGui::TextColored(kErrorColor, "%zu failed expectations", w.failures().size());
-    ImGui::TextDisabled("Space pause  S step  R reset  +/- speed  F follow  click: inspect  Esc quit");
+    ImGui::TextDisabled(
+        "Space pause  S step  R reset  +/- speed  F follow  G graph  C colour components  click: inspect  "
+        "Esc quit");
     if (!m_notice.empty()) ImGui::TextUnformatted(m_notice.c_str());
     ImGui::End();
   }
@@ -402,6 +441,101 @@ class Viewer {
     ImGui::PopStyleColor();
     ImGui::End();
     ImGui::PopStyleColor();
+  }
+
+  /// The connection graph: a node per module where its root is seen from above (fitted to the
+  /// panel), an edge per connection, nodes coloured by component; a click selects a module; below
+  /// it the connections and the latest dock events.
+  void drawGraph(int width, int height) {
+    if (!m_graph) return;
+    const World& w = *m_world;
+    const float panelW = 360, canvasH = 240;
+    ImGui::SetNextWindowPos(ImVec2(8, float(height) - 8), ImGuiCond_Appearing, ImVec2(0, 1));
+    ImGui::SetNextWindowSize(ImVec2(panelW, std::min(canvasH + 230, float(height) * 0.6f)),
+                             ImGuiCond_Appearing);
+    bool open = true;
+    ImGui::Begin("Connection graph (G)", &open, ImGuiWindowFlags_NoSavedSettings);
+    ImGui::Text("%zu connections, %d component%s", w.connections().size(), m_componentCount,
+                m_componentCount == 1 ? "" : "s");
+    ImGui::Checkbox("colour the modules by component (C)", &m_components);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const float cw = std::max(120.0f, ImGui::GetContentRegionAvail().x);
+    ImGui::InvisibleButton("graph", ImVec2(cw, canvasH));
+    const bool clicked = ImGui::IsItemClicked();
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->AddRectFilled(origin, ImVec2(origin.x + cw, origin.y + canvasH), IM_COL32(250, 250, 252, 255));
+    const size_t n = w.modules().size();
+    std::vector<ImVec2> at(n);
+    Eigen::AlignedBox2f box;
+    for (size_t i = 0; i < n; ++i) box.extend(w.modulePose(int(i)).pos.head<2>().cast<float>());
+    const Eigen::Vector2f size = box.isEmpty() ? Eigen::Vector2f(1, 1) : box.sizes();
+    // Room on the right for the names beside the nodes.
+    const float scale =
+        std::min((cw - 96) / std::max(size.x(), 1e-3f), (canvasH - 32) / std::max(size.y(), 1e-3f));
+    const Eigen::Vector2f mid =
+        box.isEmpty() ? Eigen::Vector2f(Eigen::Vector2f::Zero()) : Eigen::Vector2f(box.center());
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2f p = w.modulePose(int(i)).pos.head<2>().cast<float>();
+      at[i] = ImVec2(origin.x + cw / 2 - 36 + (p.x() - mid.x()) * scale,
+                     origin.y + canvasH / 2 - (p.y() - mid.y()) * scale);
+    }
+    for (const Connection& c : w.connections())
+      dl->AddLine(at[size_t(c.moduleA)], at[size_t(c.moduleB)], IM_COL32(40, 40, 40, 255), 2.0f);
+    const float r = n > 200 ? 2.5f : n > 40 ? 4.0f : 6.0f;
+    for (size_t i = 0; i < n; ++i) {
+      const std::array<float, 4> c = componentColour(i < m_componentOf.size() ? m_componentOf[i] : 0);
+      dl->AddCircleFilled(at[i], int(i) == m_selected ? r + 3 : r,
+                          ImGui::ColorConvertFloat4ToU32(ImVec4(c[0], c[1], c[2], 1)));
+      if (n <= 40)
+        dl->AddText(ImVec2(at[i].x + r + 1, at[i].y - r - 12), IM_COL32(0, 0, 0, 255),
+                    w.module(int(i)).name.c_str());
+    }
+    if (clicked) {
+      const ImVec2 mouse = ImGui::GetIO().MousePos;
+      float best = 144;
+      int who = -1;
+      for (size_t i = 0; i < n; ++i) {
+        const float d = (at[i].x - mouse.x) * (at[i].x - mouse.x) + (at[i].y - mouse.y) * (at[i].y - mouse.y);
+        if (d < best) best = d, who = int(i);
+      }
+      m_selected = who;
+    }
+    auto dockName = [&](int m, int d) {
+      const Module& mod = w.module(m);
+      return mod.name + "." +
+             (d >= 0 && d < int(mod.type->docks.size()) ? mod.type->docks[size_t(d)].name : "?");
+    };
+    if (ImGui::CollapsingHeader("Connections", ImGuiTreeNodeFlags_DefaultOpen)) {
+      size_t shown = 0;
+      for (const Connection& c : w.connections()) {
+        if (++shown > 200) {
+          ImGui::TextDisabled("... and %zu more", w.connections().size() - 200);
+          break;
+        }
+        ImGui::Text("%s - %s", dockName(c.moduleA, c.dockA).c_str(), dockName(c.moduleB, c.dockB).c_str());
+      }
+    }
+    if (ImGui::CollapsingHeader("Dock events", ImGuiTreeNodeFlags_DefaultOpen)) {
+      const std::vector<DockEvent>& ev = w.events();
+      if (ev.empty()) ImGui::TextDisabled("(none yet)");
+      for (size_t k = ev.size(), shown = 0; k-- > 0 && shown < 50; ++shown) {  // newest first
+        const DockEvent& e = ev[k];
+        const ImVec4 colour = e.kind == "broken" ? kErrorColor : ImGui::GetStyle().Colors[ImGuiCol_Text];
+        ImGui::TextColored(colour, "t=%.2f %s %s - %s", e.time, e.kind.c_str(),
+                           dockName(e.moduleA, e.dockA).c_str(), dockName(e.moduleB, e.dockB).c_str());
+      }
+    }
+    ImGui::End();
+    (void)width;
+    if (!open) m_graph = false;
+  }
+
+  /// What the graph panel shows, for the screenshot line (tests): "N connections, M components"
+  /// or "hidden".
+  std::string graphLine() const {
+    if (!m_graph) return "hidden";
+    return std::to_string(m_world->connections().size()) + " connections, " +
+           std::to_string(m_componentCount) + " component" + (m_componentCount == 1 ? "" : "s");
   }
 
   std::string moduleName(int index) const {
@@ -523,6 +657,9 @@ class Viewer {
   LivePlots m_plots;                                   // the selected module's recent joints and series
   bool m_follow = false;
   int m_followModule = -1;
+  bool m_graph = true, m_components = false;  // the graph panel; modules coloured by component
+  std::vector<int> m_componentOf;             // per module: its component's index (World::components order)
+  int m_componentCount = 0;
   std::string m_notice;
   int m_dragButton = -1;
   bool m_dragged = false;
@@ -579,6 +716,7 @@ int Viewer::run(GLFWwindow* window) {
     drawStatus(rtf);
     drawErrors(winWidth, winHeight);
     drawInspector(winWidth, winHeight);
+    drawGraph(winWidth, winHeight);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 
@@ -594,9 +732,9 @@ int Viewer::run(GLFWwindow* window) {
           const PixelStats st = countModulePixels(*m_world, m_snapshot, m_camera, fbWidth, fbHeight, rgba);
           std::printf(
               "screenshot: %d x %d, %d module pixels, %d of them picked as a module, t = %.2f s, selected: "
-              "%s\n",
+              "%s, graph: %s\n",
               fbWidth, fbHeight, st.modulePixels, st.picked, m_world->time(),
-              m_selected >= 0 ? m_world->module(m_selected).name.c_str() : "none");
+              m_selected >= 0 ? m_world->module(m_selected).name.c_str() : "none", graphLine().c_str());
         }
       }
       break;

@@ -128,6 +128,12 @@ int run(int argc, char** argv) {
   runCmd->add_option("--eye", run.eye, eyeHelp);
   runCmd->add_option("--target", run.target, targetHelp);
   runCmd->add_option("--fov", run.fov, fovHelp);
+  const char* htmlHelp =
+      "write the run as one web page that opens from disk in a browser: 3D view, time slider, "
+      "connection graph (docs/replay-html.md)";
+  runCmd->add_option("--html", run.html, htmlHelp);
+  const char* labelsHelp = "write each module's name above it in --png, --frames and --video pictures";
+  runCmd->add_flag("--labels", run.labels, labelsHelp);
 
   rm3d::ReplayArgs replay;
   CLI::App* replayCmd = app.add_subcommand(
@@ -145,6 +151,8 @@ int run(int argc, char** argv) {
   replayCmd->add_option("--eye", replay.eye, eyeHelp);
   replayCmd->add_option("--target", replay.target, targetHelp);
   replayCmd->add_option("--fov", replay.fov, fovHelp);
+  replayCmd->add_option("--html", replay.html, htmlHelp);
+  replayCmd->add_flag("--labels", replay.labels, labelsHelp);
   replayCmd->add_flag("--view", replay.view, "show it in a window with a time slider and play/pause");
   // Hidden: with --view, draw N frames, save the window as PNG and exit (tests).
   replayCmd->add_option("--view-frames", replay.viewFrames, "frames to draw")
@@ -216,6 +224,9 @@ int run(int argc, char** argv) {
   viewCmd->add_option("--screenshot", view.screenshot,
                       "save the last frame's window as PNG (needs --exit-after)");
   viewCmd->add_option("--watchdog", view.watchdog, watchdogHelp)->check(kWatchdogSeconds);
+  viewCmd->add_flag("!--no-graph", view.graph, "start with the connection-graph panel hidden (G shows it)");
+  viewCmd->add_flag("--components", view.components,
+                    "colour modules by connected component, as in the graph panel (C toggles)");
   // Hidden: opens the inspector on a module at start (tests, README pictures).
   viewCmd->add_option("--select", view.select, "module id to select at start")->group("");
 

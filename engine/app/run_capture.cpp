@@ -63,7 +63,12 @@ void RunCapture::start(const World& w) {
   if (!m_meta.seedGiven) m_meta.seed = w.settings().seed;
   m_meta.dt = w.settings().dt;
   if (!m_writer.open(m_record, m_meta, m_layout, m_error)) return;
+  // Frame 0 lists the connections made while the world was built as "engaged" events, so a
+  // reader knows the connection graph from the start (the dock flags alone do not pair docks).
+  for (const Connection& c : w.connections())
+    m_events.docks.push_back({c.time, "engaged", c.moduleA, c.dockA, c.moduleB, c.dockB});
   m_writer.frame(m_now, m_events);
+  m_events.docks.clear();
 }
 
 void RunCapture::step(const World& w) {

@@ -34,7 +34,13 @@ class RunCapture {
 
   bool started() const { return m_started; }
   /// The picture now, and the camera for it (sceneCamera: framed at the start).
-  Snapshot snapshot() const { return buildSnapshot(m_layout, m_now); }
+  Snapshot snapshot() const {
+    Snapshot s = buildSnapshot(m_layout, m_now);
+    if (m_labels) addModuleLabels(m_layout, m_now, s);
+    return s;
+  }
+  /// --labels: pictures name every module.
+  void setLabels(bool on) { m_labels = on; }
   Camera camera() const { return sceneCamera(m_layout, m_start, m_now); }
   /// Brings the state up to date without recording (the last picture of a run).
   void refresh(const World& w) { captureState(w, m_layout, m_now); }
@@ -51,6 +57,7 @@ class RunCapture {
   RecordingMeta m_meta;
   CameraArgs m_cameraArgs;
   bool m_started = false;
+  bool m_labels = false;
   SceneLayout m_layout;
   SceneState m_start, m_now;
   RecordingWriter m_writer;

@@ -588,6 +588,7 @@ bool Recording::load(const std::string& path, std::string& err) {
         err = path + ": damaged recording (its layout chunk has " + why + ")";
         return false;
       }
+      completeLayout(m_layout);
       haveLayout = true;
     } else if (t == kSources) {
       const uint32_t count = in.count(8);

@@ -9,7 +9,9 @@
 // files from before cloth lack: render/scene_state.h),
 // then one FRAM per step from step 0 (the state before the first step), then SRCS (every Lua
 // text the run read: world script, module types, behaviours, required modules) and END_ (frame
-// count). A frame is its clock, the new dock events and faults of that step, and the state
+// count). A frame is its clock, the new dock events and faults of that step (frame 0: the
+// connections made while the world was built, as "engaged" events; recordings from before
+// these have none there), and the state
 // arrays (poses as doubles, so a replay rebuilds bit-identical snapshots); every 64th frame is
 // whole, the others are XORed with the frame before; the state bytes are then regrouped in
 // byte planes of 8-byte lanes (the high bytes of an XOR of close doubles are zeros and pack well).

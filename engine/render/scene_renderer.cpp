@@ -393,7 +393,11 @@ struct SceneRenderer::Impl {
     targetWidth = width, targetHeight = height;
   }
 
-  void drawText(const std::vector<std::string>& lines, int width, int height);
+  struct Text {
+    float x, y;  ///< top-left pixel of the text's first glyph
+    std::string text;
+  };
+  void drawText(const std::vector<Text>& texts, int width, int height);
   void uploadSpheres(const std::vector<RenderSpheres>& sets);
   void drawSpheres(const std::vector<RenderSpheres>& sets, bool translucent);
 };
@@ -703,7 +707,21 @@ void SceneRenderer::draw(const Snapshot& s, const Camera& cam, int width, int he
     gl.DrawArrays(GL_LINES, 0, GLsizei(lv.size() / 7));
   }
   gl.Disable(GL_BLEND);
-  r.drawText(s.overlay, width, height);
+  // Text: labels at their points' pixels (centred, those behind the eye left out), the overlay
+  // lines top-left.
+  std::vector<Impl::Text> texts;
+  const float textScale = std::max(1.0f, std::round(height / 360.0f));
+  for (const RenderLabel& l : s.labels) {
+    const Eigen::Vector4f c = viewProj * Eigen::Vector4f(l.at.x(), l.at.y(), l.at.z(), 1.0f);
+    if (!(c.w() > kNearPlane)) continue;
+    std::string text = l.text;
+    const float x = (c.x() / c.w() * 0.5f + 0.5f) * float(width),
+                y = (0.5f - c.y() / c.w() * 0.5f) * float(height);
+    texts.push_back({x - 0.5f * float(stb_easy_font_width(text.data())) * textScale, y, l.text});
+  }
+  for (size_t i = 0; i < s.overlay.size(); ++i)
+    texts.push_back({6.0f * textScale, (6.0f + 12.0f * float(i)) * textScale, s.overlay[i]});
+  r.drawText(texts, width, height);
 
   if (r.msaaFbo && r.resolveFbo) {
     gl.BindFramebuffer(GL_READ_FRAMEBUFFER, r.msaaFbo);
@@ -732,21 +750,20 @@ void SceneRenderer::readPixels(int width, int height, std::vector<uint8_t>& rgba
     std::memcpy(rgba.data() + y * row, rows.data() + (height - 1 - y) * row, row);
 }
 
-void SceneRenderer::Impl::drawText(const std::vector<std::string>& lines, int width, int height) {
-  if (lines.empty()) return;
+void SceneRenderer::Impl::drawText(const std::vector<Text>& texts, int width, int height) {
+  if (texts.empty()) return;
   // stb_easy_font glyphs are ~7 px tall; scale them up on large images.
-  const float scale = std::max(1.0f, std::round(height / 360.0f)), lineHeight = 12.0f;
+  const float scale = std::max(1.0f, std::round(height / 360.0f));
   std::vector<float> tris;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    std::string text = lines[i];  // stb wants a mutable char*
+  for (const Text& t : texts) {
+    std::string text = t.text;  // stb wants a mutable char*
     std::vector<char> quads(text.size() * 1200 + 64);
-    const int n = stb_easy_font_print(0.0f, float(i) * lineHeight, text.data(), nullptr, quads.data(),
-                                      int(quads.size()));
+    const int n = stb_easy_font_print(0.0f, 0.0f, text.data(), nullptr, quads.data(), int(quads.size()));
     for (int q = 0; q < n; ++q)
       for (int k : {0, 1, 2, 0, 2, 3}) {  // quads -> two triangles (core profile)
         float v[2];
         std::memcpy(v, quads.data() + (q * 4 + k) * 16, sizeof v);  // x, y, z, rgba8
-        tris.insert(tris.end(), {6.0f * scale + v[0] * scale, 6.0f * scale + v[1] * scale});
+        tris.insert(tris.end(), {t.x + v[0] * scale, t.y + v[1] * scale});
       }
   }
   upload(textVao, textVbo, tris, {{0, 2}});

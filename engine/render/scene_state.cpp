@@ -204,15 +204,48 @@ double shapeRadius(const ShapeDef& s) {
   return r + s.pose.pos.norm();
 }
 
-constexpr std::array<float, 4> kFaultColor{0.85f, 0.1f, 0.1f, 1.0f};
-constexpr std::array<float, 4> kDockDisabled{0.9f, 0.15f, 0.1f, 1}, kDockEngaged{0.2f, 0.8f, 0.3f, 1},
-    kDockFree{0.55f, 0.55f, 0.6f, 1};
 constexpr std::array<float, 4> kTerrainColor{0.52f, 0.47f, 0.36f, 1};
 constexpr std::array<float, 4> kFluidColor{0.2f, 0.45f, 0.9f, 1.0f};
 constexpr std::array<float, 4> kDebrisColor{0.76f, 0.62f, 0.38f, 1.0f};
 constexpr double kSceneryRadius = 5.0;  // bodies larger than 10 m across are scenery, not framed
 
 }  // namespace
+
+void completeLayout(SceneLayout& lay) {
+  lay.dockReach.assign(lay.items.size(), Eigen::Vector2f::Zero());
+  // The link items of each module link, then each dock's reach over them.
+  std::map<std::pair<int, int>, std::vector<size_t>> linkItems;
+  for (size_t i = 0; i < lay.items.size(); ++i)
+    if (lay.items[i].kind == SceneLayout::Kind::Link)
+      linkItems[{lay.items[i].owner, lay.items[i].link}].push_back(i);
+  for (size_t i = 0; i < lay.items.size(); ++i) {
+    const SceneLayout::Item& dock = lay.items[i];
+    if (dock.kind != SceneLayout::Kind::Dock) continue;
+    const Pose toDock = dock.local.inverse();
+    Eigen::Vector2f reach(0.5f * dock.scale.y(), 0.5f * dock.scale.z());
+    const auto found = linkItems.find({dock.owner, dock.link});
+    if (found != linkItems.end())
+      for (size_t k : found->second) {
+        const SceneLayout::Item& it = lay.items[k];
+        if (it.mesh < 0 || it.mesh >= int(lay.meshes.size())) continue;
+        const Pose itemInDock = toDock * it.local;
+        for (const Eigen::Vector3f& v : lay.meshes[size_t(it.mesh)].vertices) {
+          const Vec3 p = itemInDock * v.cwiseProduct(it.scale).cast<double>();
+          reach = reach.cwiseMax(Eigen::Vector2f(float(std::abs(p.y())), float(std::abs(p.z()))));
+        }
+      }
+    lay.dockReach[i] = reach;
+  }
+}
+
+std::array<Eigen::Matrix4f, 2> dockMarkTransforms(const SceneLayout& lay, size_t item, const Pose& linkPose) {
+  const SceneLayout::Item& it = lay.items[item];
+  const Eigen::Vector2f reach = item < lay.dockReach.size() ? lay.dockReach[item] : Eigen::Vector2f::Zero();
+  const Pose at = linkPose * it.local * Pose{Vec3(kDockMark.shift, 0, 0), Quat::Identity()};
+  const float thick = kDockMark.thickness * it.scale.y();
+  return {toMatrix(at, Eigen::Vector3f(kDockMark.depth, 2 * (reach.x() + kDockMark.overhang), thick)),
+          toMatrix(at, Eigen::Vector3f(kDockMark.depth, thick, 2 * (reach.y() + kDockMark.overhang)))};
+}
 
 SceneLayout sceneLayout(const World& w) {
   SceneLayout lay;
@@ -294,6 +327,7 @@ SceneLayout sceneLayout(const World& w) {
   lay.dt = w.settings().dt;
   const World::CameraDef& c = w.camera();
   lay.camera = {c.eye, c.target, c.follow, c.fovDeg};
+  completeLayout(lay);
   return lay;
 }
 
@@ -359,6 +393,7 @@ Snapshot buildSnapshot(const SceneLayout& lay, const SceneState& st) {
   Snapshot snap;
   snap.meshes = lay.meshes;
   snap.items.reserve(lay.items.size());
+  std::vector<RenderItem> bars;  // engaged docks' bars, after the layout's items
   for (const SceneLayout::Item& it : lay.items) {
     RenderItem item;
     item.mesh = it.mesh;
@@ -373,13 +408,21 @@ Snapshot buildSnapshot(const SceneLayout& lay, const SceneState& st) {
         if (st.faulted[size_t(it.owner)]) item.color = kFaultColor;
       } else {
         const uint8_t flags = st.docks[size_t(info.firstDock + it.dock)];
-        item.color = !(flags & 1) ? kDockDisabled : (flags & 2) ? kDockEngaged : kDockFree;
+        item.color = !(flags & 1) ? kDockDisabledColor : (flags & 2) ? kDockEngagedColor : kDockFreeColor;
+        if ((flags & 3) == 3)
+          for (const Eigen::Matrix4f& m : dockMarkTransforms(lay, size_t(&it - lay.items.data()),
+                                                             st.links[size_t(info.firstLink + it.link)])) {
+            RenderItem bar = item;
+            bar.transform = m;
+            bars.push_back(bar);
+          }
       }
       frame = st.links[size_t(info.firstLink + it.link)];
     }
     item.transform = toMatrix(frame * it.local, it.scale);
     snap.items.push_back(item);
   }
+  snap.items.insert(snap.items.end(), bars.begin(), bars.end());
   // Cloth: a mesh per cloth with this frame's node positions (the renderer uploads meshes every
   // frame and shades both sides). A recording without cloth nodes draws none.
   size_t first = 0;
@@ -427,6 +470,14 @@ Snapshot buildSnapshot(const SceneLayout& lay, const SceneState& st) {
                 (long long)st.steps, lay.modules.size(), st.faults);
   snap.overlay.push_back(line);
   return snap;
+}
+
+void addModuleLabels(const SceneLayout& lay, const SceneState& st, Snapshot& snap) {
+  for (const SceneLayout::ModuleInfo& m : lay.modules) {
+    const size_t root = size_t(m.firstLink + m.rootLink);
+    if (root >= st.links.size()) continue;
+    snap.labels.push_back({f3(st.links[root].pos) + Eigen::Vector3f(0, 0, 0.07f), m.name});
+  }
 }
 
 Camera sceneCamera(const SceneLayout& lay, const SceneState& start, const SceneState& now) {

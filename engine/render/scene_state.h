@@ -71,7 +71,18 @@ struct SceneLayout {
   double dt = 1.0 / 60;
   CameraDef camera;
   int linkCount = 0, jointCount = 0, dockCount = 0;
+  /// Per item: for a Dock item, how far its link's shapes reach from the dock's centre across
+  /// the face (the larger of both ways, along the dock frame's y and z), for the engaged mark;
+  /// zero for other items. Derived from the meshes and items by completeLayout (not recorded).
+  std::vector<Eigen::Vector2f> dockReach;
 };
+
+/// Fills the layout's derived parts (dockReach) from its meshes and items: sceneLayout does, and
+/// so does reading a recording.
+void completeLayout(SceneLayout& layout);
+/// The two bars of an engaged dock's mark (kDockMark): transform of the dock item's box mesh.
+std::array<Eigen::Matrix4f, 2> dockMarkTransforms(const SceneLayout& layout, size_t item,
+                                                  const Pose& linkPose);
 
 struct SceneState {
   double time = 0;
@@ -90,10 +101,29 @@ struct SceneState {
   std::vector<Eigen::Vector3f> particles;   ///< every particle system's centres, system after system
 };
 
+/// Colours buildSnapshot gives by state (linear RGBA): a faulted module's links; a dock face
+/// disabled, engaged or free.
+inline constexpr std::array<float, 4> kFaultColor{0.85f, 0.1f, 0.1f, 1.0f};
+inline constexpr std::array<float, 4> kDockDisabledColor{0.9f, 0.15f, 0.1f, 1},
+    kDockEngagedColor{0.2f, 0.8f, 0.3f, 1}, kDockFreeColor{0.55f, 0.55f, 0.6f, 1};
+/// The mark of an engaged dock (so a docked pair is told from two modules that only touch): a
+/// cross of two bars on the dock item's mesh (a box), centred `shift` along the dock's outward
+/// normal from the dock item (just inside the face) and `depth` deep along it; one bar along the
+/// face's y axis, one along its z axis, each reaching `overhang` past the link's own shapes
+/// (SceneLayout::dockReach) so it shows beyond the module's outline from any side, and
+/// `thickness` times the face's size wide. Both docks of a mated pair draw one, so the cross
+/// straddles the seam.
+struct DockMarkShape {
+  float shift, depth, overhang, thickness;
+};
+inline constexpr DockMarkShape kDockMark{-0.0055f, 0.012f, 0.012f, 0.3f};
+
 SceneLayout sceneLayout(const World& world);
 /// Fills `out` (its arrays keep their capacity: no allocation after the first call).
 void captureState(const World& world, const SceneLayout& layout, SceneState& out);
 Snapshot buildSnapshot(const SceneLayout& layout, const SceneState& state);
+/// --labels: every module's name above its root link.
+void addModuleLabels(const SceneLayout& layout, const SceneState& state, Snapshot& snap);
 
 /// The camera for a picture of `now`. world.camera{...} wins where given; otherwise the camera
 /// frames the scene at the start (every module, every body under 10 m across: obstacles,

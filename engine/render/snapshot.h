@@ -40,6 +40,12 @@ struct RenderSpheres {
   std::array<float, 4> color{0.2f, 0.45f, 0.9f, 1.0f};  ///< linear RGBA
 };
 
+/// Text drawn at a point of the scene (a module's name with --labels), centred above it.
+struct RenderLabel {
+  Eigen::Vector3f at;
+  std::string text;
+};
+
 struct Camera {
   Eigen::Vector3f eye{1.5f, -1.5f, 1.0f};
   Eigen::Vector3f target{0, 0, 0};
@@ -54,6 +60,7 @@ struct Snapshot {
   std::vector<RenderSpheres> spheres;  ///< particle systems
   bool ground = true;                  ///< draw the plane z = 0 with a 0.1 m / 1 m grid
   std::vector<std::string> overlay;    ///< text lines drawn top-left (sim time, modules, ...)
+  std::vector<RenderLabel> labels;     ///< text at scene points, drawn over everything
 };
 
 }  // namespace rm3d

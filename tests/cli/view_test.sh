@@ -80,6 +80,11 @@ shot() {
 
 shot view
 shot inspector --select 8
+# The connection-graph panel: shown by default with the snake's nine connections in one
+# component (the screenshot line reports what the panel shows); --no-graph hides it.
+check "view: graph panel with 9 connections" grep -q "graph: 9 connections, 1 component$" "$dir/view.txt"
+shot nograph --no-graph
+check "nograph: graph panel hidden" grep -q "graph: hidden$" "$dir/nograph.txt"
 check "inspector: module 8 not selected" grep -q "selected: snake_8" "$dir/inspector.txt"
 
 [ $fail -eq 0 ] && echo "1 passed, 0 failed" || echo "0 passed, 1 failed"

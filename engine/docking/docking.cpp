@@ -99,14 +99,14 @@ void Docking::lock(const DockingScene& s, int a, int da, int b, int db, int orie
   }
   Connection c{a, da, b, db, s.time, {}, 0};
   m_connections.push_back(c);
-  m_events.push_back({s.time, "engaged", a, da, b, db});
+  m_events.push_back({s.time, DockEventKind::Engaged, a, da, b, db});
   if (s.started) {
-    ma.dockEvents.emplace_back(da, "engaged");
-    mb.dockEvents.emplace_back(db, "engaged");
+    ma.dockEvents.emplace_back(da, DockEventKind::Engaged);
+    mb.dockEvents.emplace_back(db, DockEventKind::Engaged);
   }
 }
 
-void Docking::release(const DockingScene& s, size_t index, const char* kind, double force, double torque) {
+void Docking::release(const DockingScene& s, size_t index, DockEventKind kind, double force, double torque) {
   const Connection c = std::move(m_connections[index]);
   m_connections.erase(m_connections.begin() + std::ptrdiff_t(index));
   Module& ma = s.modules[size_t(c.moduleA)];
@@ -114,7 +114,7 @@ void Docking::release(const DockingScene& s, size_t index, const char* kind, dou
   s.physics.unlockParts(ma.parts[size_t(ma.type->docks[size_t(c.dockA)].link)],
                         mb.parts[size_t(mb.type->docks[size_t(c.dockB)].link)]);
   ++m_topology;
-  const bool broken = std::string_view(kind) == "broken";
+  const bool broken = kind == DockEventKind::Broken;
   ma.docks[size_t(c.dockA)].brokeFromModule = broken ? c.moduleB : -1;
   ma.docks[size_t(c.dockA)].brokeFromDock = broken ? c.dockB : -1;
   mb.docks[size_t(c.dockB)].brokeFromModule = broken ? c.moduleA : -1;
@@ -134,7 +134,7 @@ bool Docking::disconnect(const DockingScene& s, int m, int dock) {
   for (size_t i = 0; i < m_connections.size(); ++i) {
     const Connection& c = m_connections[i];
     if ((c.moduleA == m && c.dockA == dock) || (c.moduleB == m && c.dockB == dock)) {
-      release(s, i, "disengaged", -1, -1);
+      release(s, i, DockEventKind::Disengaged, -1, -1);
       return true;
     }
   }
@@ -146,7 +146,7 @@ void Docking::undock(const DockingScene& s) {
     const Connection& c = m_connections[i];
     if (!s.modules[size_t(c.moduleA)].docks[size_t(c.dockA)].enabled ||
         !s.modules[size_t(c.moduleB)].docks[size_t(c.dockB)].enabled)
-      release(s, i, "disengaged", -1, -1);
+      release(s, i, DockEventKind::Disengaged, -1, -1);
     else
       ++i;
   }
@@ -359,7 +359,7 @@ void Docking::breakage(const DockingScene& s) {
     const Wrench w = connectionLoad(s.modules, s.physics, c);
     const double f = w.force.norm(), t = w.torque.norm();
     if (f > std::min(da.strength, db.strength) || t > std::min(da.strengthTorque, db.strengthTorque))
-      release(s, i, "broken", f, t);
+      release(s, i, DockEventKind::Broken, f, t);
     else
       ++i;
   }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "docking/dock_event.h"
 #include "modules/module.h"
 #include "physics/physics_world.h"
 
@@ -27,9 +28,9 @@ struct Connection {
 
 struct DockEvent {
   double time;
-  std::string kind;  ///< "engaged", "disengaged", "broken"
+  DockEventKind kind = DockEventKind::Engaged;
   int moduleA, dockA, moduleB, dockB;
-  double force = -1, torque = -1;  ///< measured load for "broken" (N, N m), else -1
+  double force = -1, torque = -1;  ///< measured load for Broken (N, N m), else -1
 };
 
 /// What docking works on: the World's modules and physics, and the clock.
@@ -72,7 +73,7 @@ class Docking {
  private:
   /// Locks two docks: optionally moves b's component so the faces mate exactly first.
   void lock(const DockingScene& s, int a, int da, int b, int db, int orientation, bool snap);
-  void release(const DockingScene& s, size_t connection, const char* kind, double force, double torque);
+  void release(const DockingScene& s, size_t connection, DockEventKind kind, double force, double torque);
   int bestOrientation(const DockingScene& s, int a, int da, int b, int db) const;
 
   std::vector<Connection> m_connections;

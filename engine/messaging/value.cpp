@@ -14,6 +14,7 @@ size_t valueSize(const Value& v) {
 nlohmann::json valueToJson(const Value& v) {
   switch (v.type) {
     case Value::Type::Nil:
+    case Value::Type::Opaque:
       return nullptr;
     case Value::Type::Boolean:
       return v.boolean;

@@ -15,7 +15,9 @@ namespace rm3d {
 inline constexpr size_t kParamsLimit = 4u << 20;
 
 struct Value {
-  enum class Type : uint8_t { Nil, Boolean, Integer, Number, String, Table };
+  /// Opaque: a placeholder for a Lua value that cannot be copied (function, userdata, thread),
+  /// its Lua type name in `string`; only module-type loading makes one (LuaValueOptions).
+  enum class Type : uint8_t { Nil, Boolean, Integer, Number, String, Table, Opaque };
   Type type = Type::Nil;
   bool boolean = false;
   int64_t integer = 0;

@@ -12,6 +12,7 @@
 #include "core/rng.h"
 #include "core/trace_series.h"
 #include "core/types.h"
+#include "docking/dock_event.h"
 #include "messaging/value.h"
 #include "modules/module_type.h"
 #include "physics/physics_world.h"
@@ -69,8 +70,8 @@ struct Module {
   std::string fault;       ///< empty: healthy
   bool faultReported = false;
   bool fixed = false;  ///< root link held in place (a base)
-  /// on_dock events for the module's next step: (dock, "engaged" | "disengaged" | "broken").
-  std::vector<std::pair<int, const char*>> dockEvents;
+  /// on_dock events for the module's next step: (dock, what happened).
+  std::vector<std::pair<int, DockEventKind>> dockEvents;
   /// Sensors by code (joints, then docks, then the type's sensors): per-step cache and faults.
   std::vector<std::pair<int64_t, SensorReading>> sensorCache;
   std::vector<char> deadSensors;

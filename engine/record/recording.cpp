@@ -420,7 +420,7 @@ void RecordingWriter::frame(const SceneState& s, const FrameEvents& events) {
   o.put(uint32_t(events.docks.size()));
   for (const DockEvent& e : events.docks) {
     o.put(e.time);
-    o.str(e.kind);
+    o.str(dockEventName(e.kind));
     o.put(int32_t(e.moduleA));
     o.put(int32_t(e.dockA));
     o.put(int32_t(e.moduleB));
@@ -652,7 +652,7 @@ bool Recording::frame(int64_t i, SceneState& out, FrameEvents* events, std::stri
     for (uint32_t e = 0; e < nd; ++e) {
       DockEvent ev;
       ev.time = in.get<double>();
-      ev.kind = in.str();
+      if (!dockEventKindOf(in.str(), ev.kind)) in.bad = true;  // a name no build writes
       ev.moduleA = in.get<int32_t>();
       ev.dockA = in.get<int32_t>();
       ev.moduleB = in.get<int32_t>();

@@ -256,14 +256,14 @@ bool Behaviour::init(std::string& err) {
   return refreshCallbacks(err);  // init may define step
 }
 
-bool Behaviour::onDock(int dock, const char* event, std::string& err) {
+bool Behaviour::onDock(int dock, DockEventKind event, std::string& err) {
   if (m_ctx.onDockRef == LUA_NOREF) return true;
   lua_State* L = m_vm.L();
   lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.onDockRef);
   lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.dockTableRef);
   lua_getfield(L, -1, m_ctx.module.self().type->docks[size_t(dock)].name.c_str());
   lua_remove(L, -2);
-  lua_pushstring(L, event);
+  lua_pushstring(L, dockEventName(event));
   return m_vm.call(2, 0, err, "on_dock()");
 }
 

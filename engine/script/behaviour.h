@@ -35,7 +35,7 @@ class Behaviour : public ModuleProgram {
   bool init(std::string& err) override;
   bool step(double dt, std::string& err) override;
   /// on_dock(dock, event) if the behaviour defines it.
-  bool onDock(int dock, const char* event, std::string& err) override;
+  bool onDock(int dock, DockEventKind event, std::string& err) override;
   /// Hot reload: runs new source for the behaviour in a scratch environment and, only if that
   /// succeeds, makes its definitions current (globals such as `state` survive) and calls
   /// on_reload(). On failure (syntax or run-time error) nothing changes; err has file:line.

@@ -1,8 +1,9 @@
 // Module-type loading in two steps. First the file runs in a sandboxed LuaVm and the table it
-// returns is copied into a plain C++ tree using only Lua API calls that never raise (lua_next,
-// lua_type, lua_to*): a Lua error longjmps and would skip the destructors of the C++ objects
-// alive here. Then that tree is validated and converted in ordinary C++, with errors thrown as
-// InputError that name the file and the place in the data ("links[2].shapes[1]: ...").
+// returns is copied into a plain C++ tree (messaging/value.h, by script/lua_value's copier) using
+// only Lua API calls that never raise (lua_next, lua_type, lua_to*): a Lua error longjmps and
+// would skip the destructors of the C++ objects alive here. Then that tree is validated and converted in
+// ordinary C++, with errors thrown as InputError that name the file and the place in the data
+// ("links[2].shapes[1]: ...").
 #include "script/module_type_loader.h"
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include "assets/mesh_loader.h"
 #include "core/error.h"
 #include "core/path_rule.h"
+#include "script/lua_value.h"
 #include "script/lua_vm.h"
 
 namespace fs = std::filesystem;
@@ -43,25 +45,6 @@ constexpr double kPerpendicularTol = 1e-6;
 // When the dock normal is this close to z, the default `up` is x projected instead of z.
 constexpr double kNearZ = 0.9;
 
-struct LuaEntry;
-
-/// A Lua value copied out of the state, so that validation never calls into Lua.
-struct LuaValue {
-  int type = LUA_TNIL;
-  bool boolean = false;
-  double number = 0;
-  bool integral = false;  ///< number with an integer value (integer subtype or integral float)
-  std::string string;
-  std::vector<LuaEntry> entries;  ///< table: integer keys ascending, then string keys sorted
-};
-
-struct LuaEntry {
-  bool isIndex = false;
-  int64_t index = 0;
-  std::string key;
-  LuaValue value;
-};
-
 std::string formatNumber(double x) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.10g", x);
@@ -76,108 +59,84 @@ std::string indexPath(const std::string& where, int64_t i) {
   return where + "[" + std::to_string(i) + "]";
 }
 
-/// What a value is, for "expected X, got Y" messages.
-std::string describe(const LuaValue& v) {
-  switch (v.type) {
-    case LUA_TNIL:
-      return "nil";
-    case LUA_TBOOLEAN:
-      return v.boolean ? "true" : "false";
-    case LUA_TNUMBER:
-      return "the number " + formatNumber(v.number);
-    case LUA_TSTRING:
-      return "the string '" + v.string + "'";
-    case LUA_TTABLE: {
-      std::string names;
-      for (const LuaEntry& e : v.entries)
-        if (!e.isIndex) names += (names.empty() ? "" : ", ") + e.key;
-      if (!names.empty()) return "a table with named fields (" + names + ")";
-      return v.entries.empty() ? "an empty table"
-                               : "a list of " + std::to_string(v.entries.size()) + " values";
-    }
-    case LUA_TFUNCTION:
-      return "a function";
-    default:
-      return "a value of an unsupported type";
-  }
+bool isNumber(const Value& v) {
+  return v.type == Value::Type::Integer || v.type == Value::Type::Number;
 }
 
-/// Copies the value at a stack index (recursively for tables) without raising Lua errors.
-class Copier {
- public:
-  Copier(lua_State* L, std::string file) : m_L(L), m_file(std::move(file)) {}
+double numberOf(const Value& v) {
+  return v.type == Value::Type::Integer ? double(v.integer) : v.number;
+}
 
-  void copy(int idx, const std::string& where, int depth, LuaValue& out) {
-    out.type = lua_type(m_L, idx);
-    switch (out.type) {
-      case LUA_TBOOLEAN:
-        out.boolean = lua_toboolean(m_L, idx) != 0;
-        break;
-      case LUA_TNUMBER:
-        out.number = lua_tonumberx(m_L, idx, nullptr);
-        out.integral =
-            lua_isinteger(m_L, idx) || (std::isfinite(out.number) && out.number == std::floor(out.number));
-        break;
-      case LUA_TSTRING: {
-        size_t len = 0;
-        const char* s = lua_tolstring(m_L, idx, &len);  // a string already: no conversion, no allocation
-        out.string.assign(s, len);
-        break;
-      }
-      case LUA_TTABLE:
-        copyTable(idx, where, depth, out);
-        break;
-      default:
-        break;
+/// A number with an integer value (integer subtype or integral float).
+bool isIntegral(const Value& v) {
+  return v.type == Value::Type::Integer ||
+         (v.type == Value::Type::Number && std::isfinite(v.number) && v.number == std::floor(v.number));
+}
+
+bool isIndex(const Value& key) {
+  return key.type == Value::Type::Integer;
+}
+
+/// What a value is, for "expected X, got Y" messages.
+std::string describe(const Value& v) {
+  switch (v.type) {
+    case Value::Type::Nil:
+      return "nil";
+    case Value::Type::Boolean:
+      return v.boolean ? "true" : "false";
+    case Value::Type::Integer:
+    case Value::Type::Number:
+      return "the number " + formatNumber(numberOf(v));
+    case Value::Type::String:
+      return "the string '" + v.string + "'";
+    case Value::Type::Table: {
+      std::string names;
+      for (const auto& [key, value] : v.table)
+        if (!isIndex(key)) names += (names.empty() ? "" : ", ") + key.string;
+      if (!names.empty()) return "a table with named fields (" + names + ")";
+      return v.table.empty() ? "an empty table" : "a list of " + std::to_string(v.table.size()) + " values";
     }
+    case Value::Type::Opaque:
+      return v.string == "function" ? "a function" : "a value of an unsupported type";
   }
+  return "a value of an unsupported type";
+}
 
- private:
-  [[noreturn]] void fail(const std::string& where, const std::string& msg) const {
-    throw InputError(m_file + ": " + (where.empty() ? "" : where + ": ") + msg);
+/// Copies the value at a stack index with the shared copier (which never raises: a Lua error
+/// would longjmp past the C++ objects alive here) and throws its failure as an InputError.
+Value copyModuleTable(lua_State* L, int idx, const std::string& file) {
+  LuaValueOptions options;
+  options.maxDepth = kMaxDepth;
+  options.keepOpaque = true;
+  options.plainKeys = true;
+  LuaValueError err;
+  Value out;
+  if (readLuaValue(L, idx, out, options, err)) return out;
+  std::string where;
+  for (const LuaPathStep& step : err.path)
+    where = step.isIndex ? indexPath(where, step.index) : childPath(where, step.name);
+  std::string msg;
+  switch (err.kind) {
+    case LuaValueError::Kind::TooDeep:
+      msg = "tables nested too deeply";
+      break;
+    case LuaValueError::Kind::Cycle:
+      msg = "a table that contains itself";
+      break;
+    case LuaValueError::Kind::NoStack:
+      msg = "out of Lua stack space";
+      break;
+    case LuaValueError::Kind::BadKey:
+      msg = (err.typeName == "number" ? "unexpected key " + formatNumber(err.number)
+                                      : "unexpected key of type " + err.typeName) +
+            " (keys are names or list positions 1, 2, ...)";
+      break;
+    default:  // not made with these options
+      msg = "cannot be copied";
+      break;
   }
-
-  void copyTable(int idx, const std::string& where, int depth, LuaValue& out) {
-    if (depth > kMaxDepth) fail(where, "tables nested too deeply");
-    const void* id = lua_topointer(m_L, idx);
-    if (std::find(m_open.begin(), m_open.end(), id) != m_open.end())
-      fail(where, "a table that contains itself");
-    if (!lua_checkstack(m_L, 4)) fail(where, "out of Lua stack space");
-    m_open.push_back(id);
-    lua_pushnil(m_L);
-    while (lua_next(m_L, idx) != 0) {   // raw traversal: metatables are ignored
-      const int top = lua_gettop(m_L);  // key at top - 1, value at top
-      LuaEntry e;
-      const int keyType = lua_type(m_L, top - 1);
-      if (keyType == LUA_TSTRING) {
-        size_t len = 0;
-        const char* s = lua_tolstring(m_L, top - 1, &len);
-        e.key.assign(s, len);
-      } else if (keyType == LUA_TNUMBER && lua_isinteger(m_L, top - 1)) {
-        e.isIndex = true;
-        e.index = lua_tointegerx(m_L, top - 1, nullptr);
-      } else if (keyType == LUA_TNUMBER) {
-        fail(where, "unexpected key " + formatNumber(lua_tonumberx(m_L, top - 1, nullptr)) +
-                        " (keys are names or list positions 1, 2, ...)");
-      } else {
-        fail(where, std::string("unexpected key of type ") + lua_typename(m_L, keyType) +
-                        " (keys are names or list positions 1, 2, ...)");
-      }
-      copy(top, e.isIndex ? indexPath(where, e.index) : childPath(where, e.key), depth + 1, e.value);
-      lua_pop(m_L, 1);  // keep the key for lua_next
-      out.entries.push_back(std::move(e));
-    }
-    m_open.pop_back();
-    std::sort(out.entries.begin(), out.entries.end(), [](const LuaEntry& a, const LuaEntry& b) {
-      if (a.isIndex != b.isIndex) return a.isIndex;
-      return a.isIndex ? a.index < b.index : a.key < b.key;
-    });
-  }
-
-  lua_State* m_L;
-  std::string m_file;
-  std::vector<const void*> m_open;  // tables being copied, to catch cycles
-};
+  throw InputError(file + ": " + (where.empty() ? "" : where + ": ") + msg);
+}
 
 /// Validates the copied tree and builds the ModuleTypeDef.
 class TypeReader {
@@ -185,8 +144,8 @@ class TypeReader {
   TypeReader(const LuaVm& vm, std::string file, fs::path dir, fs::path root)
       : m_vm(vm), m_file(std::move(file)), m_dir(std::move(dir)), m_root(std::move(root)) {}
 
-  ModuleTypeDef read(const LuaValue& top) {
-    if (top.type != LUA_TTABLE)
+  ModuleTypeDef read(const Value& top) {
+    if (top.type != Value::Type::Table)
       fail("",
            "expected the file to return a table { name = ..., links = { ... }, ... }, got " + describe(top));
     checkRecord(top, "", {"name", "root", "links", "joints", "docks", "sensors"});
@@ -201,21 +160,21 @@ class TypeReader {
     checkUnique(def.links, "links", "link");
 
     def.rootLink = 0;
-    if (const LuaValue* r = find(top, "root")) def.rootLink = linkIndex(def, *r, "root");
+    if (const Value* r = find(top, "root")) def.rootLink = linkIndex(def, *r, "root");
 
-    if (const LuaValue* js = find(top, "joints")) {
+    if (const Value* js = find(top, "joints")) {
       const auto joints = toList(*js, "joints");
       for (size_t i = 0; i < joints.size(); ++i)
         def.joints.push_back(readJoint(def, *joints[i], indexPath("joints", i + 1)));
       checkUnique(def.joints, "joints", "joint");
     }
-    if (const LuaValue* ds = find(top, "docks")) {
+    if (const Value* ds = find(top, "docks")) {
       const auto docks = toList(*ds, "docks");
       for (size_t i = 0; i < docks.size(); ++i)
         def.docks.push_back(readDock(def, *docks[i], indexPath("docks", i + 1)));
       checkUnique(def.docks, "docks", "dock");
     }
-    if (const LuaValue* ss = find(top, "sensors")) {
+    if (const Value* ss = find(top, "sensors")) {
       const auto sensors = toList(*ss, "sensors");
       for (size_t i = 0; i < sensors.size(); ++i)
         def.sensors.push_back(readSensor(def, *sensors[i], indexPath("sensors", i + 1)));
@@ -232,61 +191,63 @@ class TypeReader {
 
   // ---- generic checks on the copied values ----
 
-  static const LuaValue* find(const LuaValue& rec, const char* key) {
-    for (const LuaEntry& e : rec.entries)
-      if (!e.isIndex && e.key == key) return &e.value;
+  static const Value* find(const Value& rec, const char* key) {
+    for (const auto& [k, value] : rec.table)
+      if (k.type == Value::Type::String && k.string == key) return &value;
     return nullptr;
   }
 
-  const LuaValue& require(const LuaValue& rec, const std::string& where, const char* key) const {
-    const LuaValue* v = find(rec, key);
+  const Value& require(const Value& rec, const std::string& where, const char* key) const {
+    const Value* v = find(rec, key);
     if (v == nullptr) fail(where, std::string("missing required field '") + key + "'");
     return *v;
   }
 
   /// A table of named fields, each one of `allowed`.
-  void checkRecord(const LuaValue& v, const std::string& where,
+  void checkRecord(const Value& v, const std::string& where,
                    std::initializer_list<const char*> allowed) const {
     std::string expected;
     for (const char* k : allowed) expected += std::string(expected.empty() ? "" : ", ") + k;
-    if (v.type != LUA_TTABLE)
+    if (v.type != Value::Type::Table)
       fail(where, "expected a table with fields " + expected + ", got " + describe(v));
-    for (const LuaEntry& e : v.entries) {
-      if (e.isIndex)
-        fail(where, "unexpected list entry [" + std::to_string(e.index) +
+    for (const auto& entry : v.table) {
+      const Value& k = entry.first;  // not a structured binding: the lambda below captures it
+      if (isIndex(k))
+        fail(where, "unexpected list entry [" + std::to_string(k.integer) +
                         "] (expected named fields: " + expected + ")");
-      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* k) { return e.key == k; }))
-        fail(where, "unknown key '" + e.key + "' (expected one of: " + expected + ")");
+      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* name) { return k.string == name; }))
+        fail(where, "unknown key '" + k.string + "' (expected one of: " + expected + ")");
     }
   }
 
   /// A list {a, b, c}: integer keys 1..n only.
-  std::vector<const LuaValue*> toList(const LuaValue& v, const std::string& where) const {
-    if (v.type != LUA_TTABLE) fail(where, "expected a list { ... }, got " + describe(v));
-    std::vector<const LuaValue*> out;
-    for (const LuaEntry& e : v.entries) {
-      if (!e.isIndex) fail(where, "unexpected named field '" + e.key + "' in a list");
-      if (e.index != int64_t(out.size()) + 1)
-        fail(where, "list has a gap or bad position [" + std::to_string(e.index) + "] (expected [" +
+  std::vector<const Value*> toList(const Value& v, const std::string& where) const {
+    if (v.type != Value::Type::Table) fail(where, "expected a list { ... }, got " + describe(v));
+    std::vector<const Value*> out;
+    for (const auto& [k, value] : v.table) {
+      if (!isIndex(k)) fail(where, "unexpected named field '" + k.string + "' in a list");
+      if (k.integer != int64_t(out.size()) + 1)
+        fail(where, "list has a gap or bad position [" + std::to_string(k.integer) + "] (expected [" +
                         std::to_string(out.size() + 1) + "])");
-      out.push_back(&e.value);
+      out.push_back(&value);
     }
     return out;
   }
 
-  double toNumber(const LuaValue& v, const std::string& where) const {
-    if (v.type != LUA_TNUMBER) fail(where, "expected a number, got " + describe(v));
-    if (!std::isfinite(v.number)) fail(where, "expected a finite number, got " + formatNumber(v.number));
-    return v.number;
+  double toNumber(const Value& v, const std::string& where) const {
+    if (!isNumber(v)) fail(where, "expected a number, got " + describe(v));
+    const double x = numberOf(v);
+    if (!std::isfinite(x)) fail(where, "expected a finite number, got " + formatNumber(x));
+    return x;
   }
 
-  double toNonNegative(const LuaValue& v, const std::string& where) const {
+  double toNonNegative(const Value& v, const std::string& where) const {
     const double x = toNumber(v, where);
     if (x < 0) fail(where, "must not be negative (got " + formatNumber(x) + ")");
     return x;
   }
 
-  double toPositive(const LuaValue& v, const std::string& where) const {
+  double toPositive(const Value& v, const std::string& where) const {
     const double x = toNumber(v, where);
     if (x <= 0) fail(where, "must be greater than 0 (got " + formatNumber(x) + ")");
     if (x > kMaxMagnitude)
@@ -294,47 +255,47 @@ class TypeReader {
     return x;
   }
 
-  bool toBool(const LuaValue& v, const std::string& where) const {
-    if (v.type != LUA_TBOOLEAN) fail(where, "expected true or false, got " + describe(v));
+  bool toBool(const Value& v, const std::string& where) const {
+    if (v.type != Value::Type::Boolean) fail(where, "expected true or false, got " + describe(v));
     return v.boolean;
   }
 
-  std::string toString(const LuaValue& v, const std::string& where) const {
-    if (v.type != LUA_TSTRING) fail(where, "expected a string, got " + describe(v));
+  std::string toString(const Value& v, const std::string& where) const {
+    if (v.type != Value::Type::String) fail(where, "expected a string, got " + describe(v));
     return v.string;
   }
 
-  std::string toName(const LuaValue& v, const std::string& where) const {
+  std::string toName(const Value& v, const std::string& where) const {
     std::string s = toString(v, where);
     if (s.empty()) fail(where, "name must not be empty");
     return s;
   }
 
   /// A list of between minCount and maxCount numbers; `shape` describes it for messages.
-  std::vector<double> toNumbers(const LuaValue& v, const std::string& where, size_t minCount, size_t maxCount,
+  std::vector<double> toNumbers(const Value& v, const std::string& where, size_t minCount, size_t maxCount,
                                 const std::string& shape) const {
-    bool ok = v.type == LUA_TTABLE;
+    bool ok = v.type == Value::Type::Table;
     if (ok) {
-      for (size_t i = 0; i < v.entries.size(); ++i) {
-        const LuaEntry& e = v.entries[i];
-        ok = ok && e.isIndex && e.index == int64_t(i) + 1 && e.value.type == LUA_TNUMBER;
+      for (size_t i = 0; i < v.table.size(); ++i) {
+        const auto& [k, value] = v.table[i];
+        ok = ok && isIndex(k) && k.integer == int64_t(i) + 1 && isNumber(value);
       }
-      ok = ok && v.entries.size() >= minCount && v.entries.size() <= maxCount;
+      ok = ok && v.table.size() >= minCount && v.table.size() <= maxCount;
     }
     if (!ok) fail(where, "expected " + shape + ", got " + describe(v));
     std::vector<double> out;
-    for (size_t i = 0; i < v.entries.size(); ++i)
-      out.push_back(toNumber(v.entries[i].value, indexPath(where, i + 1)));
+    for (size_t i = 0; i < v.table.size(); ++i)
+      out.push_back(toNumber(v.table[i].second, indexPath(where, i + 1)));
     return out;
   }
 
-  Vec3 toVec3(const LuaValue& v, const std::string& where) const {
+  Vec3 toVec3(const Value& v, const std::string& where) const {
     const auto n = toNumbers(v, where, 3, 3, "{x, y, z} (3 numbers)");
     return Vec3(n[0], n[1], n[2]);
   }
 
   /// A direction: normalised silently, zero rejected.
-  Vec3 toDirection(const LuaValue& v, const std::string& where) const {
+  Vec3 toDirection(const Value& v, const std::string& where) const {
     const Vec3 d = toVec3(v, where);
     if (d.norm() < kMinDirection) fail(where, "direction must not be zero");
     return d.normalized();
@@ -352,7 +313,7 @@ class TypeReader {
     }
   }
 
-  int linkIndex(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
+  int linkIndex(const ModuleTypeDef& def, const Value& v, const std::string& where) const {
     const std::string name = toName(v, where);
     const int i = def.findLink(name);
     if (i < 0) {
@@ -365,12 +326,12 @@ class TypeReader {
 
   // ---- module-type parts ----
 
-  LinkDef readLink(const LuaValue& v, const std::string& where) {
+  LinkDef readLink(const Value& v, const std::string& where) {
     checkRecord(v, where, {"name", "mass", "color", "friction", "shapes", "collision"});
     LinkDef link;
     link.name = toName(require(v, where, "name"), childPath(where, "name"));
     link.mass = toPositive(require(v, where, "mass"), childPath(where, "mass"));
-    if (const LuaValue* c = find(v, "color")) {
+    if (const Value* c = find(v, "color")) {
       const std::string w = childPath(where, "color");
       const auto rgba = toNumbers(*c, w, 3, 4, "{r, g, b} or {r, g, b, a} (numbers from 0 to 1)");
       for (size_t i = 0; i < rgba.size(); ++i) {
@@ -379,8 +340,7 @@ class TypeReader {
         link.color[i] = float(rgba[i]);
       }
     }
-    if (const LuaValue* f = find(v, "friction"))
-      link.friction = toNonNegative(*f, childPath(where, "friction"));
+    if (const Value* f = find(v, "friction")) link.friction = toNonNegative(*f, childPath(where, "friction"));
     const std::string ws = childPath(where, "shapes");
     const auto shapes = toList(require(v, where, "shapes"), ws);
     if (shapes.empty()) fail(ws, "a link needs at least one shape");
@@ -396,10 +356,10 @@ class TypeReader {
     if (fixedMass > link.mass * (1 + 1e-9))
       fail(ws, "shape masses add up to " + formatNumber(fixedMass) + " kg, more than the link's mass " +
                    formatNumber(link.mass) + " kg");
-    if (const LuaValue* c = find(v, "collision")) {
+    if (const Value* c = find(v, "collision")) {
       // Contact geometry only: the mass properties stay those of `shapes`.
       const std::string wc = childPath(where, "collision");
-      if (c->type != LUA_TTABLE || find(*c, "box") || find(*c, "sphere") || find(*c, "cylinder") ||
+      if (c->type != Value::Type::Table || find(*c, "box") || find(*c, "sphere") || find(*c, "cylinder") ||
           find(*c, "mesh"))
         fail(wc, "expected a list of shapes { { box = {x, y, z} }, ... } (like shapes), got " + describe(*c));
       const auto cs = toList(*c, wc);
@@ -411,7 +371,7 @@ class TypeReader {
       std::vector<ShapeDef> collision;
       for (size_t i = 0; i < cs.size(); ++i) {
         const std::string wi = indexPath(wc, i + 1);
-        if (cs[i]->type == LUA_TTABLE && find(*cs[i], "mass"))
+        if (cs[i]->type == Value::Type::Table && find(*cs[i], "mass"))
           fail(childPath(wi, "mass"),
                "collision shapes carry no mass (the link's mass properties come from its shapes)");
         collision.push_back(readShape(*cs[i], wi));
@@ -421,22 +381,22 @@ class TypeReader {
     return link;
   }
 
-  ShapeDef readShape(const LuaValue& v, const std::string& where) {
+  ShapeDef readShape(const Value& v, const std::string& where) {
     checkRecord(v, where,
                 {"box", "sphere", "cylinder", "mesh", "at", "rot", "quat", "mass", "scale", "axis"});
     ShapeDef s;
-    const LuaValue* box = find(v, "box");
-    const LuaValue* sphere = find(v, "sphere");
-    const LuaValue* cylinder = find(v, "cylinder");
-    const LuaValue* mesh = find(v, "mesh");
+    const Value* box = find(v, "box");
+    const Value* sphere = find(v, "sphere");
+    const Value* cylinder = find(v, "cylinder");
+    const Value* mesh = find(v, "mesh");
     const int kinds = (box != nullptr) + (sphere != nullptr) + (cylinder != nullptr) + (mesh != nullptr);
     if (kinds != 1)
       fail(where, std::string("expected exactly one of box, sphere, cylinder, mesh") +
                       (kinds == 0 ? "" : " (this shape has several)"));
-    const LuaValue* scale = find(v, "scale");
-    const LuaValue* axis = find(v, "axis");
-    const LuaValue* rot = find(v, "rot");
-    const LuaValue* quat = find(v, "quat");
+    const Value* scale = find(v, "scale");
+    const Value* axis = find(v, "axis");
+    const Value* rot = find(v, "rot");
+    const Value* quat = find(v, "quat");
     if (scale && !mesh) fail(childPath(where, "scale"), "scale is only for mesh shapes");
     if (axis && !cylinder) fail(childPath(where, "axis"), "axis is only for cylinder shapes");
     if (rot && quat) fail(where, "give either rot or quat, not both");
@@ -470,7 +430,7 @@ class TypeReader {
       loadHull(toName(*mesh, w), k, w, s);
     }
 
-    if (const LuaValue* at = find(v, "at")) s.pose.pos = toVec3(*at, childPath(where, "at"));
+    if (const Value* at = find(v, "at")) s.pose.pos = toVec3(*at, childPath(where, "at"));
     if (rot) {
       const auto rpy =
           toNumbers(*rot, childPath(where, "rot"), 3, 3, "{roll, pitch, yaw} (3 numbers, radians)");
@@ -492,7 +452,7 @@ class TypeReader {
       else if (a != "z")
         fail(w, "unknown axis '" + a + "' (expected one of: x, y, z)");
     }
-    if (const LuaValue* m = find(v, "mass")) s.mass = toNonNegative(*m, childPath(where, "mass"));
+    if (const Value* m = find(v, "mass")) s.mass = toNonNegative(*m, childPath(where, "mass"));
     return s;
   }
 
@@ -525,7 +485,7 @@ class TypeReader {
     s.source = display;
   }
 
-  JointDef readJoint(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
+  JointDef readJoint(const ModuleTypeDef& def, const Value& v, const std::string& where) const {
     checkRecord(v, where,
                 {"name", "parent", "child", "pivot", "axis", "lower", "upper", "continuous", "torque",
                  "speed", "gain", "stiffness"});
@@ -536,9 +496,9 @@ class TypeReader {
     if (j.parent == j.child) fail(childPath(where, "child"), "a joint needs two different links");
     j.pivot = toVec3(require(v, where, "pivot"), childPath(where, "pivot"));
     j.axis = toDirection(require(v, where, "axis"), childPath(where, "axis"));
-    const LuaValue* cont = find(v, "continuous");
-    const LuaValue* lower = find(v, "lower");
-    const LuaValue* upper = find(v, "upper");
+    const Value* cont = find(v, "continuous");
+    const Value* lower = find(v, "lower");
+    const Value* upper = find(v, "upper");
     j.limited = !(cont && toBool(*cont, childPath(where, "continuous")));
     if (!j.limited) {
       if (lower || upper) fail(where, "a continuous joint has no lower/upper limits");
@@ -554,13 +514,13 @@ class TypeReader {
     }
     j.maxTorque = toNonNegative(require(v, where, "torque"), childPath(where, "torque"));
     j.maxSpeed = toNonNegative(require(v, where, "speed"), childPath(where, "speed"));
-    if (const LuaValue* g = find(v, "gain")) j.servoGain = toNonNegative(*g, childPath(where, "gain"));
-    if (const LuaValue* k = find(v, "stiffness"))
+    if (const Value* g = find(v, "gain")) j.servoGain = toNonNegative(*g, childPath(where, "gain"));
+    if (const Value* k = find(v, "stiffness"))
       j.servoStiffness = toNonNegative(*k, childPath(where, "stiffness"));
     return j;
   }
 
-  SensorDef readSensor(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
+  SensorDef readSensor(const ModuleTypeDef& def, const Value& v, const std::string& where) const {
     checkRecord(v, where, {"type", "name", "link", "at", "dir", "min", "max"});
     SensorDef sd;
     const std::string kind = toString(require(v, where, "type"), childPath(where, "type"));
@@ -581,13 +541,13 @@ class TypeReader {
            "unknown sensor type '" + kind +
                "' (expected one of: accelerometer, gyro, orientation, position, range, contact)");
     sd.link = def.rootLink;
-    if (const LuaValue* l = find(v, "link")) sd.link = linkIndex(def, *l, childPath(where, "link"));
+    if (const Value* l = find(v, "link")) sd.link = linkIndex(def, *l, childPath(where, "link"));
     if (sd.kind == SensorKind::Range) {
       sd.name = "range:" + toName(require(v, where, "name"), childPath(where, "name"));
-      if (const LuaValue* a = find(v, "at")) sd.pos = toVec3(*a, childPath(where, "at"));
+      if (const Value* a = find(v, "at")) sd.pos = toVec3(*a, childPath(where, "at"));
       sd.dir = toDirection(require(v, where, "dir"), childPath(where, "dir"));
-      if (const LuaValue* m = find(v, "min")) sd.minRange = toNonNegative(*m, childPath(where, "min"));
-      if (const LuaValue* m = find(v, "max")) sd.maxRange = toPositive(*m, childPath(where, "max"));
+      if (const Value* m = find(v, "min")) sd.minRange = toNonNegative(*m, childPath(where, "min"));
+      if (const Value* m = find(v, "max")) sd.maxRange = toPositive(*m, childPath(where, "max"));
       if (sd.minRange >= sd.maxRange) fail(where, "min must be less than max");
     } else {
       for (const char* k : {"at", "dir", "min", "max"})
@@ -598,12 +558,12 @@ class TypeReader {
       } else {
         sd.name = kind;
       }
-      if (const LuaValue* n = find(v, "name")) sd.name = toName(*n, childPath(where, "name"));
+      if (const Value* n = find(v, "name")) sd.name = toName(*n, childPath(where, "name"));
     }
     return sd;
   }
 
-  DockDef readDock(const ModuleTypeDef& def, const LuaValue& v, const std::string& where) const {
+  DockDef readDock(const ModuleTypeDef& def, const Value& v, const std::string& where) const {
     checkRecord(v, where,
                 {"name", "link", "at", "normal", "up", "gender", "size", "symmetry", "capture_radius",
                  "capture_angle", "latch_distance", "latch_angle", "pull", "strength", "strength_torque"});
@@ -612,7 +572,7 @@ class TypeReader {
     d.link = linkIndex(def, require(v, where, "link"), childPath(where, "link"));
     d.pos = toVec3(require(v, where, "at"), childPath(where, "at"));
     d.normal = toDirection(require(v, where, "normal"), childPath(where, "normal"));
-    if (const LuaValue* up = find(v, "up")) {
+    if (const Value* up = find(v, "up")) {
       const std::string w = childPath(where, "up");
       d.up = toDirection(*up, w);
       if (std::abs(d.up.dot(d.normal)) > kPerpendicularTol) fail(w, "up must be perpendicular to normal");
@@ -621,7 +581,7 @@ class TypeReader {
       const Vec3 ref = std::abs(d.normal.z()) > kNearZ ? Vec3::UnitX() : Vec3::UnitZ();
       d.up = (ref - ref.dot(d.normal) * d.normal).normalized();
     }
-    if (const LuaValue* g = find(v, "gender")) {
+    if (const Value* g = find(v, "gender")) {
       const std::string w = childPath(where, "gender");
       const std::string s = toString(*g, w);
       if (s == "none")
@@ -633,11 +593,11 @@ class TypeReader {
       else
         fail(w, "unknown gender '" + s + "' (expected one of: none, male, female)");
     }
-    if (const LuaValue* s = find(v, "size")) d.size = toPositive(*s, childPath(where, "size"));
-    if (const LuaValue* s = find(v, "symmetry")) {
+    if (const Value* s = find(v, "size")) d.size = toPositive(*s, childPath(where, "size"));
+    if (const Value* s = find(v, "symmetry")) {
       const std::string w = childPath(where, "symmetry");
       const double n = toNumber(*s, w);
-      if (!s->integral || n < 1 || n > 360)
+      if (!isIntegral(*s) || n < 1 || n > 360)
         fail(w, "expected a whole number from 1 to 360, got " + formatNumber(n));
       d.symmetry = int(n);
     }
@@ -651,7 +611,7 @@ class TypeReader {
           Field{"latch_distance", &d.latchDistance, true}, Field{"latch_angle", &d.latchAngle, true},
           Field{"pull", &d.pull, false}, Field{"strength", &d.strength, true},
           Field{"strength_torque", &d.strengthTorque, true}})
-      if (const LuaValue* x = find(v, f.key))
+      if (const Value* x = find(v, f.key))
         *f.value =
             f.positive ? toPositive(*x, childPath(where, f.key)) : toNonNegative(*x, childPath(where, f.key));
     if (d.latchDistance > d.captureRadius)
@@ -726,8 +686,7 @@ ModuleTypeDef loadModuleType(const std::string& path, const std::string& project
     throw InputError(err);
   }
 
-  LuaValue top;
-  Copier(vm.L(), display).copy(lua_gettop(vm.L()), "", 0, top);
+  const Value top = copyModuleTable(vm.L(), lua_gettop(vm.L()), display);
   lua_settop(vm.L(), 0);
   return TypeReader(vm, display, dir, root).read(top);
 }

@@ -448,7 +448,7 @@ int worldEvents(lua_State* L) {
     lua_createtable(L, 0, 8);
     lua_pushnumber(L, e.time);
     lua_setfield(L, -2, "time");
-    lua_pushstring(L, e.kind.c_str());
+    lua_pushstring(L, dockEventName(e.kind));
     lua_setfield(L, -2, "event");
     lua_pushinteger(L, a.id);
     lua_setfield(L, -2, "module_a");

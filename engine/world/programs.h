@@ -15,6 +15,7 @@
 #include <memory>
 #include <string>
 
+#include "docking/dock_event.h"
 #include "modules/module_type.h"
 
 namespace rm3d {
@@ -27,7 +28,7 @@ class ModuleProgram {
   virtual bool init(std::string& err) = 0;
   virtual bool step(double dt, std::string& err) = 0;
   /// on_dock(dock, event); event is "engaged", "disengaged" or "broken".
-  virtual bool onDock(int dock, const char* event, std::string& err) = 0;
+  virtual bool onDock(int dock, DockEventKind event, std::string& err) = 0;
   /// Hot reload: new source for the program's file; on failure the old code keeps running.
   virtual bool reload(const std::string& path, const std::string& source, std::string& err) = 0;
   /// Declared percepts and their last values, one "name = value" per line (viewer).

@@ -68,7 +68,7 @@ nlohmann::json World::summary(double wallSeconds) const {
   json events = json::array();
   for (const DockEvent& e : World::events()) {
     json ej = {{"time", e.time},
-               {"event", e.kind},
+               {"event", dockEventName(e.kind)},
                {"module_a", m_modules[size_t(e.moduleA)].id},
                {"dock_a", dockName(e.moduleA, e.dockA)},
                {"module_b", m_modules[size_t(e.moduleB)].id},

@@ -211,6 +211,7 @@ bool same(const LuaValue& a, const LuaValue& b) {
     case LuaValue::Type::Number:
       return std::memcmp(&a.number, &b.number, sizeof a.number) == 0;
     case LuaValue::Type::String:
+    case LuaValue::Type::Opaque:
       return a.string == b.string;
     case LuaValue::Type::Table: {
       if (a.table.size() != b.table.size()) return false;

@@ -71,3 +71,19 @@ TEST_CASE("connect refuses an engaged dock and a module docking to itself") {
                       "world.spawn('superbot')\nworld.connect(a, 'nose', b, 'back')"),
       doctest::Contains("no dock named 'nose' on a superbot (it has: front, back, left, right, up, down)"));
 }
+
+TEST_CASE("dock event kinds carry the contract's names both ways") {
+  using rm3d::DockEventKind;
+  for (auto [kind, name] :
+       {std::pair{DockEventKind::Engaged, "engaged"}, std::pair{DockEventKind::Disengaged, "disengaged"},
+        std::pair{DockEventKind::Broken, "broken"}}) {
+    CHECK(std::string(rm3d::dockEventName(kind)) == name);
+    DockEventKind back = DockEventKind::Engaged;
+    CHECK(rm3d::dockEventKindOf(name, back));
+    CHECK(back == kind);
+  }
+  DockEventKind k = DockEventKind::Broken;
+  CHECK_FALSE(rm3d::dockEventKindOf("Engaged", k));
+  CHECK_FALSE(rm3d::dockEventKindOf("", k));
+  CHECK(k == DockEventKind::Broken);
+}

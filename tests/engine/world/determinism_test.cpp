@@ -64,7 +64,8 @@ uint64_t stateHash(const World& w) {
   }
   for (const rm3d::Connection& c : w.connections())
     h.i(c.moduleA), h.i(c.dockA), h.i(c.moduleB), h.i(c.dockB);
-  for (const rm3d::DockEvent& e : w.events()) h.f(e.time), h.s(e.kind), h.i(e.moduleA), h.i(e.moduleB);
+  for (const rm3d::DockEvent& e : w.events())
+    h.f(e.time), h.s(dockEventName(e.kind)), h.i(e.moduleA), h.i(e.moduleB);
   const World::MessageStats ms = w.messageStats();
   h.i(int64_t(ms.sent)), h.i(int64_t(ms.received)), h.i(int64_t(ms.dropped));
   nlohmann::json j = w.summary(0);
@@ -88,9 +89,9 @@ Outcome run(int threads, int steps) {
   for (int i = 0; i < steps; ++i) w->step();
   Outcome out{stateHash(*w), 0, 0, 0, w->messageStats().received, w->faultCount()};
   for (const rm3d::DockEvent& e : w->events()) {
-    if (e.kind == "engaged") ++out.engaged;
-    if (e.kind == "broken") ++out.broken;
-    if (e.kind == "disengaged") ++out.disengaged;
+    if (e.kind == rm3d::DockEventKind::Engaged) ++out.engaged;
+    if (e.kind == rm3d::DockEventKind::Broken) ++out.broken;
+    if (e.kind == rm3d::DockEventKind::Disengaged) ++out.disengaged;
   }
   return out;
 }

@@ -520,8 +520,9 @@ class Viewer {
       if (ev.empty()) ImGui::TextDisabled("(none yet)");
       for (size_t k = ev.size(), shown = 0; k-- > 0 && shown < 50; ++shown) {  // newest first
         const DockEvent& e = ev[k];
-        const ImVec4 colour = e.kind == "broken" ? kErrorColor : ImGui::GetStyle().Colors[ImGuiCol_Text];
-        ImGui::TextColored(colour, "t=%.2f %s %s - %s", e.time, e.kind.c_str(),
+        const ImVec4 colour =
+            e.kind == DockEventKind::Broken ? kErrorColor : ImGui::GetStyle().Colors[ImGuiCol_Text];
+        ImGui::TextColored(colour, "t=%.2f %s %s - %s", e.time, dockEventName(e.kind),
                            dockName(e.moduleA, e.dockA).c_str(), dockName(e.moduleB, e.dockB).c_str());
       }
     }

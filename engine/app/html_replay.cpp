@@ -282,7 +282,8 @@ bool writeHtmlReplay(const Recording& rec, const SceneLayout::CameraDef& camera,
     }
     const SceneState& s = i == 0 ? start : st;
     for (const DockEvent& e : ev.docks)
-      events.push_back({e.time, e.kind, e.moduleA, e.dockA, e.moduleB, e.dockB, e.force, e.torque, i == 0});
+      events.push_back(
+          {e.time, dockEventName(e.kind), e.moduleA, e.dockA, e.moduleB, e.dockB, e.force, e.torque, i == 0});
     if (next >= kept.size() || kept[next] != i) continue;
     const int f = int(next++);
     frameSteps.push_back(s.steps);

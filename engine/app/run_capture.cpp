@@ -66,7 +66,7 @@ void RunCapture::start(const World& w) {
   // Frame 0 lists the connections made while the world was built as "engaged" events, so a
   // reader knows the connection graph from the start (the dock flags alone do not pair docks).
   for (const Connection& c : w.connections())
-    m_events.docks.push_back({c.time, "engaged", c.moduleA, c.dockA, c.moduleB, c.dockB});
+    m_events.docks.push_back({c.time, DockEventKind::Engaged, c.moduleA, c.dockA, c.moduleB, c.dockB});
   m_writer.frame(m_now, m_events);
   m_events.docks.clear();
 }

@@ -238,9 +238,28 @@ bool World::obstacleSleeping(int part) const {
   return m_physics->partSleeping(part);
 }
 
+namespace {
+
+/// The world's own project folder: the nearest folder at or above the world file's that holds a
+/// `behaviors/` folder (a checkout, or a folder made by `rm3d init`); empty if none.
+std::string projectFolderOf(const fs::path& worldDir) {
+  std::error_code ec;
+  for (fs::path d = fs::absolute(worldDir, ec).lexically_normal(); !d.empty(); d = d.parent_path()) {
+    if (fs::is_directory(d / "behaviors", ec)) return d.string();
+    if (d == d.parent_path()) break;
+  }
+  return {};
+}
+
+}  // namespace
+
 std::string World::resolvePath(const std::string& path) const {
-  const std::vector<std::string> folders = {fs::path(m_worldFile).parent_path().string(),
-                                            m_options.projectRoot};
+  // The world's folder, its project folder (so worlds/w.lua may name behaviors/b.lua or
+  // ../behaviors/b.lua in a project of its own), then the project root (docs/limits.md).
+  const fs::path worldDir = fs::path(m_worldFile).parent_path();
+  std::vector<std::string> folders = {worldDir.string()};
+  if (std::string own = projectFolderOf(worldDir); !own.empty()) folders.push_back(std::move(own));
+  folders.push_back(m_options.projectRoot);
   const ScriptFile f = findScriptFile(path, folders, folders, m_options.sources.get());
   if (f.status == ScriptFile::Status::Outside) throw InputError(outsideMessage(path, folders));
   return f.path;

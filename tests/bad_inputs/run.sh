@@ -12,7 +12,8 @@
 # listed case that passes does (the list must stay exactly today's failures).
 #
 # Usage: run.sh RM3D OUTDIR [ID-REGEX]
-#   BI_JOBS (default 2) cases run side by side; BI_TIMEOUT (default 5) seconds per case
+#   BI_JOBS (default 2) cases run side by side; BI_VMEM (KiB, default 4194304; "unlimited"
+#   for an ASan binary) limits each case's address space; BI_TIMEOUT (default 5) seconds per case
 #   unless cases.txt gives one;
 #   BI_VERBOSE=1 prints the output of every case that is not ok.
 set -u
@@ -69,7 +70,7 @@ run_case() {
   fi
   (
     cd "$dir" || exit 99
-    ulimit -v 4194304 2>/dev/null   # 4 GiB: a runaway allocation fails instead of taking the machine
+    ulimit -v "${BI_VMEM:-4194304}" 2>/dev/null   # 4 GiB: a runaway allocation fails instead of taking the machine (BI_VMEM=unlimited under ASan, whose shadow memory needs more)
     if [ $shell = 1 ]; then
       exec timeout -k 5 "$tmo" bash -c "${command#sh: }"
     else

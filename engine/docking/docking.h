@@ -1,4 +1,4 @@
-// Docking (DESIGN.md steps 4, 5 and 7): the connection graph, run-time latching by magnet,
+// Docking (docs/architecture.md, the step: 4, 5 and 7): the connection graph, run-time latching by magnet,
 // undocking, initial connections from world scripts, and breakage from measured loads.
 //
 // Docked links are locked into one rigid body in the physics (PhysicsWorld::lockParts), so a

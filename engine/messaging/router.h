@@ -1,6 +1,6 @@
-// Message routing (DESIGN.md step 3): each module's outbox goes over its engaged docks into the
-// peer's mailbox, readable at the next step (plus the channel's delay), through the channel
-// model (loss, delay, rate), seeded and deterministic.
+// Message routing (docs/architecture.md, the step: 3): each module's outbox goes over its engaged docks into
+// the peer's mailbox, readable at the next step (plus the channel's delay), through the channel model (loss,
+// delay, rate), seeded and deterministic.
 #pragma once
 
 #include <cstddef>

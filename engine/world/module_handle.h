@@ -1,4 +1,4 @@
-// What a behaviour may touch while the behaviour phase runs (DESIGN.md, step 2).
+// What a behaviour may touch while the behaviour phase runs (docs/architecture.md, the step: 2).
 //
 // Behaviours run in parallel on worker threads, so their bindings never see a writable World.
 // Each behaviour VM holds a ModuleHandle, and the rule of the phase is what its type allows:

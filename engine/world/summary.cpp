@@ -1,4 +1,4 @@
-// The run summary (`--json`): DESIGN.md's fields, module by module, in id order.
+// The run summary (`--json`): the fields docs/command-line.md lists, module by module, in id order.
 #include <cmath>
 #include <nlohmann/json.hpp>
 

@@ -1,8 +1,8 @@
 // The World owns everything of one simulation: physics, module types, modules and their
 // programs (behaviour VMs), mailboxes and routing, docking and the connection graph, the world
 // script, RNG and clock. Several worlds can live in one process. World::step is the list of
-// DESIGN.md's phases; each phase's work lives in its subsystem (messaging/, docking/, physics/),
-// and the scripts are reached through world/programs.h, so nothing here includes Lua.
+// the step's phases (docs/architecture.md); each phase's work lives in its subsystem (messaging/, docking/,
+// physics/), and the scripts are reached through world/programs.h, so nothing here includes Lua.
 #pragma once
 
 #include <array>
@@ -117,7 +117,7 @@ class World {
   void setProgram(std::unique_ptr<WorldProgram> program) { m_program = std::move(program); }
   /// Calls init() of every behaviour. Done by the first step() if not called.
   void start();
-  /// One control step of settings().dt (DESIGN.md's seven phases, then world hooks).
+  /// One control step of settings().dt (the seven phases of docs/architecture.md, then world hooks).
   void step();
   /// True after world.stop(), a world-script error, a fatal fault, or the duration.
   bool finished() const;

@@ -2,6 +2,7 @@
 #include "script/behaviour.h"
 
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <lua.hpp>
@@ -96,8 +97,9 @@ int refreshCallbackRefs(lua_State* L) {
   };
   lua_pushglobaltable(L);
   const int g = lua_gettop(L);
-  for (Slot s : {Slot{"step", &ctx->stepRef}, Slot{"init", &ctx->initRef}, Slot{"on_dock", &ctx->onDockRef},
-                 Slot{"on_reload", &ctx->onReloadRef}}) {
+  for (Slot s :
+       {Slot{"step", &ctx->stepRef}, Slot{"init", &ctx->initRef}, Slot{"on_dock", &ctx->onDockRef},
+        Slot{"on_reload", &ctx->onReloadRef}, Slot{"observe", &ctx->observeRef}, Slot{"act", &ctx->actRef}}) {
     luaL_unref(L, LUA_REGISTRYINDEX, *s.ref);
     *s.ref = LUA_NOREF;
     lua_pushstring(L, s.name);
@@ -111,6 +113,20 @@ int refreshCallbackRefs(lua_State* L) {
     } else {
       lua_pop(L, 1);
     }
+  }
+  // act_size: how many numbers act(a) takes (the Python API's action row).
+  ctx->actSize = -1;
+  lua_pushliteral(L, "act_size");
+  const int type = lua_rawget(L, g);
+  if (type != LUA_TNIL) {
+    lua_Integer n = 0;
+    if (!lua_isinteger(L, -1) && !(type == LUA_TNUMBER && lua_numbertointeger(lua_tonumber(L, -1), &n)))
+      return luaL_error(L, "the global 'act_size' is a %s; expected a whole number from 0 to %d",
+                        luaL_typename(L, -1), kMaxActSize);
+    if (lua_isinteger(L, -1)) n = lua_tointeger(L, -1);
+    if (n < 0 || n > kMaxActSize)
+      return luaL_error(L, "act_size = %d; expected a whole number from 0 to %d", int(n), kMaxActSize);
+    ctx->actSize = int(n);
   }
   return 0;
 }
@@ -265,6 +281,73 @@ bool Behaviour::onDock(int dock, DockEventKind event, std::string& err) {
   lua_remove(L, -2);
   lua_pushstring(L, dockEventName(event));
   return m_vm.call(2, 0, err, "on_dock()");
+}
+
+bool Behaviour::observe(std::vector<double>& out, std::string& err) {
+  if (m_ctx.observeRef == LUA_NOREF) return true;
+  lua_State* L = m_vm.L();
+  const int top = lua_gettop(L);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.observeRef);
+  if (!m_vm.call(0, 1, err, "observe()")) return false;
+  if (!lua_istable(L, -1)) {
+    err = m_file + ": observe() returned a " + luaL_typename(L, -1) + "; expected a list of numbers";
+    lua_settop(L, top);
+    return false;
+  }
+  const lua_Integer n = lua_Integer(lua_rawlen(L, -1));
+  if (n > kMaxObsSize) {
+    err = m_file + ": observe() returned " + std::to_string(n) + " numbers; at most " +
+          std::to_string(kMaxObsSize) + " are allowed";
+    lua_settop(L, top);
+    return false;
+  }
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, -1, i);
+    int isnum = 0;
+    const double v = lua_tonumberx(L, -1, &isnum);
+    if (!isnum || !std::isfinite(v)) {
+      err = m_file + ": observe() returned " +
+            (isnum ? "a number that is not finite" : std::string("a ") + luaL_typename(L, -1)) + " at [" +
+            std::to_string(i) + "]; expected a list of finite numbers";
+      lua_settop(L, top);
+      return false;
+    }
+    out.push_back(v);
+    lua_pop(L, 1);
+  }
+  lua_settop(L, top);
+  return true;
+}
+
+int Behaviour::actSize(int joints) const {
+  if (m_ctx.actRef == LUA_NOREF) return -1;
+  return m_ctx.actSize >= 0 ? m_ctx.actSize : joints;
+}
+
+namespace {
+struct ActCall {
+  int ref;
+  const double* a;
+  int n;
+};
+/// Protected: act(a) with a fresh list (building it may fail under the VM's memory cap).
+int callAct(lua_State* L) {
+  const auto* c = static_cast<const ActCall*>(lua_touserdata(L, 1));
+  lua_rawgeti(L, LUA_REGISTRYINDEX, c->ref);
+  lua_createtable(L, c->n, 0);
+  for (int i = 0; i < c->n; ++i) {
+    lua_pushnumber(L, c->a[i]);
+    lua_rawseti(L, -2, i + 1);
+  }
+  lua_call(L, 1, 0);
+  return 0;
+}
+}  // namespace
+
+bool Behaviour::act(const double* a, int n, std::string& err) {
+  if (m_ctx.actRef == LUA_NOREF) return true;
+  ActCall c{m_ctx.actRef, a, n};
+  return m_vm.protect(callAct, &c, 0, err, "act()");
 }
 
 bool Behaviour::step(double dt, std::string& err) {

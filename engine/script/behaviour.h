@@ -17,7 +17,9 @@ namespace rm3d {
 struct BehaviourContext {
   ModuleHandle module;
   int stepRef = -2, initRef = -2, onDockRef = -2, onReloadRef = -2;  // LUA_NOREF
-  int dockTableRef = -2;                                             ///< name -> Dock userdata
+  int observeRef = -2, actRef = -2;  ///< observe() and act(a) for the Python API's arrays
+  int actSize = -1;                  ///< the global act_size (a whole number >= 0), or -1
+  int dockTableRef = -2;             ///< name -> Dock userdata
   /// Metatables of Joint and Dock, compared by address in each method call (cheaper than
   /// luaL_checkudata's registry look-up by name).
   const void* jointMeta = nullptr;
@@ -43,6 +45,10 @@ class Behaviour : public ModuleProgram {
   LuaVm& vm() { return m_vm; }
   /// module.__describe() (what the percept machinery declares), or "" / "(error)".
   std::string describePercepts() override;
+  bool hasObserve() const override { return m_ctx.observeRef != -2; }
+  bool observe(std::vector<double>& out, std::string& err) override;
+  int actSize(int joints) const override;
+  bool act(const double* a, int n, std::string& err) override;
 
  private:
   bool refreshCallbacks(std::string& err);

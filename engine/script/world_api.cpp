@@ -590,6 +590,26 @@ int worldOnEnd(lua_State* L) {
   return 0;
 }
 
+/// world.reward(fn(t)): for the Python API (docs/python.md): fn returns a number (every module
+/// gets it) or a list with one number per module, read after each step into the reward array
+int worldReward(lua_State* L) {
+  WorldScript& s = script(L);
+  const int ref = storeFunction(L, 1);
+  if (s.rewardRef >= 0) luaL_unref(L, LUA_REGISTRYINDEX, s.rewardRef);
+  s.rewardRef = ref;
+  return 0;
+}
+
+/// world.done(fn(t)): for the Python API: fn returns a boolean (every module) or a list with one
+/// per module, read after each step into the done array
+int worldDone(lua_State* L) {
+  WorldScript& s = script(L);
+  const int ref = storeFunction(L, 1);
+  if (s.doneRef >= 0) luaL_unref(L, LUA_REGISTRYINDEX, s.doneRef);
+  s.doneRef = ref;
+  return 0;
+}
+
 /// world.trace(name, value): records a series for `rm3d run --trace` (column trace.<name> of the
 /// world's rows) and the viewer; name: letters, digits, _ . -; value: a finite number
 int worldTrace(lua_State* L) {
@@ -731,6 +751,8 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"messages", worldMessages},
                                  {"on_step", worldOnStep},
                                  {"on_end", worldOnEnd},
+                                 {"reward", worldReward},
+                                 {"done", worldDone},
                                  {"at", worldAt},
                                  {"every", worldEvery},
                                  {"stop", worldStop},

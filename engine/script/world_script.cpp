@@ -2,6 +2,7 @@
 #include "script/world_script.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <lua.hpp>
@@ -88,6 +89,66 @@ bool WorldScript::atEnd(double t, std::string& err) {
     if (!m_vm.call(1, 0, err)) return false;
   }
   return true;
+}
+
+namespace {
+/// world.reward / world.done: calls fn(t) and reads what it returned into out[0..modules):
+/// a number (boolean) for every module, or a list with one per module. Returns false and err.
+template <typename T, typename Read>
+bool callPerModule(LuaVm& vm, int ref, double t, int modules, T* out, const char* name, const char* kind,
+                   Read read, std::string& err) {
+  lua_State* L = vm.L();
+  const int top = lua_gettop(L);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, ref);
+  lua_pushnumber(L, t);
+  if (!vm.call(1, 1, err, name)) return false;
+  auto fail = [&](const std::string& what) {
+    err = std::string(name) + "'s function returned " + what + "; expected a " + kind +
+          " or a list with one per module (" + std::to_string(modules) + ")";
+    lua_settop(L, top);
+    return false;
+  };
+  if (lua_istable(L, -1)) {
+    const size_t n = lua_rawlen(L, -1);
+    if (n != size_t(modules)) return fail("a list of " + std::to_string(n));
+    for (int i = 0; i < modules; ++i) {
+      lua_rawgeti(L, -1, i + 1);
+      if (!read(L, out[i]))
+        return fail(std::string("a ") + luaL_typename(L, -1) + " at [" + std::to_string(i + 1) + "]");
+      lua_pop(L, 1);
+    }
+  } else {
+    T v{};
+    if (!read(L, v)) return fail(std::string("a ") + luaL_typename(L, -1));
+    std::fill(out, out + modules, v);
+  }
+  lua_settop(L, top);
+  return true;
+}
+}  // namespace
+
+bool WorldScript::reward(int modules, double* out, std::string& err) {
+  if (rewardRef < 0) return true;
+  return callPerModule(
+      m_vm, rewardRef, m_world.time(), modules, out, "world.reward", "finite number",
+      [](lua_State* L, double& v) {
+        if (lua_type(L, -1) != LUA_TNUMBER) return false;
+        v = lua_tonumber(L, -1);
+        return std::isfinite(v);
+      },
+      err);
+}
+
+bool WorldScript::done(int modules, uint8_t* out, std::string& err) {
+  if (doneRef < 0) return true;
+  return callPerModule(
+      m_vm, doneRef, m_world.time(), modules, out, "world.done", "boolean",
+      [](lua_State* L, uint8_t& v) {
+        if (lua_type(L, -1) != LUA_TBOOLEAN) return false;
+        v = lua_toboolean(L, -1) ? 1 : 0;
+        return true;
+      },
+      err);
 }
 
 std::vector<std::string> WorldScript::hooksNeverRun(double endTime) const {

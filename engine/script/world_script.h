@@ -24,6 +24,10 @@ class WorldScript : public WorldProgram {
   bool afterStep(double t, std::string& err) override;
   /// Calls the world.on_end hooks (once; later calls do nothing). False and err on an error.
   bool atEnd(double t, std::string& err);
+  bool hasReward() const override { return rewardRef >= 0; }
+  bool hasDone() const override { return doneRef >= 0; }
+  bool reward(int modules, double* out, std::string& err) override;
+  bool done(int modules, uint8_t* out, std::string& err) override;
   /// One line per world.at / world.every hook that never ran ("file:line: world.at(2) never
   /// ran: the run ended at t=1.000 s ...").
   std::vector<std::string> hooksNeverRun(double endTime) const;
@@ -42,6 +46,7 @@ class WorldScript : public WorldProgram {
   std::vector<int> onStep;
   std::vector<Timed> timed;
   std::vector<int> onEnd;
+  int rewardRef = -1, doneRef = -1;  ///< world.reward(fn), world.done(fn) (registry refs; -1: none)
   bool ended = false;
   long long expectCount = 0;  ///< expect() calls evaluated, passed or failed
   /// world.set{expect_faults=}: unset: no module may fault (under `rm3d test`); -1 (true): one

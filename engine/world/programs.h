@@ -12,8 +12,10 @@
 // then faults that module (or records a world-script error) and runs on.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "docking/dock_event.h"
 #include "modules/module_type.h"
@@ -21,6 +23,10 @@
 namespace rm3d {
 
 class ModuleHandle;
+
+/// The longest observation row observe() may return, and the largest act_size.
+constexpr int kMaxObsSize = 4096;
+constexpr int kMaxActSize = 4096;
 
 class ModuleProgram {
  public:
@@ -33,6 +39,17 @@ class ModuleProgram {
   virtual bool reload(const std::string& path, const std::string& source, std::string& err) = 0;
   /// Declared percepts and their last values, one "name = value" per line (viewer).
   virtual std::string describePercepts() = 0;
+
+  // --- agents (the Python API's arrays: docs/python.md) ---
+  /// True when the behaviour defines observe().
+  virtual bool hasObserve() const { return false; }
+  /// observe(): the module's observation row, appended to `out`. False and err on an error.
+  virtual bool observe(std::vector<double>& out, std::string& err) { return true; }
+  /// The length of the action row act(a) takes: the global act_size, else `joints`; -1 when the
+  /// behaviour defines no act().
+  virtual int actSize(int joints) const { return -1; }
+  /// act(a) with the module's action row. False and err on an error.
+  virtual bool act(const double* a, int n, std::string& err) { return true; }
 };
 
 class WorldProgram {
@@ -40,6 +57,13 @@ class WorldProgram {
   virtual ~WorldProgram() = default;
   /// Calls the hooks due at time t (after each step).
   virtual bool afterStep(double t, std::string& err) = 0;
+  /// world.reward(fn) / world.done(fn) were given.
+  virtual bool hasReward() const { return false; }
+  virtual bool hasDone() const { return false; }
+  /// Calls world.reward's fn and writes one number per module (`out` has room for `modules`).
+  virtual bool reward(int modules, double* out, std::string& err) { return true; }
+  /// Calls world.done's fn and writes one flag per module.
+  virtual bool done(int modules, uint8_t* out, std::string& err) { return true; }
 };
 
 class ScriptHost {

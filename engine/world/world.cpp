@@ -438,6 +438,7 @@ void World::runBehaviour(int i) {
   ModuleProgram* b = m_behaviours[size_t(i)].get();
   if (!b) {
     m_modules[size_t(i)].dockEvents.clear();
+    if (m_actions && i < m_actionRows) applyAction(i, nullptr);
     return;
   }
   Module& m = m_modules[size_t(i)];
@@ -453,7 +454,62 @@ void World::runBehaviour(int i) {
       return;
     }
   m.dockEvents.clear();
+  if (m_actions && i < m_actionRows) {
+    applyAction(i, b);
+    if (!m.fault.empty()) return;
+  }
   if (!b->step(m_settings.dt, err)) m.fault = err.empty() ? "fault" : err;
+}
+
+void World::applyAction(int i, ModuleProgram* b) {
+  Module& m = m_modules[size_t(i)];
+  if (!m.fault.empty()) return;
+  const double* row = m_actions + size_t(i) * size_t(m_actionStride);
+  const int joints = int(m.commands.size());
+  if (b && b->actSize(joints) >= 0) {
+    std::string err;
+    if (!b->act(row, std::min(b->actSize(joints), m_actionStride), err))
+      m.fault = err.empty() ? "fault" : err;
+    return;
+  }
+  for (int j = 0; j < joints && j < m_actionStride; ++j) m.commands[size_t(j)] = {JointMode::Servo, row[j]};
+}
+
+int World::actSize(int m) const {
+  const ModuleProgram* b = m_behaviours[size_t(m)].get();
+  const int joints = int(m_modules[size_t(m)].commands.size());
+  return b && b->actSize(joints) >= 0 ? b->actSize(joints) : joints;
+}
+
+bool World::observe(int mi, std::vector<double>& out) {
+  Module& m = m_modules[size_t(mi)];
+  ModuleProgram* b = m_behaviours[size_t(mi)].get();
+  if (!m.fault.empty()) return false;
+  if (b && b->hasObserve()) {
+    std::vector<double> row;
+    std::string err;
+    if (!b->observe(row, err)) {
+      m.fault = err.empty() ? "fault" : err;
+      return false;
+    }
+    out.swap(row);
+    return true;
+  }
+  const int joints = int(m.type->joints.size());
+  out.resize(size_t(2 * joints) + m.docks.size());
+  for (int j = 0; j < joints; ++j) {
+    out[size_t(j)] = jointAngle(mi, j);
+    out[size_t(joints + j)] = jointVelocity(mi, j);
+  }
+  for (size_t d = 0; d < m.docks.size(); ++d) out[size_t(2 * joints) + d] = m.docks[d].engaged ? 1.0 : 0.0;
+  return true;
+}
+
+void World::forEachModule(const std::function<void(int)>& fn) {
+  if (m_pool)
+    m_pool->run(int(m_modules.size()), fn);
+  else
+    for (int i = 0; i < int(m_modules.size()); ++i) fn(i);
 }
 
 void World::runBehaviours() {
@@ -553,6 +609,7 @@ void World::step() {
   // 2. Behaviours (in parallel when --threads > 1).
   const auto t1 = Clock::now();
   runBehaviours();
+  m_actions = nullptr;  // applied in the behaviour phase; the next step gets its own
   const auto t2 = Clock::now();
   // 3. Route messages over engaged docks (readable next step).
   m_router.route(m_mailboxes, m_modules, m_steps, m_options.mailboxLimit);

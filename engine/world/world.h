@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -272,6 +273,27 @@ class World {
   /// Where resolvePath looks, for not-found errors: "(looked in /w/worlds/ and /w/)".
   std::string resolveLookedIn() const;
 
+  // --- agents (the Python API's arrays: engine/api, docs/python.md) ---
+  /// Actions for the next step() only: row m (`stride` numbers apart, the first actSize(m) used)
+  /// goes to module m in the behaviour phase, before its step(): to act(a) when its behaviour
+  /// defines one, else as its joints' servo targets. Rows past `rows` get nothing. The caller
+  /// keeps the buffer unchanged until step() returns.
+  void setActions(const double* data, int stride, int rows) {
+    m_actions = data;
+    m_actionStride = stride;
+    m_actionRows = rows;
+  }
+  /// How many numbers module m's action row holds: its behaviour's act size (act_size, else its
+  /// joint count) when it defines act(a), else its joint count.
+  int actSize(int m) const;
+  /// Module m's observation, written over `out`: observe() when its behaviour defines one, else
+  /// its joint angles (rad), joint velocities (rad/s) and per dock 1 (engaged) or 0. A failing
+  /// observe() faults the module (false; `out` is left as it was). Modules may be observed in
+  /// parallel (each VM is its own).
+  bool observe(int m, std::vector<double>& out);
+  /// Runs fn(m) for every module on the behaviour pool (in parallel with --threads > 1).
+  void forEachModule(const std::function<void(int)>& fn);
+
   // --- hot reload ---
   /// Files whose edits should reach the run: behaviour files in use, lua/*.lua, the world file.
   std::vector<std::string> watchedFiles() const;
@@ -372,6 +394,10 @@ class World {
   double m_trackingSum = 0;
   int64_t m_trackingCount = 0;
   StepTimes m_times;
+  const double* m_actions = nullptr;  ///< setActions: this step's action rows, or null
+  int m_actionStride = 0, m_actionRows = 0;
+  /// Applies module i's action row (behaviour phase).
+  void applyAction(int i, ModuleProgram* b);
 };
 
 }  // namespace rm3d

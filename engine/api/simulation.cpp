@@ -1,0 +1,596 @@
+// The public engine API's Simulation: a World with its sources, its agents' arrays, its
+// recording and the log that makes a snapshot (docs/python.md, "Snapshots").
+//
+// A snapshot is the run's inputs, not a dump of its memory: the world (path or source), the Lua
+// texts it read, seed and params, how many steps ran, the actions applied at each step, and the
+// steps at which the arrays were read (observe(), world.reward and world.done are Lua calls that
+// may change a script's state). Restoring loads the world with those texts and runs it again
+// to the same step with the same calls; the engine is deterministic, so the result is the
+// original's bit for bit, in this process or another, at any thread count. Bullet's contact
+// caches, the Lua heaps and every RNG stream are therefore exactly as they were, with nothing
+// to serialise; the cost is time: a restore re-runs the steps (an 8-module chain: about
+// 30 000 steps a second).
+#include "rm3d/simulation.h"
+
+#include <dlfcn.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "app/run_capture.h"
+#include "core/error.h"
+#include "core/source_files.h"
+#include "script/world_script.h"
+#include "world/world.h"
+
+namespace fs = std::filesystem;
+
+namespace rm3d::api {
+
+namespace {
+
+bool isDataRoot(const fs::path& dir) {
+  std::error_code ec;
+  return fs::is_directory(dir / "assets" / "modules", ec);
+}
+
+/// The project root: given; $RM3D_ROOT; the nearest folder above the world holding assets/modules;
+/// the nearest above the working folder; the installed data; the source tree this was built from.
+std::string findRoot(const Options& o, const std::string& world) {
+  std::error_code ec;
+  if (!o.root.empty()) {
+    if (!isDataRoot(o.root))
+      throw Error("root=" + o.root + ": not an RM3D project (no assets/modules folder)");
+    return fs::weakly_canonical(fs::absolute(o.root, ec), ec).string();
+  }
+  if (const char* env = std::getenv("RM3D_ROOT"); env && *env) {
+    if (!isDataRoot(env))
+      throw Error(std::string("RM3D_ROOT=") + env + ": not an RM3D project (no assets/modules folder)");
+    return fs::weakly_canonical(fs::absolute(env, ec), ec).string();
+  }
+  auto upFrom = [&](fs::path p) -> std::string {
+    for (; !p.empty(); p = p.parent_path()) {
+      if (isDataRoot(p)) return p.string();
+      if (p == p.parent_path()) break;
+    }
+    return "";
+  };
+  if (!world.empty())
+    if (std::string r = upFrom(fs::path(world).parent_path()); !r.empty()) return r;
+  if (std::string r = upFrom(fs::current_path(ec)); !r.empty()) return r;
+  // Installed: <prefix>/share/rm3d above the file this code is in (the Python extension, or rm3d).
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&isDataRoot), &info) && info.dli_fname)
+    for (fs::path p = fs::absolute(info.dli_fname, ec).parent_path(); !p.empty(); p = p.parent_path()) {
+      if (isDataRoot(p / "share" / "rm3d")) return (p / "share" / "rm3d").string();
+      if (p == p.parent_path()) break;
+    }
+#ifdef RM3D_SOURCE_DIR
+  if (isDataRoot(RM3D_SOURCE_DIR)) return RM3D_SOURCE_DIR;
+#endif
+  throw Error("no RM3D project found for " + (world.empty() ? std::string("the world") : world) +
+              ": pass root= (a folder holding assets/modules) or set RM3D_ROOT");
+}
+
+RunOptions runOptions(const Options& o, const std::string& root) {
+  if (o.threads < 1 || o.threads > 256)
+    throw Error("threads=" + std::to_string(o.threads) + ": expected a whole number from 1 to 256");
+  for (const auto& [k, v] : o.params)
+    if (k.empty()) throw Error("params: a key is empty; expected names such as modules=10");
+  RunOptions r;
+  r.projectRoot = root;
+  r.params = o.params;
+  r.seed = o.seed;
+  r.strict = o.strict;
+  r.threads = o.threads;
+  r.echoLog = o.echo;
+  r.echoWorldLog = o.echo;
+  r.sources = std::make_shared<SourceFiles>();
+  return r;
+}
+
+// Little-endian packing for the snapshot.
+void put64(std::string& s, uint64_t v) {
+  for (int i = 0; i < 8; ++i) s.push_back(char((v >> (8 * i)) & 0xff));
+}
+uint64_t get64(const std::string& s, size_t& at) {
+  if (at + 8 > s.size()) throw Error("snapshot: the bytes end early (truncated or not a snapshot)");
+  uint64_t v = 0;
+  for (int i = 0; i < 8; ++i) v |= uint64_t(uint8_t(s[at + size_t(i)])) << (8 * i);
+  at += 8;
+  return v;
+}
+constexpr char kMagic[] = "RM3DSNP1";
+
+}  // namespace
+
+struct Simulation::Impl {
+  Options options;
+  std::string root;
+  std::string path;          ///< absolute world file; empty for a source world
+  std::string source, name;  ///< a source world's text and name
+  std::unique_ptr<World> world;
+  std::shared_ptr<SourceFiles> sources;
+  std::shared_ptr<AgentArrays> own = std::make_shared<AgentArrays>();
+  std::shared_ptr<AgentArrays> target;  ///< own, or a batch's
+  int rowOffset = 0;
+  int rowLimit = -1;  ///< rows of the target that are this world's (-1: own arrays, all)
+  int64_t refreshedAt = -1;
+  std::vector<std::vector<double>> rows;  ///< observe() scratch, per module
+  bool closed = false, ended = false;
+  double wallSeconds = 0;
+  std::unique_ptr<RunCapture> capture;
+  // The log (see the top of this file): actions by step, and the steps the arrays were read at.
+  struct Act {
+    int64_t step;
+    int rows, stride;
+    size_t at;  ///< into actData
+  };
+  std::vector<Act> acts;
+  std::vector<double> actData;
+  std::vector<int64_t> reads;
+
+  void check() const {
+    if (closed) throw Error("this world is closed");
+  }
+  AgentArrays& arr() { return *target; }
+  /// Rows of the target this world may write.
+  int capacity() const { return rowLimit >= 0 ? rowLimit : target->rows; }
+
+  void load() {
+    RunOptions ro = runOptions(options, root);
+    if (sources) ro.sources = sources;
+    sources = ro.sources;
+    world = std::make_unique<World>(ro);
+    try {
+      if (!path.empty()) {
+        std::error_code ec;
+        if (!fs::is_regular_file(path, ec))
+          throw Error(path + ": cannot read world file (" +
+                      (fs::exists(path, ec) ? "not a regular file" : "no such file") + ")");
+        world->loadFile(path);
+      } else {
+        world->loadString(source, name);
+      }
+      world->start();
+    } catch (const InputError& e) {
+      throw Error(e.what());
+    }
+    if (!world->scriptError().empty()) throw Error(world->scriptError());
+    target = own;
+  }
+
+  /// Sizes this world needs: modules, max obs row, max act row (observing now).
+  void observeAll() {
+    const int n = int(world->modules().size());
+    rows.resize(size_t(n));
+    world->forEachModule([this](int i) { world->observe(i, rows[size_t(i)]); });
+  }
+
+  /// Observes, then writes obs/act sizes, reward and done into the target arrays.
+  void refresh() {
+    if (refreshedAt == world->steps()) return;
+    refreshedAt = world->steps();
+    reads.push_back(refreshedAt);
+    observeAll();
+    const int n = int(rows.size());
+    int obsDim = 0, actDim = 0;
+    for (int i = 0; i < n; ++i) {
+      obsDim = std::max(obsDim, int(rows[size_t(i)].size()));
+      actDim = std::max(actDim, world->actSize(i));
+    }
+    if (target == own && (n != own->rows || obsDim > own->obsDim || actDim > own->actDim))
+      resizeOwn(n, obsDim, actDim);
+    AgentArrays& a = arr();
+    const int avail = std::min(n, capacity());
+    for (int i = 0; i < avail; ++i) {
+      const size_t r = size_t(rowOffset + i);
+      std::vector<double>& row = rows[size_t(i)];
+      if (int(row.size()) > a.obsDim) {
+        world->faultModule(i, "observe() returned " + std::to_string(row.size()) +
+                                  " numbers; this batch's obs rows hold " + std::to_string(a.obsDim) +
+                                  " (the largest of the first observations)");
+        row.resize(size_t(a.obsDim));
+      }
+      double* o = a.obs.data() + r * size_t(a.obsDim);
+      std::fill(o, o + a.obsDim, 0.0);
+      std::copy(row.begin(), row.end(), o);
+      a.obsSize[r] = int32_t(row.size());
+      a.actSize[r] = int32_t(std::min(world->actSize(i), a.actDim));
+      a.mask[r] = 1;
+    }
+    double* reward = a.reward.data() + rowOffset;
+    uint8_t* done = a.done.data() + rowOffset;
+    std::fill(reward, reward + avail, 0.0);
+    std::fill(done, done + avail, uint8_t(0));
+    WorldScript* s = world->script();
+    std::string err;
+    if (s && world->scriptError().empty() && avail > 0) {
+      std::vector<double> rw(static_cast<size_t>(n));
+      std::vector<uint8_t> dn(static_cast<size_t>(n));
+      if (s->hasReward() && !s->reward(n, rw.data(), err)) world->setScriptError(err);
+      if (s->hasDone() && err.empty() && !s->done(n, dn.data(), err)) world->setScriptError(err);
+      std::copy(rw.begin(), rw.begin() + avail, reward);
+      std::copy(dn.begin(), dn.begin() + avail, done);
+    }
+  }
+
+  void resizeOwn(int n, int obsDim, int actDim) {
+    auto a = std::make_shared<AgentArrays>();
+    a->rows = n;
+    a->obsDim = std::max(obsDim, own->obsDim);
+    a->actDim = std::max(actDim, own->actDim);
+    a->obs.assign(size_t(n) * size_t(a->obsDim), 0.0);
+    a->act.assign(size_t(n) * size_t(a->actDim), 0.0);
+    for (int i = 0; i < std::min(n, own->rows); ++i)  // the actions written so far stay
+      std::copy_n(own->act.data() + size_t(i) * size_t(own->actDim), own->actDim,
+                  a->act.data() + size_t(i) * size_t(a->actDim));
+    a->reward.assign(size_t(n), 0.0);
+    a->done.assign(size_t(n), 0);
+    a->mask.assign(size_t(n), 1);
+    a->obsSize.assign(size_t(n), 0);
+    a->actSize.assign(size_t(n), 0);
+    own = a;
+    target = own;
+  }
+
+  /// The action rows of this world in the target arrays, checked finite.
+  void applyActions(int64_t stepIndex) {
+    AgentArrays& a = arr();
+    const int n = std::min(int(world->modules().size()), capacity());
+    if (n <= 0 || a.actDim == 0) return;
+    const double* base = a.act.data() + size_t(rowOffset) * size_t(a.actDim);
+    for (int i = 0; i < n; ++i) {
+      const int used = std::min(world->actSize(i), a.actDim);
+      for (int j = 0; j < used; ++j)
+        if (!std::isfinite(base[size_t(i) * size_t(a.actDim) + size_t(j)])) {
+          const double v = base[size_t(i) * size_t(a.actDim) + size_t(j)];
+          throw Error("act[" + std::to_string(i) + "][" + std::to_string(j) + "] is " +
+                      (std::isnan(v) ? "nan" : "infinite") + " (module " + world->module(i).name +
+                      "): actions must be finite numbers");
+        }
+    }
+    acts.push_back({stepIndex, n, a.actDim, actData.size()});
+    actData.insert(actData.end(), base, base + size_t(n) * size_t(a.actDim));
+    world->setActions(base, a.actDim, n);
+  }
+
+  void stepOnce(bool policy) {
+    if (policy) applyActions(world->steps());
+    world->step();
+    if (capture) capture->step(*world);
+  }
+
+  void startRecording() {
+    if (options.record.empty()) return;
+    RecordingMeta meta{path.empty() ? world->worldFile() : path,
+                       root,
+                       world->settings().seed,
+                       options.seed.has_value(),
+                       options.params,
+                       0,
+                       {"python", "rm3d.World"},
+                       ""};
+    capture = std::make_unique<RunCapture>(options.record, meta, CameraArgs{});
+    capture->start(*world);
+    if (!capture->error().empty()) throw Error("record=" + options.record + ": " + capture->error());
+  }
+
+  void endRecording() {
+    if (!capture) return;
+    std::string err;
+    std::unique_ptr<RunCapture> c = std::move(capture);
+    if (c->started() && !c->finish(sources->taken(), err))
+      throw Error("record=" + options.record + ": " + err);
+  }
+};
+
+Simulation::Simulation() : m(std::make_unique<Impl>()) {}
+Simulation::~Simulation() {
+  try {
+    if (m && !m->closed) m->endRecording();
+  } catch (...) {
+  }
+}
+
+std::unique_ptr<Simulation> Simulation::open(const std::string& path, const Options& options) {
+  std::unique_ptr<Simulation> s(new Simulation());
+  if (path.empty()) throw Error("path: empty; expected a world file (.lua)");
+  std::error_code ec;
+  const std::string abs = fs::absolute(path, ec).lexically_normal().string();
+  s->m->options = options;
+  s->m->path = abs;
+  s->m->root = findRoot(options, abs);
+  s->m->load();
+  s->m->startRecording();
+  return s;
+}
+
+std::unique_ptr<Simulation> Simulation::fromString(const std::string& source, const std::string& name,
+                                                   const Options& options) {
+  std::unique_ptr<Simulation> s(new Simulation());
+  s->m->options = options;
+  s->m->source = source;
+  s->m->name = name.empty() ? "world" : name;
+  s->m->root = findRoot(options, "");
+  s->m->load();
+  s->m->startRecording();
+  return s;
+}
+
+void Simulation::step(int64_t n) {
+  m->check();
+  if (n < 0) throw Error("step(n): n = " + std::to_string(n) + "; expected a whole number >= 0");
+  if (m->ended)
+    throw Error(
+        "the world has finished (finish() ran its on_end hooks); fork() it or restore a snapshot to go on");
+  const auto t0 = std::chrono::steady_clock::now();
+  World& w = *m->world;
+  try {
+    for (int64_t k = 0; k < n && !w.stopped(); ++k) {
+      if (m->options.policy && m->refreshedAt < 0) m->refresh();  // the first step: sizes for the act rows
+      m->stepOnce(m->options.policy);
+    }
+    if (m->options.policy) m->refresh();
+  } catch (const InputError& e) {
+    throw Error(e.what());
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error(w.worldFile() + ": the run stopped at t=" + std::to_string(w.time()) + " s: " + e.what());
+  }
+  m->wallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!w.scriptError().empty()) throw Error(w.scriptError());
+}
+
+double Simulation::time() const {
+  return m->world->time();
+}
+int64_t Simulation::steps() const {
+  return m->world->steps();
+}
+double Simulation::dt() const {
+  return m->world->settings().dt;
+}
+bool Simulation::finished() const {
+  return m->ended || m->world->finished();
+}
+bool Simulation::stopped() const {
+  return m->world->stopped();
+}
+int Simulation::moduleCount() const {
+  return int(m->world->modules().size());
+}
+
+std::vector<std::string> Simulation::moduleNames() const {
+  std::vector<std::string> out;
+  for (const Module& mod : m->world->modules()) out.push_back(mod.name);
+  return out;
+}
+
+std::string Simulation::summaryJson() const {
+  m->check();
+  return m->world->summary(m->wallSeconds).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::string Simulation::finish() {
+  m->check();
+  World& w = *m->world;
+  std::vector<std::string> warnings;
+  if (!m->ended) {
+    m->ended = true;
+    WorldScript* script = w.script();
+    std::string err;
+    if (script && w.scriptError().empty() && !script->atEnd(w.time(), err)) w.setScriptError(err);
+    m->endRecording();
+  }
+  nlohmann::json j = w.summary(m->wallSeconds);
+  if (WorldScript* script = w.script()) j["warnings"] = script->hooksNeverRun(w.time());
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::map<std::string, double> Simulation::metrics() const {
+  return m->world->metrics();
+}
+
+std::map<std::string, std::string> Simulation::faults() const {
+  std::map<std::string, std::string> out;
+  for (const Module& mod : m->world->modules())
+    if (!mod.fault.empty()) out[mod.name] = mod.fault;
+  return out;
+}
+
+std::shared_ptr<AgentArrays> Simulation::arrays() {
+  m->check();
+  m->refresh();
+  return m->target;
+}
+
+void Simulation::bindArrays(std::shared_ptr<AgentArrays> target, int rowOffset, int rows) {
+  Impl& i = *m;
+  if (!target) {
+    i.target = i.own;
+    i.rowOffset = 0;
+    i.rowLimit = -1;
+    return;
+  }
+  // The rows read so far move over as they are (no new read: observe() may change a script's state).
+  AgentArrays& t = *target;
+  const AgentArrays& o = *i.own;
+  if (o.obsDim > t.obsDim || o.actDim > t.actDim || o.rows > rows || rowOffset + rows > t.rows)
+    throw Error("bindArrays: the world's arrays do not fit the target's");
+  for (int r = 0; r < o.rows; ++r) {
+    const size_t d = size_t(rowOffset + r);
+    std::copy_n(o.obs.data() + size_t(r) * size_t(o.obsDim), o.obsDim, t.obs.data() + d * size_t(t.obsDim));
+    t.obsSize[d] = o.obsSize[size_t(r)];
+    t.actSize[d] = o.actSize[size_t(r)];
+    t.reward[d] = o.reward[size_t(r)];
+    t.done[d] = o.done[size_t(r)];
+    t.mask[d] = 1;
+  }
+  i.target = std::move(target);
+  i.rowOffset = rowOffset;
+  i.rowLimit = rows;
+}
+
+int Simulation::obsDim() const {
+  return m->own->obsDim;
+}
+int Simulation::actDim() const {
+  return m->own->actDim;
+}
+
+std::string Simulation::snapshot() const {
+  m->check();
+  nlohmann::json h;
+  h["world"] = m->path;
+  h["source"] = m->source;
+  h["name"] = m->name;
+  h["root"] = m->root;
+  h["seed"] = m->options.seed ? nlohmann::json(*m->options.seed) : nlohmann::json(nullptr);
+  h["params"] = m->options.params;
+  h["strict"] = m->options.strict;
+  h["policy"] = m->options.policy;
+  h["steps"] = m->world->steps();
+  h["ended"] = m->ended;
+  h["reads"] = m->reads;
+  nlohmann::json texts = nlohmann::json::array();
+  for (const auto& [p, t] : m->sources->taken()) texts.push_back({p, t});
+  h["texts"] = texts;
+  nlohmann::json acts = nlohmann::json::array();
+  for (const Impl::Act& a : m->acts) acts.push_back({a.step, a.rows, a.stride, a.at});
+  h["acts"] = acts;
+  const std::string header = h.dump(-1, ' ', false, nlohmann::json::error_handler_t::strict);
+  std::string body;
+  put64(body, header.size());
+  body += header;
+  put64(body, m->actData.size());
+  body.append(reinterpret_cast<const char*>(m->actData.data()), m->actData.size() * sizeof(double));
+  uLongf packed = compressBound(uLong(body.size()));
+  std::string out(kMagic, 8);
+  put64(out, body.size());
+  const size_t at = out.size();
+  out.resize(at + packed);
+  if (compress2(reinterpret_cast<Bytef*>(&out[at]), &packed, reinterpret_cast<const Bytef*>(body.data()),
+                uLong(body.size()), 1) != Z_OK)
+    throw Error("snapshot: compression failed");
+  out.resize(at + packed);
+  return out;
+}
+
+std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, int threads) {
+  if (bytes.size() < 16 || bytes.compare(0, 8, kMagic, 8) != 0)
+    throw Error("snapshot: not an RM3D snapshot (it does not start with " + std::string(kMagic, 8) + ")");
+  size_t at = 8;
+  const uint64_t rawSize = get64(bytes, at);
+  if (rawSize > (uint64_t(1) << 34)) throw Error("snapshot: its size field is implausible (damaged bytes)");
+  std::string body(size_t(rawSize), '\0');
+  uLongf got = uLongf(rawSize);
+  if (uncompress(reinterpret_cast<Bytef*>(body.data()), &got,
+                 reinterpret_cast<const Bytef*>(bytes.data() + at), uLong(bytes.size() - at)) != Z_OK ||
+      got != rawSize)
+    throw Error("snapshot: the bytes are damaged (they do not unpack)");
+  size_t p = 0;
+  const uint64_t hlen = get64(body, p);
+  if (hlen > body.size() - p) throw Error("snapshot: the bytes end early (truncated or not a snapshot)");
+  nlohmann::json h = nlohmann::json::parse(body.substr(p, size_t(hlen)), nullptr, false);
+  p += size_t(hlen);
+  if (h.is_discarded() || !h.is_object()) throw Error("snapshot: its header is damaged");
+  const uint64_t nAct = get64(body, p);
+  if (nAct > (body.size() - p) / sizeof(double)) throw Error("snapshot: the bytes end early (truncated)");
+  std::unique_ptr<Simulation> s(new Simulation());
+  Impl& m = *s->m;
+  try {
+    m.options.threads = threads;
+    if (!h.at("seed").is_null()) m.options.seed = h.at("seed").get<uint64_t>();
+    m.options.params = h.at("params").get<std::map<std::string, std::string>>();
+    m.options.strict = h.at("strict").get<bool>();
+    m.options.policy = h.at("policy").get<bool>();
+    m.path = h.at("world").get<std::string>();
+    m.source = h.at("source").get<std::string>();
+    m.name = h.at("name").get<std::string>();
+    m.root = h.at("root").get<std::string>();
+    m.actData.resize(size_t(nAct));
+    std::memcpy(m.actData.data(), body.data() + p, size_t(nAct) * sizeof(double));
+    for (const auto& a : h.at("acts")) {
+      const Impl::Act act{a.at(0).get<int64_t>(), a.at(1).get<int>(), a.at(2).get<int>(),
+                          a.at(3).get<size_t>()};
+      if (act.rows < 0 || act.stride < 0 || act.at + size_t(act.rows) * size_t(act.stride) > m.actData.size())
+        throw Error("snapshot: an action record lies outside the data (damaged bytes)");
+      m.acts.push_back(act);
+    }
+    std::map<std::string, std::string> texts;
+    for (const auto& t : h.at("texts")) texts[t.at(0).get<std::string>()] = t.at(1).get<std::string>();
+    m.sources = std::make_shared<SourceFiles>();
+    m.sources->setOverlay(std::move(texts));
+    const int64_t steps = h.at("steps").get<int64_t>();
+    const std::vector<int64_t> reads = h.at("reads").get<std::vector<int64_t>>();
+    m.load();
+    // Re-run: the reads and the actions at the steps they happened (see the top of this file).
+    size_t r = 0, a = 0;
+    World& w = *m.world;
+    auto readsDue = [&] {
+      while (r < reads.size() && reads[r] == w.steps()) {
+        ++r;
+        m.refresh();
+      }
+    };
+    while (w.steps() < steps) {
+      readsDue();
+      while (a < m.acts.size() && m.acts[a].step < w.steps()) ++a;
+      if (a < m.acts.size() && m.acts[a].step == w.steps())
+        w.setActions(m.actData.data() + m.acts[a].at, m.acts[a].stride, m.acts[a].rows);
+      w.step();
+      if (w.stopped() && w.steps() < steps)
+        throw Error("snapshot: the world stopped at step " + std::to_string(w.steps()) + " of " +
+                    std::to_string(steps) + " on the re-run");
+    }
+    readsDue();
+    m.sources->clearOverlay();
+    if (h.at("ended").get<bool>()) {
+      m.ended = true;
+      std::string err;
+      if (WorldScript* script = w.script();
+          script && w.scriptError().empty() && !script->atEnd(w.time(), err))
+        w.setScriptError(err);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(std::string("snapshot: its header is damaged (") + e.what() + ")");
+  } catch (const InputError& e) {
+    throw Error(std::string("snapshot: ") + e.what());
+  }
+  return s;
+}
+
+void Simulation::restore(const std::string& bytes) {
+  m->check();
+  std::unique_ptr<Simulation> other = fromSnapshot(bytes, m->options.threads);
+  std::shared_ptr<AgentArrays> target = m->target;
+  const int offset = m->rowOffset, limit = m->rowLimit;
+  const bool bound = target != m->own;
+  m->endRecording();
+  std::swap(m, other->m);
+  if (bound) bindArrays(target, offset, limit);
+}
+
+std::unique_ptr<Simulation> Simulation::fork() const {
+  m->check();
+  return fromSnapshot(snapshot(), m->options.threads);
+}
+
+void Simulation::close() {
+  if (m->closed) return;
+  m->closed = true;
+  m->endRecording();
+}
+
+bool Simulation::closed() const {
+  return m->closed;
+}
+
+}  // namespace rm3d::api

@@ -1,0 +1,426 @@
+// rm3d._rm3d: the Python binding of the public engine API (engine/api/rm3d/simulation.h). The
+// agents' arrays are numpy views over the engine's buffers (no copy per step); stepping releases
+// the GIL. docs/python.md is the guide; engine/python/rm3d/ holds the pure-Python parts.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <memory>
+
+#include "rm3d/simulation.h"
+
+namespace py = pybind11;
+using rm3d::api::AgentArrays;
+using rm3d::api::Batch;
+using rm3d::api::Error;
+using rm3d::api::Options;
+using rm3d::api::Simulation;
+
+namespace {
+
+/// A params dict as `--param k=v` strings: str, int, float (repr: every bit) or bool.
+std::map<std::string, std::string> toParams(const py::object& params, const char* arg = "params") {
+  std::map<std::string, std::string> out;
+  if (params.is_none()) return out;
+  if (!py::isinstance<py::dict>(params))
+    throw py::type_error(std::string(arg) + ": expected a dict of name -> str, int, float or bool, got " +
+                         std::string(py::str(py::type::of(params).attr("__name__"))));
+  for (auto [k, v] : py::reinterpret_borrow<py::dict>(params)) {
+    if (!py::isinstance<py::str>(k))
+      throw py::type_error(std::string(arg) + ": key " + std::string(py::repr(k)) + " is not a str");
+    const std::string key = py::cast<std::string>(k);
+    if (key.empty() || key.find('=') != std::string::npos)
+      throw py::value_error(std::string(arg) + ": key " + std::string(py::repr(k)) +
+                            " is not a name (expected letters, digits, _ and no '=')");
+    std::string value;
+    if (py::isinstance<py::bool_>(v))
+      value = py::cast<bool>(v) ? "true" : "false";
+    else if (py::isinstance<py::int_>(v) || py::isinstance<py::str>(v))
+      value = py::cast<std::string>(py::str(v));
+    else if (py::isinstance<py::float_>(v)) {
+      const double d = py::cast<double>(v);
+      if (!std::isfinite(d))
+        throw py::value_error(std::string(arg) + "['" + key + "'] = " + std::string(py::repr(v)) +
+                              ": expected a finite number");
+      value = py::cast<std::string>(py::repr(v));
+    } else
+      throw py::type_error(std::string(arg) + "['" + key + "']: expected str, int, float or bool, got " +
+                           std::string(py::str(py::type::of(v).attr("__name__"))));
+    out[key] = value;
+  }
+  return out;
+}
+
+std::optional<uint64_t> toSeed(const py::object& seed, const char* arg = "seed") {
+  if (seed.is_none()) return std::nullopt;
+  if (!py::isinstance<py::int_>(seed) || py::isinstance<py::bool_>(seed))
+    throw py::type_error(std::string(arg) + ": expected an int from 0 to 2**64-1 or None, got " +
+                         std::string(py::str(py::type::of(seed).attr("__name__"))));
+  try {
+    return py::cast<uint64_t>(seed);
+  } catch (const py::cast_error&) {
+    throw py::value_error(std::string(arg) + " = " + std::string(py::repr(seed)) + ": expected 0 to 2**64-1");
+  }
+}
+
+std::string toPath(const py::object& p, const char* arg = "path") {
+  if (py::isinstance<py::str>(p)) return py::cast<std::string>(p);
+  if (py::hasattr(p, "__fspath__")) return py::cast<std::string>(p.attr("__fspath__")());
+  throw py::type_error(std::string(arg) + ": expected a str or os.PathLike, got " +
+                       std::string(py::str(py::type::of(p).attr("__name__"))));
+}
+
+py::object jsonLoads(const std::string& text) {
+  return py::module_::import("json").attr("loads")(text);
+}
+
+/// A numpy view of `data` (shape, C order) that keeps `owner` alive; read-only unless writable.
+template <typename T>
+py::array view(const std::shared_ptr<AgentArrays>& owner, T* data, std::vector<py::ssize_t> shape,
+               bool writable) {
+  auto* keep = new std::shared_ptr<AgentArrays>(owner);
+  py::capsule base(keep, [](void* p) { delete static_cast<std::shared_ptr<AgentArrays>*>(p); });
+  py::array_t<T> a(shape, data, base);
+  if (!writable) a.attr("setflags")(py::arg("write") = false);
+  return a;
+}
+
+/// Copies a user's action array into `dst` (rows x dim), checking shape and dtype.
+void assignActions(py::handle value, double* dst, const std::vector<py::ssize_t>& shape, const char* name) {
+  py::array a = py::array::ensure(value);
+  if (!a) throw py::type_error(std::string(name) + ": expected a numpy array (or nested lists) of numbers");
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(name) + ": expected a float array, got dtype " +
+                         std::string(py::str(a.dtype())));
+  std::string want = "(";
+  for (size_t i = 0; i < shape.size(); ++i) want += (i ? ", " : "") + std::to_string(shape[i]);
+  want += shape.size() == 1 ? ",)" : ")";
+  bool same = a.ndim() == py::ssize_t(shape.size());
+  for (size_t i = 0; same && i < shape.size(); ++i) same = a.shape(py::ssize_t(i)) == shape[i];
+  if (!same) {
+    std::string got = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) got += (i ? ", " : "") + std::to_string(a.shape(i));
+    got += a.ndim() == 1 ? ",)" : ")";
+    throw py::value_error(std::string(name) + ": expected shape " + want + ", got " + got);
+  }
+  auto d = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+  std::copy(d.data(), d.data() + d.size(), dst);
+}
+
+/// The Python World: a Simulation, or nothing once closed.
+struct PyWorld {
+  std::unique_ptr<Simulation> sim;
+  Simulation& s() {
+    if (!sim || sim->closed()) throw Error("this world is closed");
+    return *sim;
+  }
+};
+
+Options makeOptions(const py::object& seed, const py::object& params, int threads, bool policy,
+                    const py::object& record, bool strict, bool echo, const py::object& root) {
+  Options o;
+  o.seed = toSeed(seed);
+  o.params = toParams(params);
+  o.threads = threads;
+  o.policy = policy;
+  o.strict = strict;
+  o.echo = echo;
+  if (!record.is_none()) o.record = toPath(record, "record");
+  if (!root.is_none()) o.root = toPath(root, "root");
+  return o;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_rm3d, m) {
+  m.doc() = "RM3D engine binding (see the rm3d package and docs/python.md)";
+  static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const Error& e) {
+      error(e.what());
+    }
+  });
+
+  py::class_<PyWorld>(m, "World", "One world: a world file with a seed and params, stepped from Python.")
+      .def(
+          py::init([](const py::object& path, const py::object& seed, const py::object& params, int threads,
+                      bool policy, const py::object& record, bool strict, bool echo, const py::object& root) {
+            Options o = makeOptions(seed, params, threads, policy, record, strict, echo, root);
+            const std::string p = toPath(path);
+            py::gil_scoped_release release;
+            return PyWorld{Simulation::open(p, o)};
+          }),
+          py::arg("path"), py::kw_only(), py::arg("seed") = py::none(), py::arg("params") = py::none(),
+          py::arg("threads") = 1, py::arg("policy") = false, py::arg("record") = py::none(),
+          py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none())
+      .def_static(
+          "from_string",
+          [](const std::string& source, const py::object& seed, const py::object& params, int threads,
+             bool policy, const std::string& name, bool strict, bool echo, const py::object& root) {
+            Options o = makeOptions(seed, params, threads, policy, py::none(), strict, echo, root);
+            py::gil_scoped_release release;
+            return PyWorld{Simulation::fromString(source, name, o)};
+          },
+          py::arg("source"), py::kw_only(), py::arg("seed") = py::none(), py::arg("params") = py::none(),
+          py::arg("threads") = 1, py::arg("policy") = false, py::arg("name") = "world",
+          py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none())
+      .def_static(
+          "from_snapshot",
+          [](const py::bytes& b, int threads) {
+            std::string bytes = b;
+            py::gil_scoped_release release;
+            return PyWorld{Simulation::fromSnapshot(bytes, threads)};
+          },
+          py::arg("snapshot"), py::kw_only(), py::arg("threads") = 1)
+      .def(
+          "step",
+          [](PyWorld& w, long long n) {
+            Simulation& s = w.s();
+            py::gil_scoped_release release;
+            s.step(n);
+          },
+          py::arg("n") = 1, "n control steps (with policy=True each applies `act` first)")
+      .def_property_readonly("time", [](PyWorld& w) { return w.s().time(); })
+      .def_property_readonly("steps", [](PyWorld& w) { return w.s().steps(); })
+      .def_property_readonly("dt", [](PyWorld& w) { return w.s().dt(); })
+      .def_property_readonly("finished", [](PyWorld& w) { return w.s().finished(); })
+      .def_property_readonly("modules", [](PyWorld& w) { return w.s().moduleNames(); })
+      .def_property_readonly("metrics", [](PyWorld& w) { return w.s().metrics(); })
+      .def_property_readonly("faults", [](PyWorld& w) { return w.s().faults(); })
+      .def("summary", [](PyWorld& w) { return jsonLoads(w.s().summaryJson()); })
+      .def("finish", [](PyWorld& w) { return jsonLoads(w.s().finish()); })
+      .def_property_readonly("obs",
+                             [](PyWorld& w) {
+                               auto a = w.s().arrays();
+                               return view(a, a->obs.data(), {a->rows, a->obsDim}, false);
+                             })
+      .def_property(
+          "act",
+          [](PyWorld& w) {
+            auto a = w.s().arrays();
+            return view(a, a->act.data(), {a->rows, a->actDim}, true);
+          },
+          [](PyWorld& w, py::handle v) {
+            auto a = w.s().arrays();
+            assignActions(v, a->act.data(), {a->rows, a->actDim}, "act");
+          })
+      .def_property_readonly("reward",
+                             [](PyWorld& w) {
+                               auto a = w.s().arrays();
+                               return view(a, a->reward.data(), {a->rows}, false);
+                             })
+      .def_property_readonly("done",
+                             [](PyWorld& w) {
+                               auto a = w.s().arrays();
+                               auto* d = reinterpret_cast<bool*>(a->done.data());
+                               return view(a, d, {a->rows}, false);
+                             })
+      .def_property_readonly("obs_size",
+                             [](PyWorld& w) {
+                               auto a = w.s().arrays();
+                               return view(a, a->obsSize.data(), {a->rows}, false);
+                             })
+      .def_property_readonly("act_size",
+                             [](PyWorld& w) {
+                               auto a = w.s().arrays();
+                               return view(a, a->actSize.data(), {a->rows}, false);
+                             })
+      .def("snapshot",
+           [](PyWorld& w) {
+             std::string b;
+             {
+               Simulation& s = w.s();
+               py::gil_scoped_release release;
+               b = s.snapshot();
+             }
+             return py::bytes(b);
+           })
+      .def("restore",
+           [](PyWorld& w, const py::bytes& b) {
+             std::string bytes = b;
+             Simulation& s = w.s();
+             py::gil_scoped_release release;
+             s.restore(bytes);
+           })
+      .def("fork",
+           [](PyWorld& w) {
+             Simulation& s = w.s();
+             py::gil_scoped_release release;
+             return PyWorld{s.fork()};
+           })
+      .def("close",
+           [](PyWorld& w) {
+             if (w.sim) w.sim->close();
+           })
+      .def_property_readonly("closed", [](PyWorld& w) { return !w.sim || w.sim->closed(); })
+      .def("__enter__", [](PyWorld& w) -> PyWorld& { return w; })
+      .def("__exit__", [](PyWorld& w, py::args) {
+        if (w.sim) w.sim->close();
+      });
+
+  py::class_<Batch>(m, "Batch", "Many worlds stepped together by C++ threads (GIL released).")
+      .def(py::init([](const py::object& paths, const py::object& seeds, const py::object& params,
+                       int threads, bool policy, bool strict, const py::object& root) {
+             std::vector<std::string> ps;
+             const bool one = py::isinstance<py::str>(paths) || py::hasattr(paths, "__fspath__");
+             if (!one) {
+               if (!py::isinstance<py::sequence>(paths))
+                 throw py::type_error("paths: expected a path or a list of paths");
+               for (auto p : paths) ps.push_back(toPath(py::reinterpret_borrow<py::object>(p), "paths[i]"));
+             }
+             std::vector<py::object> sd, pr;
+             if (!seeds.is_none()) {
+               if (!py::isinstance<py::sequence>(seeds) || py::isinstance<py::str>(seeds))
+                 throw py::type_error("seeds: expected a list of ints (one per world) or None");
+               for (auto s : seeds) sd.push_back(py::reinterpret_borrow<py::object>(s));
+             }
+             if (!params.is_none() && !py::isinstance<py::dict>(params)) {
+               if (!py::isinstance<py::sequence>(params) || py::isinstance<py::str>(params))
+                 throw py::type_error("params: expected a dict, or a list of dicts (one per world)");
+               for (auto p : params) pr.push_back(py::reinterpret_borrow<py::object>(p));
+             }
+             size_t n = one ? 1 : ps.size();
+             if (one) n = std::max({sd.size(), pr.size(), size_t(1)});
+             if (one) ps.assign(n, toPath(paths));
+             auto count = [&](const char* what, size_t k) {
+               if (k != 0 && k != n)
+                 throw py::value_error(std::string(what) + ": " + std::to_string(k) + " given for " +
+                                       std::to_string(n) + " worlds; expected one per world");
+             };
+             count("seeds", sd.size());
+             count("params", pr.size());
+             if (n == 0) throw py::value_error("paths: empty; expected at least one world");
+             std::vector<Options> opts(n);
+             for (size_t i = 0; i < n; ++i) {
+               const py::object p = pr.empty() ? params : pr[i];
+               opts[i] = makeOptions(sd.empty() ? py::none() : sd[i], p, 1, policy, py::none(), strict, false,
+                                     root);
+             }
+             py::gil_scoped_release release;
+             return std::make_unique<Batch>(ps, opts, threads);
+           }),
+           py::arg("paths"), py::kw_only(), py::arg("seeds") = py::none(), py::arg("params") = py::none(),
+           py::arg("threads") = 1, py::arg("policy") = false, py::arg("strict") = false,
+           py::arg("root") = py::none())
+      .def("__len__", &Batch::size)
+      .def_property_readonly("size", &Batch::size)
+      .def(
+          "step",
+          [](Batch& b, long long n) {
+            py::gil_scoped_release release;
+            b.step(n);
+          },
+          py::arg("n") = 1)
+      .def(
+          "reset",
+          [](Batch& b, const py::object& mask) {
+            std::vector<uint8_t> mk;
+            if (!mask.is_none()) {
+              auto a = py::array::ensure(mask);
+              if (!a || a.ndim() != 1 || a.shape(0) != b.size())
+                throw py::value_error("mask: expected a bool array of shape (" + std::to_string(b.size()) +
+                                      ",)");
+              auto d = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(a);
+              mk.assign(d.data(), d.data() + d.size());
+            }
+            py::gil_scoped_release release;
+            b.reset(mk);
+          },
+          py::arg("mask") = py::none())
+      .def_property_readonly("obs",
+                             [](Batch& b) {
+                               auto a = b.arrays();
+                               return view(a, a->obs.data(), {b.size(), b.maxModules(), a->obsDim}, false);
+                             })
+      .def_property(
+          "act",
+          [](Batch& b) {
+            auto a = b.arrays();
+            return view(a, a->act.data(), {b.size(), b.maxModules(), a->actDim}, true);
+          },
+          [](Batch& b, py::handle v) {
+            auto a = b.arrays();
+            assignActions(v, a->act.data(), {b.size(), b.maxModules(), a->actDim}, "act");
+          })
+      .def_property_readonly("reward",
+                             [](Batch& b) {
+                               auto a = b.arrays();
+                               return view(a, a->reward.data(), {b.size(), b.maxModules()}, false);
+                             })
+      .def_property_readonly(
+          "done",
+          [](Batch& b) {
+            auto a = b.arrays();
+            return view(a, reinterpret_cast<bool*>(a->done.data()), {b.size(), b.maxModules()}, false);
+          })
+      .def_property_readonly(
+          "mask",
+          [](Batch& b) {
+            auto a = b.arrays();
+            return view(a, reinterpret_cast<bool*>(a->mask.data()), {b.size(), b.maxModules()}, false);
+          })
+      .def_property_readonly("obs_size",
+                             [](Batch& b) {
+                               auto a = b.arrays();
+                               return view(a, a->obsSize.data(), {b.size(), b.maxModules()}, false);
+                             })
+      .def_property_readonly("act_size",
+                             [](Batch& b) {
+                               auto a = b.arrays();
+                               return view(a, a->actSize.data(), {b.size(), b.maxModules()}, false);
+                             })
+      .def_property_readonly("time",
+                             [](Batch& b) {
+                               py::array_t<double> t(b.size());
+                               for (int i = 0; i < b.size(); ++i) t.mutable_at(i) = b.world(i).time();
+                               return t;
+                             })
+      .def_property_readonly("finished",
+                             [](Batch& b) {
+                               py::array_t<bool> t(b.size());
+                               for (int i = 0; i < b.size(); ++i) t.mutable_at(i) = b.world(i).finished();
+                               return t;
+                             })
+      .def_property_readonly("metrics",
+                             [](Batch& b) {
+                               py::list out;
+                               for (int i = 0; i < b.size(); ++i) out.append(py::cast(b.world(i).metrics()));
+                               return out;
+                             })
+      .def("summaries",
+           [](Batch& b) {
+             py::list out;
+             for (int i = 0; i < b.size(); ++i) out.append(jsonLoads(b.world(i).summaryJson()));
+             return out;
+           })
+      .def(
+          "snapshot", [](Batch& b, int i) { return py::bytes(b.world(i).snapshot()); }, py::arg("i"))
+      .def("close", &Batch::close)
+      .def("__enter__", [](Batch& b) -> Batch& { return b; })
+      .def("__exit__", [](Batch& b, py::args) { b.close(); });
+
+  m.def(
+      "_evaluate",
+      [](const py::object& path, const py::list& runs, double seconds, int threads, const std::string& metric,
+         const py::object& root) {
+        std::vector<Options> opts;
+        for (auto r : runs) {
+          auto t = py::reinterpret_borrow<py::tuple>(r);
+          opts.push_back(makeOptions(t[0], t[1], 1, false, py::none(), false, false, root));
+        }
+        const std::string p = toPath(path);
+        std::vector<std::string> errors;
+        std::vector<double> out;
+        {
+          py::gil_scoped_release release;
+          out = rm3d::api::evaluate(p, opts, seconds, threads, metric, &errors);
+        }
+        return py::make_tuple(py::array_t<double>(py::ssize_t(out.size()), out.data()), errors);
+      },
+      py::arg("path"), py::arg("runs"), py::arg("seconds"), py::arg("threads"), py::arg("metric"),
+      py::arg("root") = py::none());
+}

@@ -1,0 +1,69 @@
+"""RM3D from Python: worlds, agents' arrays, snapshots, batches and whole-run evaluation.
+
+    import rm3d
+    w = rm3d.World("worlds/snake.lua", seed=1, params={"modules": 8}, policy=True)
+    w.act[:] = 0.3          # every module's joint targets (rad), applied before each step
+    w.step(60)
+    print(w.time, w.obs.shape, w.summary()["modules"][0]["position"])
+
+The engine is C++ (rm3d._rm3d, on the public API engine/api/rm3d/simulation.h); `rm3d.gym`
+and `rm3d.pettingzoo` wrap it for those libraries when they are installed. docs/python.md is
+the guide.
+"""
+import math as _math
+import warnings as _warnings
+
+import numpy as _np
+
+from ._rm3d import Batch, Error, World
+
+__all__ = ["World", "Batch", "Error", "evaluate"]
+
+
+def evaluate(path, params=None, seeds=None, seconds=None, threads=1, metric=None, root=None):
+    """Runs `path` once per params dict (x per seed) in C++ threads, Lua in control, and returns
+    the metric each run set with world.metric(name, value).
+
+    params: a list of dicts (the world's `args`; None: one run with none).
+    seeds: a list of ints: every params dict runs with every seed, the result has shape
+    (len(params), len(seeds)); None: the world's own seed, shape (len(params),).
+    seconds: simulated seconds per run (None: the world's duration); the world's on_end hooks
+    run at the end, as in `rm3d run`.
+    A run that fails or does not set the metric gives nan (with a warning naming it); if every
+    run fails, rm3d.Error is raised with the first message.
+    """
+    if metric is None or not isinstance(metric, str) or not metric:
+        raise TypeError("metric: expected the name (str) a world sets with world.metric(name, value)")
+    if params is None:
+        params = [None]
+    elif isinstance(params, dict):
+        raise TypeError("params: expected a list of dicts (one per candidate), got a dict")
+    params = list(params)
+    if seeds is not None:
+        if isinstance(seeds, (int, str, bytes)):
+            raise TypeError("seeds: expected a list of ints or None")
+        seeds = list(seeds)
+        if not seeds:
+            raise ValueError("seeds: empty; expected at least one seed (or None)")
+    if seconds is None:
+        seconds = 0.0
+    else:
+        seconds = float(seconds)
+        if not (seconds > 0 and _math.isfinite(seconds)):
+            raise ValueError("seconds = %r: expected a positive number of simulated seconds" % seconds)
+    if not isinstance(threads, int) or isinstance(threads, bool) or threads < 1:
+        raise ValueError("threads = %r: expected a whole number >= 1" % (threads,))
+    runs = [(s, p) for p in params for s in (seeds if seeds is not None else [None])]
+    if not runs:
+        return _np.zeros((0,) if seeds is None else (0, len(seeds)))
+    values, errors = _rm3d_evaluate(path, runs, seconds, threads, metric, root)
+    if len(errors) == len(runs):
+        raise Error(errors[0])
+    for e in errors[:3]:
+        _warnings.warn("rm3d.evaluate: " + e, RuntimeWarning, stacklevel=2)
+    if len(errors) > 3:
+        _warnings.warn("rm3d.evaluate: %d more runs failed" % (len(errors) - 3), RuntimeWarning, stacklevel=2)
+    return values if seeds is None else values.reshape(len(params), len(seeds))
+
+
+from ._rm3d import _evaluate as _rm3d_evaluate  # noqa: E402

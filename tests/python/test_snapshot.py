@@ -1,0 +1,106 @@
+# Snapshots: N steps == k steps, snapshot, restore (in this process or another), N - k steps, bit
+# for bit; fork() is independent; damaged bytes are a clear error.
+import json
+import os
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import rm3d
+from conftest import HERE, ROOT
+
+SNAKE = str(ROOT / "worlds" / "snake.lua")
+AGENTS = str(HERE / "worlds" / "agents.lua")
+
+
+def state(w):
+    s = w.summary()
+    s.pop("wall_seconds")
+    return json.dumps(s, sort_keys=True), w.obs.tobytes(), w.reward.tobytes(), w.done.tobytes()
+
+
+def policy(w, k):
+    """A fixed, step-dependent policy (the same in every run)."""
+    rows, cols = w.act.shape
+    w.act[:, 0] = 0.5 * np.sin(0.1 * k + np.arange(rows))
+    w.act[:, 1] = 1.0 if k % 7 == 0 else 0.0
+
+
+def run_policy(w, steps, start=0):
+    for k in range(start, start + steps):
+        policy(w, k)
+        w.step()
+
+
+def test_lua_world_snapshot_restore_bit_exact():
+    a = rm3d.World(SNAKE, seed=4, params={"modules": 8})
+    a.step(200)
+    ref = state(a)
+    b = rm3d.World(SNAKE, seed=4, params={"modules": 8})
+    b.step(80)
+    snap = b.snapshot()
+    b.step(50)  # wander off, then come back
+    b.restore(snap)
+    assert b.steps == 80
+    b.step(120)
+    assert state(b) == ref
+
+
+def test_policy_world_snapshot_restore_and_fork():
+    n, k = 150, 60
+    a = rm3d.World(AGENTS, params={"modules": 5, "hops": 1}, policy=True)
+    run_policy(a, n)
+    ref = state(a)
+    b = rm3d.World(AGENTS, params={"modules": 5, "hops": 1}, policy=True)
+    run_policy(b, k)
+    snap = b.snapshot()
+    c = b.fork()
+    run_policy(b, n - k, start=k)
+    assert state(b) == ref
+    # The fork is at step k, independent of b, and arrives at the same state.
+    assert c.steps == k
+    run_policy(c, n - k, start=k)
+    assert state(c) == ref
+    d = rm3d.World.from_snapshot(snap, threads=2)  # any thread count
+    run_policy(d, n - k, start=k)
+    assert state(d) == ref
+
+
+def test_snapshot_restores_in_another_process(tmp_path):
+    n, k = 120, 45
+    a = rm3d.World(AGENTS, params={"modules": 4, "hops": 1}, policy=True)
+    run_policy(a, n)
+    ref = state(a)
+    b = rm3d.World(AGENTS, params={"modules": 4, "hops": 1}, policy=True)
+    run_policy(b, k)
+    (tmp_path / "snap.bin").write_bytes(b.snapshot())
+    script = f"""
+import sys, json
+sys.path.insert(0, {str(HERE)!r})
+import rm3d
+from test_snapshot import run_policy, state
+w = rm3d.World.from_snapshot(open({str(tmp_path / 'snap.bin')!r}, 'rb').read())
+run_policy(w, {n - k}, start={k})
+s, obs, rew, done = state(w)
+open({str(tmp_path / 'out.json')!r}, 'w').write(json.dumps([s, obs.hex(), rew.hex(), done.hex()]))
+"""
+    env = dict(os.environ, PYTHONPATH=str(pathlib.Path(rm3d.__file__).resolve().parents[1]))
+    subprocess.run([sys.executable, "-c", script], check=True, cwd=str(tmp_path), env=env)
+    s, obs, rew, done = json.loads((tmp_path / "out.json").read_text())
+    assert (s, bytes.fromhex(obs), bytes.fromhex(rew), bytes.fromhex(done)) == ref
+
+
+def test_damaged_snapshots_are_clear_errors():
+    w = rm3d.World(SNAKE, params={"modules": 3})
+    w.step(5)
+    snap = w.snapshot()
+    with pytest.raises(rm3d.Error, match="not an RM3D snapshot"):
+        w.restore(b"hello")
+    with pytest.raises(rm3d.Error, match="damaged|truncated"):
+        w.restore(snap[:-20])
+    with pytest.raises(rm3d.Error, match="damaged|truncated"):
+        w.restore(snap[:12] + bytes(len(snap) - 12))
+    assert w.steps == 5  # unchanged by the failed restores

@@ -1,0 +1,198 @@
+# rm3d.World: the same run as `rm3d run`, the agents' arrays, observe()/act(a), reward/done,
+# messages through docks, records, and errors.
+import json
+import math
+import subprocess
+
+import numpy as np
+import pytest
+
+import rm3d
+from conftest import HERE, ROOT, rm3d_bin
+
+SNAKE = str(ROOT / "worlds" / "snake.lua")
+AGENTS = str(HERE / "worlds" / "agents.lua")
+
+
+def strip(summary):
+    """The summary without what depends on the wall clock or the command line."""
+    keep = dict(summary)
+    for k in ("wall_seconds", "command", "version", "arguments", "params", "interrupted", "warnings",
+              "output_errors", "exit_code", "run"):
+        keep.pop(k, None)
+    return keep
+
+
+def test_import_and_names():
+    assert callable(rm3d.World) and callable(rm3d.Batch) and callable(rm3d.evaluate)
+    assert issubclass(rm3d.Error, RuntimeError)
+
+
+def test_world_equals_rm3d_run(tmp_path):
+    out = tmp_path / "run.json"
+    subprocess.run([rm3d_bin(), "run", SNAKE, "--headless", "--quiet", "--steps", "150", "--seed", "5",
+                    "--param", "modules=6", "--json", str(out)], check=True, capture_output=True)
+    ran = json.loads(out.read_text())
+    w = rm3d.World(SNAKE, seed=5, params={"modules": 6})
+    w.step(150)
+    got = w.finish()
+    assert w.steps == 150 and got["steps"] == 150
+    for key in ("modules", "connections", "events", "metrics", "sim_time", "seed", "messages", "failures"):
+        assert got[key] == ran[key], key
+    assert got["modules"][0]["position"] == ran["modules"][0]["position"]  # every bit (JSON round-trips)
+
+
+def test_lua_control_loop_in_python_equals_one_call():
+    a = rm3d.World(SNAKE, seed=2)
+    for _ in range(90):
+        a.step()
+    b = rm3d.World(SNAKE, seed=2)
+    b.step(90)
+    assert strip(a.summary()) == strip(b.summary())
+
+
+def test_default_arrays_and_joint_targets():
+    w = rm3d.World(str(HERE / "worlds" / "mixed.lua"), policy=True)
+    assert w.modules == ["superbot_1", "wheelbot_1"] or len(w.modules) == 2
+    sizes = list(w.obs_size)
+    # SuperBot: 3 angles, 3 velocities, 6 docks; the other row is shorter and zero-padded.
+    assert sizes[0] == 12 and sizes[1] < 12
+    assert w.obs.shape == (2, 12)
+    assert list(w.act_size)[0] == 3
+    assert not w.obs.flags.writeable and w.act.flags.writeable
+    w.act[0, :3] = [0.0, 0.4, 0.0]  # the SuperBot's second joint to 0.4 rad, the others held at 0
+    w.step(120)
+    joints = w.summary()["modules"][0]["joints"]
+    assert abs(w.obs[0, 1] - 0.4) < 0.05, w.obs[0]
+    assert w.obs[0, 1] in joints.values()  # obs: the joint angles first, every bit as the summary's
+    assert sorted(abs(v) < 0.01 for v in joints.values()) == [False, True, True]
+    assert np.all(w.obs[1, w.obs_size[1]:] == 0)
+
+
+def test_observe_act_and_messages_one_hop_per_step():
+    w = rm3d.World(AGENTS, params={"modules": 4, "hops": 1}, policy=True)
+    assert w.obs.shape == (4, 3) and w.act.shape == (4, 2)
+    assert list(w.act_size) == [2, 2, 2, 2]
+    w.act[:, 0] = 0.2
+    w.act[0, 1] = 7.0  # the head sends 7 through its back dock, once
+    w.step()
+    w.act[0, 1] = 0.0
+    heard = [list(w.obs[:, 1])]
+    for _ in range(3):
+        w.step()
+        heard.append(list(w.obs[:, 1]))
+    # Row i of `heard` is after step i + 1. The head sent in step 1; module k (0-based, k hops
+    # away) reads it in its step() of step k + 1: one step per hop.
+    for k in range(1, 4):
+        first = next(i for i, row in enumerate(heard) if row[k] == 7.0)
+        assert first == k, (k, heard)
+    assert w.obs[0, 2] == 4  # the head's step() ran 4 times
+    pitch = w.summary()["modules"][0]["joints"]["pitch"]
+    assert pitch > 0.05  # act(a) set the pitch target
+
+
+def test_reward_and_done_from_the_world_script():
+    w = rm3d.World(AGENTS, params={"modules": 3, "goal": -1}, policy=True)
+    w.act[:, 0] = 0.0
+    w.step(10)
+    assert w.reward.shape == (3,) and w.done.dtype == np.bool_
+    assert np.all(w.done)  # the head is past x = -1 from the start
+    assert np.all(np.isfinite(w.reward))
+    w2 = rm3d.World(AGENTS, params={"modules": 3}, policy=True)
+    w2.step(1)
+    assert not np.any(w2.done)
+
+
+def test_act_assignment_checks_shape_and_dtype():
+    w = rm3d.World(AGENTS, params={"modules": 3}, policy=True)
+    with pytest.raises(ValueError, match=r"act: expected shape \(3, 2\), got \(2, 2\)"):
+        w.act = np.zeros((2, 2))
+    with pytest.raises(TypeError, match="act: expected a float array"):
+        w.act = np.array([["a", "b"]] * 3)
+    w.act = np.ones((3, 2), dtype=np.float32)
+    assert w.act[2, 1] == 1.0
+
+
+def test_nan_actions_raise_before_stepping():
+    w = rm3d.World(AGENTS, params={"modules": 3}, policy=True)
+    w.act[1, 0] = float("nan")
+    with pytest.raises(rm3d.Error, match=r"act\[1\]\[0\] is nan .*snake_2"):
+        w.step()
+    assert w.steps == 0
+    w.act[1, 0] = 0.0
+    w.step()
+    assert w.steps == 1
+
+
+def test_errors_name_file_and_line(tmp_path):
+    with pytest.raises(rm3d.Error, match="no such file"):
+        rm3d.World(tmp_path / "missing.lua")
+    bad = tmp_path / "bad.lua"
+    bad.write_text("world.set{dt = 1/60}\nworld.spawn('nosuchtype')\n")
+    with pytest.raises(rm3d.Error, match=r"bad.lua:2:"):
+        rm3d.World(bad)
+    hook = tmp_path / "hook.lua"
+    hook.write_text("world.ground{}\nworld.at(0.05, function() error('boom') end)\n")
+    w = rm3d.World(hook)
+    with pytest.raises(rm3d.Error, match=r"hook.lua:2: boom"):
+        w.step(10)
+    with pytest.raises(TypeError, match="params: expected a dict"):
+        rm3d.World(SNAKE, params=[1])
+    with pytest.raises(TypeError, match=r"params\['x'\]: expected str, int, float or bool"):
+        rm3d.World(SNAKE, params={"x": [1]})
+    with pytest.raises(ValueError, match="finite"):
+        rm3d.World(SNAKE, params={"x": math.inf})
+    with pytest.raises(TypeError, match="seed"):
+        rm3d.World(SNAKE, seed="one")
+    with pytest.raises(rm3d.Error, match="threads=0"):
+        rm3d.World(SNAKE, threads=0)
+
+
+def test_calls_after_close_raise():
+    w = rm3d.World(SNAKE)
+    w.close()
+    assert w.closed
+    for call in (lambda: w.step(), lambda: w.obs, lambda: w.summary(), lambda: w.snapshot(), lambda: w.time):
+        with pytest.raises(rm3d.Error, match="closed"):
+            call()
+    w.close()  # twice is fine
+    with rm3d.World(SNAKE) as v:
+        v.step()
+    assert v.closed
+
+
+def test_a_faulty_behaviour_faults_its_module_only(tmp_path):
+    (tmp_path / "bad.lua").write_text("function step(dt) if sim.time() > 0.05 then error('broken servo') end end\n")
+    (tmp_path / "w.lua").write_text(
+        "world.ground{}\nworld.spawn('superbot', {at = {0, 0, 0.06}, behavior = 'bad.lua'})\n"
+        "world.spawn('superbot', {at = {1, 0, 0.06}})\n")
+    w = rm3d.World(tmp_path / "w.lua")
+    w.step(30)
+    assert list(w.faults) == ["superbot_1"] and "bad.lua:1: broken servo" in w.faults["superbot_1"]
+    assert w.steps == 30 and not w.finished
+    strict = rm3d.World(tmp_path / "w.lua", strict=True)
+    strict.step(30)
+    assert strict.finished and strict.steps < 30
+
+
+def test_finish_runs_on_end_once_and_ends_the_world():
+    w = rm3d.World(SNAKE, params={"modules": 4})
+    w.step(60)
+    s = w.finish()
+    assert set(s["metrics"]) == {"speed_m_s", "pieces", "broken"}
+    assert w.finish()["metrics"] == s["metrics"]
+    with pytest.raises(rm3d.Error, match="finished"):
+        w.step()
+
+
+def test_record_replays_with_rm3d_replay(tmp_path):
+    rec = tmp_path / "episode.rm3drec"
+    w = rm3d.World(AGENTS, params={"modules": 3}, policy=True, record=rec)
+    w.act[:, 0] = 0.3
+    w.step(30)
+    w.close()
+    assert rec.stat().st_size > 0
+    out = tmp_path / "last.png"
+    r = subprocess.run([rm3d_bin(), "replay", str(rec), "--png", str(out)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert out.stat().st_size > 1000

@@ -100,6 +100,10 @@ fn{"world.trace", doc = "Records a number in the series `name` (column `trace.<n
   params = {{"name", "string"}, {"value", "number"}}}
 fn{"world.metric", doc = [[A named result (same rules for name and value), under `"metrics"` in the `--json` summary; a later call with the same name replaces the value; typically set in `world.on_end`.]],
   params = {{"name", "string"}, {"value", "number", "a finite number"}}}
+fn{"world.reward", doc = [[For the Python API (docs/python.md): `fn(t)` runs when the agents' arrays are refreshed (after each step under `policy=True`) and returns a number (every module gets it) or a list with one number per module, in module order: the `reward` array. A wrong return is a world-script error naming what came back.]],
+  params = {{"fn", "fun(t: number): number|number[]"}}}
+fn{"world.done", doc = [[For the Python API: like `world.reward`, `fn(t)` returns a boolean (every module) or a list of booleans, one per module: the `done` array.]],
+  params = {{"fn", "fun(t: number): boolean|boolean[]"}}}
 fn{"expect", doc = "A test assertion: a failure is recorded with file:line and the run goes on.",
   params = {{"cond", "any"}, {"message?", "string"}},
   returns = {{"boolean", "whether cond held"}}}
@@ -372,6 +376,12 @@ global{"actions", type = "table<string, ActionSpec>", value = "{}"}
 fn{"init", doc = "Callbacks a behaviour may define."}
 fn{"step", doc = "Called every control step (after `on_dock` events).",
   params = {{"dt", "number"}}}
+fn{"observe", doc = [[For the Python API (docs/python.md): the module's row of the `obs` array, a list of finite numbers (at most 4096). Without it the row is the joint angles (rad), the joint velocities (rad/s), then per dock 1 if engaged else 0. An error or a bad return faults the module.]],
+  returns = {{"number[]"}}}
+fn{"act", doc = [[For the Python API: called each step under `policy=True`, before `step(dt)`, with the module's row of the `act` array (`act_size` numbers; by default one per joint). Without it the row sets the joints' servo targets (rad). Whatever it sends through a dock arrives next step, as from `step`.]],
+  params = {{"a", "number[]"}}}
+global{"act_size", type = "integer", value = "nil",
+  doc = "How many numbers `act(a)` takes (0 to 4096); unset: the module's joint count."}
 fn{"on_reload", doc = "Called after a hot reload replaced the behaviour's definitions (`state` survives)."}
 fn{"on_dock", doc = [[Called at the start of the module's next step for each dock event: `dock` is the Dock handle (compare `dock:name() == "front"`), `event` what happened.]],
   params = {{"dock", "Dock"}, {"event", [["engaged"|"disengaged"|"broken"]]}}}

@@ -177,6 +177,15 @@ function init() end
 ---Called every control step (after `on_dock` events).
 ---@param dt number
 function step(dt) end
+---For the Python API (docs/python.md): the module's row of the `obs` array, a list of finite numbers (at most 4096). Without it the row is the joint angles (rad), the joint velocities (rad/s), then per dock 1 if engaged else 0. An error or a bad return faults the module.
+---@return number[]
+function observe() end
+---For the Python API: called each step under `policy=True`, before `step(dt)`, with the module's row of the `act` array (`act_size` numbers; by default one per joint). Without it the row sets the joints' servo targets (rad). Whatever it sends through a dock arrives next step, as from `step`.
+---@param a number[]
+function act(a) end
+---How many numbers `act(a)` takes (0 to 4096); unset: the module's joint count.
+---@type integer
+act_size = nil
 ---Called after a hot reload replaced the behaviour's definitions (`state` survives).
 function on_reload() end
 ---Called at the start of the module's next step for each dock event: `dock` is the Dock handle (compare `dock:name() == "front"`), `event` what happened.

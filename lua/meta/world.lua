@@ -137,6 +137,12 @@ function world.trace(name, value) end
 ---@param name string
 ---@param value number a finite number
 function world.metric(name, value) end
+---For the Python API (docs/python.md): `fn(t)` runs when the agents' arrays are refreshed (after each step under `policy=True`) and returns a number (every module gets it) or a list with one number per module, in module order: the `reward` array. A wrong return is a world-script error naming what came back.
+---@param fn fun(t: number): number|number[]
+function world.reward(fn) end
+---For the Python API: like `world.reward`, `fn(t)` returns a boolean (every module) or a list of booleans, one per module: the `done` array.
+---@param fn fun(t: number): boolean|boolean[]
+function world.done(fn) end
 ---A test assertion: a failure is recorded with file:line and the run goes on.
 ---@param cond any
 ---@param message? string

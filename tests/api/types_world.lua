@@ -173,8 +173,12 @@ check("Transform:translation", {}, tf:translation())
 check("Transform:matrix", {}, tf:matrix())
 
 -- Callbacks the engine calls, not a script: on_reload needs a hot reload, which
--- tests/engine/world/hot_reload_test.cpp and tests/cli/watch_test.sh exercise.
-local notCalledHere = {on_reload = true}
+-- tests/engine/world/hot_reload_test.cpp and tests/cli/watch_test.sh exercise; observe and act
+-- are called by the Python API (tests/python/test_world.py).
+local notCalledHere = {on_reload = true, observe = true, act = true}
+-- world.reward and world.done: their functions run only under the Python API (tests/python).
+check("world.reward", {function() return 0 end}, world.reward(function() return 0 end))
+check("world.done", {function() return false end}, world.done(function() return false end))
 
 check("world.on_end", {function() end}, world.on_end(function(t)
   check("world.metric", {"checked", 1}, world.metric("checked", 1))

@@ -82,6 +82,29 @@ check "the current project gives the copy its data" 0 "10 modules" -- \
 check "--root that is no project" 2 "--root $tmp/elsewhere: not an RM3D project" -- \
   "$prefix/bin/rm3d" --root "$tmp/elsewhere" run "$prefix/share/rm3d/worlds/snake.lua"
 
+# The Python package: installed into Debian's python path under the prefix; imported from
+# elsewhere, it finds the installed data (share/rm3d above the package), not this checkout.
+pydir=$(ls -d "$prefix"/lib/python3*/dist-packages 2>/dev/null | head -1)
+if [ -d "$BUILD/python/rm3d" ]; then
+  if [ -z "$pydir" ] || [ ! -f "$pydir/rm3d/__init__.py" ] || ! ls "$pydir"/rm3d/_rm3d*.so >/dev/null 2>&1; then
+    fail "the Python package is not installed under $prefix/lib/python3*/dist-packages/rm3d"
+  else
+    check "import rm3d after cmake --install" 0 "^ok 10 $prefix/share/rm3d/worlds/snake.lua" -- \
+      env PYTHONPATH="$pydir" /usr/bin/python3 -c "
+import rm3d
+w = rm3d.World('$prefix/share/rm3d/worlds/snake.lua')
+w.step(10)
+print('ok', w.steps, w.summary()['world'])"
+    printf 'world.spawn("superbot", {behavior = "behaviors/snake.lua"})\n' >py_world.lua
+    check "an installed rm3d package uses the installed data" 0 "^ok 1$" -- \
+      env PYTHONPATH="$pydir" /usr/bin/python3 -c "
+import rm3d
+w = rm3d.World('py_world.lua')
+w.step(2)
+print('ok', len(w.modules))"
+  fi
+fi
+
 # The Debian package holds the same layout under /usr.
 if command -v cpack >/dev/null && command -v dpkg-deb >/dev/null; then
   (cd "$BUILD" && cpack -G DEB -B "$tmp/deb" >"$tmp/cpack.log" 2>&1) || { fail "cpack -G DEB"; tail -5 "$tmp/cpack.log"; }
@@ -93,6 +116,9 @@ if command -v cpack >/dev/null && command -v dpkg-deb >/dev/null; then
     for f in ./usr/bin/rm3d ./usr/share/rm3d/assets/modules/superbot.lua ./usr/share/rm3d/worlds/snake.lua; do
       grep -q " $f\$" <<<"$list" || fail "$deb lacks $f"
     done
+    if [ -d "$BUILD/python/rm3d" ] && ! grep -Eq " \./usr/lib/python3[.0-9]*/dist-packages/rm3d/_rm3d[^ ]*\.so\$" <<<"$list"; then
+      fail "$deb lacks the Python package (usr/lib/python3*/dist-packages/rm3d)"
+    fi
     dpkg-deb -f "$deb" Depends | grep -q liblua5.4 || fail "$deb: no library dependencies: $(dpkg-deb -f "$deb" Depends)"
     echo "ok: $(basename "$deb")"
   fi

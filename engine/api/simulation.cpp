@@ -268,6 +268,10 @@ struct Simulation::Impl {
 
   void startRecording() {
     if (options.record.empty()) return;
+    std::error_code ec;
+    const fs::path folder = fs::path(options.record).parent_path();
+    if (!folder.empty() && !fs::is_directory(folder, ec) && !fs::create_directories(folder, ec))
+      throw Error("record=" + options.record + ": cannot create the folder " + folder.string() + " (" + ec.message() + ")");
     RecordingMeta meta{path.empty() ? world->worldFile() : path,
                        root,
                        world->settings().seed,

@@ -156,7 +156,14 @@ PYBIND11_MODULE(_rm3d, m) {
           }),
           py::arg("path"), py::kw_only(), py::arg("seed") = py::none(), py::arg("params") = py::none(),
           py::arg("threads") = 1, py::arg("policy") = false, py::arg("record") = py::none(),
-          py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none())
+          py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none(),
+          "Loads a world file. seed: an int (None: the world's own); params: a dict of str, "
+          "int, float or bool, the world script's `args` (as `rm3d run --param k=v`); threads: "
+          "behaviour threads; policy: `act` drives the modules before every step and "
+          "obs/reward/done are refreshed after it; record: a file to record the episode into "
+          "(`rm3d replay` plays it); strict: a module fault stops the world; echo: module logs "
+          "and the world's prints go to stderr; root: the project folder (None: found from the "
+          "world's path). Raises rm3d.Error naming the file and line when it does not load.")
       .def_static(
           "from_string",
           [](const std::string& source, const py::object& seed, const py::object& params, int threads,
@@ -167,7 +174,9 @@ PYBIND11_MODULE(_rm3d, m) {
           },
           py::arg("source"), py::kw_only(), py::arg("seed") = py::none(), py::arg("params") = py::none(),
           py::arg("threads") = 1, py::arg("policy") = false, py::arg("name") = "world",
-          py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none())
+          py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none(),
+          "A world from world-script source text (`name` is what messages call it); the other arguments as "
+          "World().")
       .def_static(
           "from_snapshot",
           [](const py::bytes& b, int threads) {
@@ -175,7 +184,9 @@ PYBIND11_MODULE(_rm3d, m) {
             py::gil_scoped_release release;
             return PyWorld{Simulation::fromSnapshot(bytes, threads)};
           },
-          py::arg("snapshot"), py::kw_only(), py::arg("threads") = 1)
+          py::arg("snapshot"), py::kw_only(), py::arg("threads") = 1,
+          "A world rebuilt from snapshot() bytes, in this process or another: from here on it runs bit for "
+          "bit as the original would have.")
       .def(
           "step",
           [](PyWorld& w, long long n) {
@@ -183,21 +194,45 @@ PYBIND11_MODULE(_rm3d, m) {
             py::gil_scoped_release release;
             s.step(n);
           },
-          py::arg("n") = 1, "n control steps (with policy=True each applies `act` first)")
-      .def_property_readonly("time", [](PyWorld& w) { return w.s().time(); })
-      .def_property_readonly("steps", [](PyWorld& w) { return w.s().steps(); })
-      .def_property_readonly("dt", [](PyWorld& w) { return w.s().dt(); })
-      .def_property_readonly("finished", [](PyWorld& w) { return w.s().finished(); })
-      .def_property_readonly("modules", [](PyWorld& w) { return w.s().moduleNames(); })
-      .def_property_readonly("metrics", [](PyWorld& w) { return w.s().metrics(); })
-      .def_property_readonly("faults", [](PyWorld& w) { return w.s().faults(); })
-      .def("summary", [](PyWorld& w) { return jsonLoads(w.s().summaryJson()); })
-      .def("finish", [](PyWorld& w) { return jsonLoads(w.s().finish()); })
-      .def_property_readonly("obs",
-                             [](PyWorld& w) {
-                               auto a = w.s().arrays();
-                               return view(a, a->obs.data(), {a->rows, a->obsDim}, false);
-                             })
+          py::arg("n") = 1,
+          "Runs n control steps (the GIL is released). With policy=True each step first applies the `act` "
+          "rows (NaN or infinity raises rm3d.Error before any step) and obs/reward/done are refreshed after "
+          "the last. A world-script error raises rm3d.Error (file:line). A stopped world does not step.")
+      .def_property_readonly(
+          "time", [](PyWorld& w) { return w.s().time(); }, "Simulated seconds.")
+      .def_property_readonly(
+          "steps", [](PyWorld& w) { return w.s().steps(); }, "Control steps run.")
+      .def_property_readonly(
+          "dt", [](PyWorld& w) { return w.s().dt(); }, "The control step, seconds.")
+      .def_property_readonly(
+          "finished", [](PyWorld& w) { return w.s().finished(); },
+          "True once the world stopped (world.stop(), a fatal fault, an error), reached its duration, or "
+          "finish() ran.")
+      .def_property_readonly(
+          "modules", [](PyWorld& w) { return w.s().moduleNames(); },
+          "Module names, in module order (the rows of the arrays).")
+      .def_property_readonly(
+          "metrics", [](PyWorld& w) { return w.s().metrics(); },
+          "The world.metric(name, value) results: a dict.")
+      .def_property_readonly(
+          "faults", [](PyWorld& w) { return w.s().faults(); },
+          "Modules that faulted: a dict name -> message (file:line).")
+      .def(
+          "summary", [](PyWorld& w) { return jsonLoads(w.s().summaryJson()); },
+          "The state now as the dict `rm3d run --json` writes (positions, joints, docks, connections, "
+          "events, messages, failures, metrics); the on_end hooks have not run.")
+      .def(
+          "finish", [](PyWorld& w) { return jsonLoads(w.s().finish()); },
+          "Runs the world's on_end hooks (once) and returns the final summary, as `rm3d run --json` writes "
+          "it (plus `warnings`: hooks that never ran). The world then no longer steps.")
+      .def_property_readonly(
+          "obs",
+          [](PyWorld& w) {
+            auto a = w.s().arrays();
+            return view(a, a->obs.data(), {a->rows, a->obsDim}, false);
+          },
+          "float64 (modules, obs_dim), read-only, a view of the engine's buffer: each module's observe() "
+          "row, or its joint angles, joint velocities and dock engaged flags; zero past obs_size.")
       .def_property(
           "act",
           [](PyWorld& w) {
@@ -207,56 +242,78 @@ PYBIND11_MODULE(_rm3d, m) {
           [](PyWorld& w, py::handle v) {
             auto a = w.s().arrays();
             assignActions(v, a->act.data(), {a->rows, a->actDim}, "act");
-          })
-      .def_property_readonly("reward",
-                             [](PyWorld& w) {
-                               auto a = w.s().arrays();
-                               return view(a, a->reward.data(), {a->rows}, false);
-                             })
-      .def_property_readonly("done",
-                             [](PyWorld& w) {
-                               auto a = w.s().arrays();
-                               auto* d = reinterpret_cast<bool*>(a->done.data());
-                               return view(a, d, {a->rows}, false);
-                             })
-      .def_property_readonly("obs_size",
-                             [](PyWorld& w) {
-                               auto a = w.s().arrays();
-                               return view(a, a->obsSize.data(), {a->rows}, false);
-                             })
-      .def_property_readonly("act_size",
-                             [](PyWorld& w) {
-                               auto a = w.s().arrays();
-                               return view(a, a->actSize.data(), {a->rows}, false);
-                             })
-      .def("snapshot",
-           [](PyWorld& w) {
-             std::string b;
-             {
-               Simulation& s = w.s();
-               py::gil_scoped_release release;
-               b = s.snapshot();
-             }
-             return py::bytes(b);
-           })
-      .def("restore",
-           [](PyWorld& w, const py::bytes& b) {
-             std::string bytes = b;
-             Simulation& s = w.s();
-             py::gil_scoped_release release;
-             s.restore(bytes);
-           })
-      .def("fork",
-           [](PyWorld& w) {
-             Simulation& s = w.s();
-             py::gil_scoped_release release;
-             return PyWorld{s.fork()};
-           })
-      .def("close",
-           [](PyWorld& w) {
-             if (w.sim) w.sim->close();
-           })
-      .def_property_readonly("closed", [](PyWorld& w) { return !w.sim || w.sim->closed(); })
+          },
+          "float64 (modules, act_dim), writable view: each module's action row, given to its act(a) "
+          "(act_size numbers) or, without one, its joints' servo targets (rad). Assigning an array checks "
+          "shape and dtype.")
+      .def_property_readonly(
+          "reward",
+          [](PyWorld& w) {
+            auto a = w.s().arrays();
+            return view(a, a->reward.data(), {a->rows}, false);
+          },
+          "float64 (modules,): what world.reward(fn) returned (zeros without it).")
+      .def_property_readonly(
+          "done",
+          [](PyWorld& w) {
+            auto a = w.s().arrays();
+            auto* d = reinterpret_cast<bool*>(a->done.data());
+            return view(a, d, {a->rows}, false);
+          },
+          "bool (modules,): what world.done(fn) returned (False without it).")
+      .def_property_readonly(
+          "obs_size",
+          [](PyWorld& w) {
+            auto a = w.s().arrays();
+            return view(a, a->obsSize.data(), {a->rows}, false);
+          },
+          "int32 (modules,): the numbers each obs row holds.")
+      .def_property_readonly(
+          "act_size",
+          [](PyWorld& w) {
+            auto a = w.s().arrays();
+            return view(a, a->actSize.data(), {a->rows}, false);
+          },
+          "int32 (modules,): the numbers each act row takes.")
+      .def(
+          "snapshot",
+          [](PyWorld& w) {
+            std::string b;
+            {
+              Simulation& s = w.s();
+              py::gil_scoped_release release;
+              b = s.snapshot();
+            }
+            return py::bytes(b);
+          },
+          "The run so far as bytes (its world, Lua texts, seed, params and inputs); restore() or "
+          "World.from_snapshot() re-run it to this step, bit for bit.")
+      .def(
+          "restore",
+          [](PyWorld& w, const py::bytes& b) {
+            std::string bytes = b;
+            Simulation& s = w.s();
+            py::gil_scoped_release release;
+            s.restore(bytes);
+          },
+          "Makes this world the snapshot's (rebuilt and re-run to its step). Damaged bytes raise rm3d.Error "
+          "and leave the world as it was.")
+      .def(
+          "fork",
+          [](PyWorld& w) {
+            Simulation& s = w.s();
+            py::gil_scoped_release release;
+            return PyWorld{s.fork()};
+          },
+          "An independent copy of this world at this step.")
+      .def(
+          "close",
+          [](PyWorld& w) {
+            if (w.sim) w.sim->close();
+          },
+          "Ends the recording (if any); later calls raise rm3d.Error. Also on leaving a `with` block.")
+      .def_property_readonly(
+          "closed", [](PyWorld& w) { return !w.sim || w.sim->closed(); }, "True after close().")
       .def("__enter__", [](PyWorld& w) -> PyWorld& { return w; })
       .def("__exit__", [](PyWorld& w, py::args) {
         if (w.sim) w.sim->close();
@@ -305,16 +362,22 @@ PYBIND11_MODULE(_rm3d, m) {
            }),
            py::arg("paths"), py::kw_only(), py::arg("seeds") = py::none(), py::arg("params") = py::none(),
            py::arg("threads") = 1, py::arg("policy") = false, py::arg("strict") = false,
-           py::arg("root") = py::none())
+           py::arg("root") = py::none(),
+           "Many worlds: paths is one path (the batch then has len(seeds) or len(params) worlds) "
+           "or a list of paths; seeds a list of ints and params one dict or a list of dicts, one "
+           "per world. `threads` C++ threads step whole worlds, each alone on one thread, so "
+           "results do not depend on the count.")
       .def("__len__", &Batch::size)
-      .def_property_readonly("size", &Batch::size)
+      .def_property_readonly("size", &Batch::size, "The number of worlds.")
       .def(
           "step",
           [](Batch& b, long long n) {
             py::gil_scoped_release release;
             b.step(n);
           },
-          py::arg("n") = 1)
+          py::arg("n") = 1,
+          "Every world that has not stopped runs n steps (policy: the act rows each step); errors raise "
+          "rm3d.Error naming the world after every world has stepped.")
       .def(
           "reset",
           [](Batch& b, const py::object& mask) {
@@ -330,12 +393,16 @@ PYBIND11_MODULE(_rm3d, m) {
             py::gil_scoped_release release;
             b.reset(mk);
           },
-          py::arg("mask") = py::none())
-      .def_property_readonly("obs",
-                             [](Batch& b) {
-                               auto a = b.arrays();
-                               return view(a, a->obs.data(), {b.size(), b.maxModules(), a->obsDim}, false);
-                             })
+          py::arg("mask") = py::none(),
+          "Starts the worlds where mask (bool, one per world; None: all) is True again from their files, "
+          "seeds and params.")
+      .def_property_readonly(
+          "obs",
+          [](Batch& b) {
+            auto a = b.arrays();
+            return view(a, a->obs.data(), {b.size(), b.maxModules(), a->obsDim}, false);
+          },
+          "float64 (worlds, max modules, obs_dim), read-only view.")
       .def_property(
           "act",
           [](Batch& b) {
@@ -345,61 +412,79 @@ PYBIND11_MODULE(_rm3d, m) {
           [](Batch& b, py::handle v) {
             auto a = b.arrays();
             assignActions(v, a->act.data(), {b.size(), b.maxModules(), a->actDim}, "act");
-          })
-      .def_property_readonly("reward",
-                             [](Batch& b) {
-                               auto a = b.arrays();
-                               return view(a, a->reward.data(), {b.size(), b.maxModules()}, false);
-                             })
+          },
+          "float64 (worlds, max modules, act_dim), writable view.")
+      .def_property_readonly(
+          "reward",
+          [](Batch& b) {
+            auto a = b.arrays();
+            return view(a, a->reward.data(), {b.size(), b.maxModules()}, false);
+          },
+          "float64 (worlds, max modules).")
       .def_property_readonly(
           "done",
           [](Batch& b) {
             auto a = b.arrays();
             return view(a, reinterpret_cast<bool*>(a->done.data()), {b.size(), b.maxModules()}, false);
-          })
+          },
+          "bool (worlds, max modules).")
       .def_property_readonly(
           "mask",
           [](Batch& b) {
             auto a = b.arrays();
             return view(a, reinterpret_cast<bool*>(a->mask.data()), {b.size(), b.maxModules()}, false);
-          })
-      .def_property_readonly("obs_size",
-                             [](Batch& b) {
-                               auto a = b.arrays();
-                               return view(a, a->obsSize.data(), {b.size(), b.maxModules()}, false);
-                             })
-      .def_property_readonly("act_size",
-                             [](Batch& b) {
-                               auto a = b.arrays();
-                               return view(a, a->actSize.data(), {b.size(), b.maxModules()}, false);
-                             })
-      .def_property_readonly("time",
-                             [](Batch& b) {
-                               py::array_t<double> t(b.size());
-                               for (int i = 0; i < b.size(); ++i) t.mutable_at(i) = b.world(i).time();
-                               return t;
-                             })
-      .def_property_readonly("finished",
-                             [](Batch& b) {
-                               py::array_t<bool> t(b.size());
-                               for (int i = 0; i < b.size(); ++i) t.mutable_at(i) = b.world(i).finished();
-                               return t;
-                             })
-      .def_property_readonly("metrics",
-                             [](Batch& b) {
-                               py::list out;
-                               for (int i = 0; i < b.size(); ++i) out.append(py::cast(b.world(i).metrics()));
-                               return out;
-                             })
-      .def("summaries",
-           [](Batch& b) {
-             py::list out;
-             for (int i = 0; i < b.size(); ++i) out.append(jsonLoads(b.world(i).summaryJson()));
-             return out;
-           })
+          },
+          "bool (worlds, max modules): True where the row is a module of that world.")
+      .def_property_readonly(
+          "obs_size",
+          [](Batch& b) {
+            auto a = b.arrays();
+            return view(a, a->obsSize.data(), {b.size(), b.maxModules()}, false);
+          },
+          "int32 (worlds, max modules).")
+      .def_property_readonly(
+          "act_size",
+          [](Batch& b) {
+            auto a = b.arrays();
+            return view(a, a->actSize.data(), {b.size(), b.maxModules()}, false);
+          },
+          "int32 (worlds, max modules).")
+      .def_property_readonly(
+          "time",
+          [](Batch& b) {
+            py::array_t<double> t(b.size());
+            for (int i = 0; i < b.size(); ++i) t.mutable_at(i) = b.world(i).time();
+            return t;
+          },
+          "float64 (worlds,): each world's simulated seconds.")
+      .def_property_readonly(
+          "finished",
+          [](Batch& b) {
+            py::array_t<bool> t(b.size());
+            for (int i = 0; i < b.size(); ++i) t.mutable_at(i) = b.world(i).finished();
+            return t;
+          },
+          "bool (worlds,): World.finished of each.")
+      .def_property_readonly(
+          "metrics",
+          [](Batch& b) {
+            py::list out;
+            for (int i = 0; i < b.size(); ++i) out.append(py::cast(b.world(i).metrics()));
+            return out;
+          },
+          "A list of dicts: each world's metrics.")
       .def(
-          "snapshot", [](Batch& b, int i) { return py::bytes(b.world(i).snapshot()); }, py::arg("i"))
-      .def("close", &Batch::close)
+          "summaries",
+          [](Batch& b) {
+            py::list out;
+            for (int i = 0; i < b.size(); ++i) out.append(jsonLoads(b.world(i).summaryJson()));
+            return out;
+          },
+          "A list of dicts: each world's summary now (as World.summary()).")
+      .def(
+          "snapshot", [](Batch& b, int i) { return py::bytes(b.world(i).snapshot()); }, py::arg("i"),
+          "World i's snapshot (World.from_snapshot() makes it a World of its own).")
+      .def("close", &Batch::close, "Closes every world; later calls raise rm3d.Error.")
       .def("__enter__", [](Batch& b) -> Batch& { return b; })
       .def("__exit__", [](Batch& b, py::args) { b.close(); });
 

@@ -105,9 +105,19 @@ int Batch::maxModules() const {
   return m->maxModules;
 }
 
-void Batch::step(int64_t n) {
+void Batch::step(int64_t n, const std::function<bool()>& interrupted) {
   m->check();
-  runAll(*m->pool, size(), [this, n](int i) { m->worlds[size_t(i)]->step(n); });
+  if (n < 0) throw Error("step(n): n = " + std::to_string(n) + "; expected a whole number >= 0");
+  // Rounds of 64 steps, so an interrupt is seen between them (every world at the same step).
+  // Under policy one round: the arrays are read after a step() call, and its length stays the
+  // caller's (a read is part of a snapshot's inputs).
+  const int64_t round = m->options.front().policy || !interrupted ? n : 64;
+  for (int64_t done = 0; done < n;) {
+    const int64_t k = std::min<int64_t>(round, n - done);
+    runAll(*m->pool, size(), [this, k](int i) { m->worlds[size_t(i)]->step(k); });
+    done += k;
+    if (done < n && interrupted && interrupted()) break;
+  }
 }
 
 void Batch::reset(const std::vector<uint8_t>& mask) {

@@ -271,7 +271,8 @@ struct Simulation::Impl {
     std::error_code ec;
     const fs::path folder = fs::path(options.record).parent_path();
     if (!folder.empty() && !fs::is_directory(folder, ec) && !fs::create_directories(folder, ec))
-      throw Error("record=" + options.record + ": cannot create the folder " + folder.string() + " (" + ec.message() + ")");
+      throw Error("record=" + options.record + ": cannot create the folder " + folder.string() + " (" +
+                  ec.message() + ")");
     RecordingMeta meta{path.empty() ? world->worldFile() : path,
                        root,
                        world->settings().seed,
@@ -327,7 +328,7 @@ std::unique_ptr<Simulation> Simulation::fromString(const std::string& source, co
   return s;
 }
 
-void Simulation::step(int64_t n) {
+void Simulation::step(int64_t n, const std::function<bool()>& interrupted) {
   m->check();
   if (n < 0) throw Error("step(n): n = " + std::to_string(n) + "; expected a whole number >= 0");
   if (m->ended)
@@ -337,6 +338,7 @@ void Simulation::step(int64_t n) {
   World& w = *m->world;
   try {
     for (int64_t k = 0; k < n && !w.stopped(); ++k) {
+      if (interrupted && k > 0 && k % 64 == 0 && interrupted()) break;
       if (m->options.policy && m->refreshedAt < 0) m->refresh();  // the first step: sizes for the act rows
       m->stepOnce(m->options.policy);
     }

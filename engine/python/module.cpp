@@ -132,6 +132,13 @@ Options makeOptions(const py::object& seed, const py::object& params, int thread
   return o;
 }
 
+/// Asked between steps while the GIL is released: true (and the Python error left set) when a
+/// signal handler raised, so Ctrl-C ends a long step() at a step boundary.
+bool askPython() {
+  py::gil_scoped_acquire gil;
+  return PyErr_CheckSignals() != 0;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_rm3d, m) {
@@ -191,8 +198,11 @@ PYBIND11_MODULE(_rm3d, m) {
           "step",
           [](PyWorld& w, long long n) {
             Simulation& s = w.s();
-            py::gil_scoped_release release;
-            s.step(n);
+            {
+              py::gil_scoped_release release;
+              s.step(n, askPython);
+            }
+            if (PyErr_Occurred()) throw py::error_already_set();
           },
           py::arg("n") = 1,
           "Runs n control steps (the GIL is released). With policy=True each step first applies the `act` "
@@ -372,8 +382,11 @@ PYBIND11_MODULE(_rm3d, m) {
       .def(
           "step",
           [](Batch& b, long long n) {
-            py::gil_scoped_release release;
-            b.step(n);
+            {
+              py::gil_scoped_release release;
+              b.step(n, askPython);
+            }
+            if (PyErr_Occurred()) throw py::error_already_set();
           },
           py::arg("n") = 1,
           "Every world that has not stopped runs n steps (policy: the act rows each step); errors raise "

@@ -196,3 +196,19 @@ def test_record_replays_with_rm3d_replay(tmp_path):
     r = subprocess.run([rm3d_bin(), "replay", str(rec), "--png", str(out)], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert out.stat().st_size > 1000
+
+
+def test_ctrl_c_ends_a_long_step_at_a_step_boundary():
+    import os
+    import signal
+    import threading
+    w = rm3d.World(SNAKE, params={"modules": 20})
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        w.step(10**7)
+    timer.join()
+    assert 0 < w.steps < 10**7 and w.steps % 64 == 0
+    before = w.steps
+    w.step(2)  # the world is whole and goes on
+    assert w.steps == before + 2

@@ -63,10 +63,11 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  /// n control steps. With policy on, each applies the act rows first (NaN or infinity: Error,
-  /// before any step). Throws Error when the world script fails. A world that stopped (world.stop(),
-  /// a fatal fault, an error) does not step; one past its duration goes on.
-  void step(int64_t n = 1);
+  /// n control steps (`interrupted`, when given, is asked every 64 steps: true ends the call early,
+  /// at a step boundary, as if n had been smaller). With policy on, each applies the act rows first (NaN or
+  /// infinity: Error, before any step). Throws Error when the world script fails. A world that stopped
+  /// (world.stop(), a fatal fault, an error) does not step; one past its duration goes on.
+  void step(int64_t n = 1, const std::function<bool()>& interrupted = {});
   double time() const;
   int64_t steps() const;
   double dt() const;
@@ -122,8 +123,9 @@ class Batch {
   Batch(const std::vector<std::string>& paths, const std::vector<Options>& options, int threads);
   ~Batch();
   int size() const;
-  /// Every world that has not stopped steps n times (with policy, the act rows each step).
-  void step(int64_t n = 1);
+  /// Every world that has not stopped steps n times (with policy, the act rows each step);
+  /// `interrupted` as for Simulation::step (asked by the calling thread between rounds).
+  void step(int64_t n = 1, const std::function<bool()>& interrupted = {});
   /// Rebuilds the worlds where mask[i] (empty: all) from their files, seeds and params.
   void reset(const std::vector<uint8_t>& mask);
   /// rows = size() x maxModules; refreshed now if any world stepped since.

@@ -161,8 +161,8 @@ PYBIND11_MODULE(_rm3d, m) {
             py::gil_scoped_release release;
             return PyWorld{Simulation::open(p, o)};
           }),
-          py::arg("path"), py::kw_only(), py::arg("seed") = py::none(), py::arg("params") = py::none(),
-          py::arg("threads") = 1, py::arg("policy") = false, py::arg("record") = py::none(),
+          py::arg("path"), py::arg("seed") = py::none(), py::arg("params") = py::none(),
+          py::arg("threads") = 1, py::kw_only(), py::arg("policy") = false, py::arg("record") = py::none(),
           py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none(),
           "Loads a world file. seed: an int (None: the world's own); params: a dict of str, "
           "int, float or bool, the world script's `args` (as `rm3d run --param k=v`); threads: "
@@ -179,8 +179,8 @@ PYBIND11_MODULE(_rm3d, m) {
             py::gil_scoped_release release;
             return PyWorld{Simulation::fromString(source, name, o)};
           },
-          py::arg("source"), py::kw_only(), py::arg("seed") = py::none(), py::arg("params") = py::none(),
-          py::arg("threads") = 1, py::arg("policy") = false, py::arg("name") = "world",
+          py::arg("source"), py::arg("seed") = py::none(), py::arg("params") = py::none(),
+          py::arg("threads") = 1, py::kw_only(), py::arg("policy") = false, py::arg("name") = "world",
           py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none(),
           "A world from world-script source text (`name` is what messages call it); the other arguments as "
           "World().")
@@ -370,8 +370,8 @@ PYBIND11_MODULE(_rm3d, m) {
              py::gil_scoped_release release;
              return std::make_unique<Batch>(ps, opts, threads);
            }),
-           py::arg("paths"), py::kw_only(), py::arg("seeds") = py::none(), py::arg("params") = py::none(),
-           py::arg("threads") = 1, py::arg("policy") = false, py::arg("strict") = false,
+           py::arg("paths"), py::arg("seeds") = py::none(), py::arg("params") = py::none(),
+           py::arg("threads") = 1, py::kw_only(), py::arg("policy") = false, py::arg("strict") = false,
            py::arg("root") = py::none(),
            "Many worlds: paths is one path (the batch then has len(seeds) or len(params) worlds) "
            "or a list of paths; seeds a list of ints and params one dict or a list of dicts, one "

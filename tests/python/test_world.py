@@ -212,3 +212,13 @@ def test_ctrl_c_ends_a_long_step_at_a_step_boundary():
     before = w.steps
     w.step(2)  # the world is whole and goes on
     assert w.steps == before + 2
+
+
+def test_positional_arguments_as_the_contract_writes_them():
+    a = rm3d.World(SNAKE, 3, {"modules": 3}, 1)
+    b = rm3d.World(SNAKE, seed=3, params={"modules": 3}, threads=2)
+    a.step(20)
+    b.step(20)
+    assert strip(a.summary()) == strip(b.summary()) and a.summary()["seed"] == 3
+    batch = rm3d.Batch(SNAKE, [1, 2], {"modules": 2}, 2)
+    assert batch.obs.shape == (2, 2, 12)

@@ -176,7 +176,7 @@ struct Simulation::Impl {
   void refresh() {
     if (refreshedAt == world->steps()) return;
     refreshedAt = world->steps();
-    reads.push_back(refreshedAt);
+    if (options.snapshots) reads.push_back(refreshedAt);
     observeAll();
     const int n = int(rows.size());
     int obsDim = 0, actDim = 0;
@@ -255,8 +255,10 @@ struct Simulation::Impl {
                       "): actions must be finite numbers");
         }
     }
-    acts.push_back({stepIndex, n, a.actDim, actData.size()});
-    actData.insert(actData.end(), base, base + size_t(n) * size_t(a.actDim));
+    if (options.snapshots) {
+      acts.push_back({stepIndex, n, a.actDim, actData.size()});
+      actData.insert(actData.end(), base, base + size_t(n) * size_t(a.actDim));
+    }
     world->setActions(base, a.actDim, n);
   }
 
@@ -453,6 +455,8 @@ int Simulation::actDim() const {
 
 std::string Simulation::snapshot() const {
   m->check();
+  if (!m->options.snapshots)
+    throw Error("snapshot(): this world was made with snapshots=False (it keeps no inputs to re-run)");
   nlohmann::json h;
   h["world"] = m->path;
   h["source"] = m->source;

@@ -119,7 +119,8 @@ struct PyWorld {
 };
 
 Options makeOptions(const py::object& seed, const py::object& params, int threads, bool policy,
-                    const py::object& record, bool strict, bool echo, const py::object& root) {
+                    const py::object& record, bool strict, bool echo, const py::object& root,
+                    bool snapshots = true) {
   Options o;
   o.seed = toSeed(seed);
   o.params = toParams(params);
@@ -127,6 +128,7 @@ Options makeOptions(const py::object& seed, const py::object& params, int thread
   o.policy = policy;
   o.strict = strict;
   o.echo = echo;
+  o.snapshots = snapshots;
   if (!record.is_none()) o.record = toPath(record, "record");
   if (!root.is_none()) o.root = toPath(root, "root");
   return o;
@@ -153,24 +155,27 @@ PYBIND11_MODULE(_rm3d, m) {
   });
 
   py::class_<PyWorld>(m, "World", "One world: a world file with a seed and params, stepped from Python.")
-      .def(
-          py::init([](const py::object& path, const py::object& seed, const py::object& params, int threads,
-                      bool policy, const py::object& record, bool strict, bool echo, const py::object& root) {
-            Options o = makeOptions(seed, params, threads, policy, record, strict, echo, root);
-            const std::string p = toPath(path);
-            py::gil_scoped_release release;
-            return PyWorld{Simulation::open(p, o)};
-          }),
-          py::arg("path"), py::arg("seed") = py::none(), py::arg("params") = py::none(),
-          py::arg("threads") = 1, py::kw_only(), py::arg("policy") = false, py::arg("record") = py::none(),
-          py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none(),
-          "Loads a world file. seed: an int (None: the world's own); params: a dict of str, "
-          "int, float or bool, the world script's `args` (as `rm3d run --param k=v`); threads: "
-          "behaviour threads; policy: `act` drives the modules before every step and "
-          "obs/reward/done are refreshed after it; record: a file to record the episode into "
-          "(`rm3d replay` plays it); strict: a module fault stops the world; echo: module logs "
-          "and the world's prints go to stderr; root: the project folder (None: found from the "
-          "world's path). Raises rm3d.Error naming the file and line when it does not load.")
+      .def(py::init([](const py::object& path, const py::object& seed, const py::object& params, int threads,
+                       bool policy, const py::object& record, bool strict, bool echo, const py::object& root,
+                       bool snapshots) {
+             Options o = makeOptions(seed, params, threads, policy, record, strict, echo, root, snapshots);
+             const std::string p = toPath(path);
+             py::gil_scoped_release release;
+             return PyWorld{Simulation::open(p, o)};
+           }),
+           py::arg("path"), py::arg("seed") = py::none(), py::arg("params") = py::none(),
+           py::arg("threads") = 1, py::kw_only(), py::arg("policy") = false, py::arg("record") = py::none(),
+           py::arg("strict") = false, py::arg("echo") = false, py::arg("root") = py::none(),
+           py::arg("snapshots") = true,
+           "Loads a world file. seed: an int (None: the world's own); params: a dict of str, "
+           "int, float or bool, the world script's `args` (as `rm3d run --param k=v`); threads: "
+           "behaviour threads; policy: `act` drives the modules before every step and "
+           "obs/reward/done are refreshed after it; record: a file to record the episode into "
+           "(`rm3d replay` plays it); strict: a module fault stops the world; echo: module logs "
+           "and the world's prints go to stderr; root: the project folder (None: found from the "
+           "world's path). Raises rm3d.Error naming the file and line when it does not load. snapshots=False "
+           "keeps no log of the "
+           "inputs (a long policy run then holds no growing memory; snapshot() and fork() raise).")
       .def_static(
           "from_string",
           [](const std::string& source, const py::object& seed, const py::object& params, int threads,

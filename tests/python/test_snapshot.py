@@ -104,3 +104,12 @@ def test_damaged_snapshots_are_clear_errors():
     with pytest.raises(rm3d.Error, match="damaged|truncated"):
         w.restore(snap[:12] + bytes(len(snap) - 12))
     assert w.steps == 5  # unchanged by the failed restores
+
+
+def test_snapshots_off_keeps_no_log():
+    w = rm3d.World(AGENTS, params={"modules": 3}, policy=True, snapshots=False)
+    w.step(5)
+    with pytest.raises(rm3d.Error, match="snapshots=False"):
+        w.snapshot()
+    with pytest.raises(rm3d.Error, match="snapshots=False"):
+        w.fork()

@@ -32,8 +32,11 @@ struct Options {
   /// after it. Off: Lua controls alone; the arrays are refreshed when read.
   bool policy = false;
   bool strict = false;  ///< a module fault stops the world (as `run --strict`)
-  std::string record;   ///< a recording file (as `run --record`; empty: none)
-  bool echo = false;    ///< module log lines and the world's prints go to stderr
+  /// Keep the inputs snapshot() needs (the actions, 8 bytes per number per step). Off: a long
+  /// policy run holds no log, and snapshot()/fork() raise Error.
+  bool snapshots = true;
+  std::string record;  ///< a recording file (as `run --record`; empty: none)
+  bool echo = false;   ///< module log lines and the world's prints go to stderr
   /// The project root (assets/modules, lua/, behaviors/). Empty: $RM3D_ROOT, else the nearest
   /// folder above the world holding assets/modules, else above the working folder, else the
   /// installed data (share/rm3d above this library), else the source tree it was built from.

@@ -112,10 +112,32 @@ void assignActions(py::handle value, double* dst, const std::vector<py::ssize_t>
 /// The Python World: a Simulation, or nothing once closed.
 struct PyWorld {
   std::unique_ptr<Simulation> sim;
+  bool busy = false;  ///< a call runs without the GIL (read and written only under the GIL)
   Simulation& s() {
+    if (busy)
+      throw Error("this world is busy: another Python thread is in a call on it (one call at a time)");
     if (!sim || sim->closed()) throw Error("this world is closed");
     return *sim;
   }
+};
+
+/// The Python Batch: a Batch, with the same one-call-at-a-time rule as PyWorld.
+struct PyBatch {
+  std::unique_ptr<Batch> batch;
+  bool busy = false;
+  Batch& get() {
+    if (busy)
+      throw Error("this batch is busy: another Python thread is in a call on it (one call at a time)");
+    return *batch;
+  }
+};
+
+/// Marks an object busy for a call that releases the GIL; declared before the release, so it
+/// ends after the GIL is back.
+struct BusyGuard {
+  bool& flag;
+  explicit BusyGuard(bool& f) : flag(f) { flag = true; }
+  ~BusyGuard() { flag = false; }
 };
 
 Options makeOptions(const py::object& seed, const py::object& params, int threads, bool policy,
@@ -204,6 +226,7 @@ PYBIND11_MODULE(_rm3d, m) {
           [](PyWorld& w, long long n) {
             Simulation& s = w.s();
             {
+              BusyGuard busy(w.busy);
               py::gil_scoped_release release;
               s.step(n, askPython);
             }
@@ -334,7 +357,7 @@ PYBIND11_MODULE(_rm3d, m) {
         if (w.sim) w.sim->close();
       });
 
-  py::class_<Batch>(m, "Batch", "Many worlds stepped together by C++ threads (GIL released).")
+  py::class_<PyBatch>(m, "Batch", "Many worlds stepped together by C++ threads (GIL released).")
       .def(py::init([](const py::object& paths, const py::object& seeds, const py::object& params,
                        int threads, bool policy, bool strict, const py::object& root) {
              std::vector<std::string> ps;
@@ -373,7 +396,7 @@ PYBIND11_MODULE(_rm3d, m) {
                                      root);
              }
              py::gil_scoped_release release;
-             return std::make_unique<Batch>(ps, opts, threads);
+             return PyBatch{std::make_unique<Batch>(ps, opts, threads)};
            }),
            py::arg("paths"), py::arg("seeds") = py::none(), py::arg("params") = py::none(),
            py::arg("threads") = 1, py::kw_only(), py::arg("policy") = false, py::arg("strict") = false,
@@ -382,12 +405,15 @@ PYBIND11_MODULE(_rm3d, m) {
            "or a list of paths; seeds a list of ints and params one dict or a list of dicts, one "
            "per world. `threads` C++ threads step whole worlds, each alone on one thread, so "
            "results do not depend on the count.")
-      .def("__len__", &Batch::size)
-      .def_property_readonly("size", &Batch::size, "The number of worlds.")
+      .def("__len__", [](PyBatch& pb) { return pb.get().size(); })
+      .def_property_readonly(
+          "size", [](PyBatch& pb) { return pb.get().size(); }, "The number of worlds.")
       .def(
           "step",
-          [](Batch& b, long long n) {
+          [](PyBatch& pb, long long n) {
+            Batch& b = pb.get();
             {
+              BusyGuard busy(pb.busy);
               py::gil_scoped_release release;
               b.step(n, askPython);
             }
@@ -398,7 +424,8 @@ PYBIND11_MODULE(_rm3d, m) {
           "rm3d.Error naming the world after every world has stepped.")
       .def(
           "reset",
-          [](Batch& b, const py::object& mask) {
+          [](PyBatch& pb, const py::object& mask) {
+            Batch& b = pb.get();
             std::vector<uint8_t> mk;
             if (!mask.is_none()) {
               auto a = py::array::ensure(mask);
@@ -408,6 +435,7 @@ PYBIND11_MODULE(_rm3d, m) {
               auto d = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(a);
               mk.assign(d.data(), d.data() + d.size());
             }
+            BusyGuard busy(pb.busy);
             py::gil_scoped_release release;
             b.reset(mk);
           },
@@ -416,60 +444,69 @@ PYBIND11_MODULE(_rm3d, m) {
           "seeds and params.")
       .def_property_readonly(
           "obs",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             auto a = b.arrays();
             return view(a, a->obs.data(), {b.size(), b.maxModules(), a->obsDim}, false);
           },
           "float64 (worlds, max modules, obs_dim), read-only view.")
       .def_property(
           "act",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             auto a = b.arrays();
             return view(a, a->act.data(), {b.size(), b.maxModules(), a->actDim}, true);
           },
-          [](Batch& b, py::handle v) {
+          [](PyBatch& pb, py::handle v) {
+            Batch& b = pb.get();
             auto a = b.arrays();
             assignActions(v, a->act.data(), {b.size(), b.maxModules(), a->actDim}, "act");
           },
           "float64 (worlds, max modules, act_dim), writable view.")
       .def_property_readonly(
           "reward",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             auto a = b.arrays();
             return view(a, a->reward.data(), {b.size(), b.maxModules()}, false);
           },
           "float64 (worlds, max modules).")
       .def_property_readonly(
           "done",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             auto a = b.arrays();
             return view(a, reinterpret_cast<bool*>(a->done.data()), {b.size(), b.maxModules()}, false);
           },
           "bool (worlds, max modules).")
       .def_property_readonly(
           "mask",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             auto a = b.arrays();
             return view(a, reinterpret_cast<bool*>(a->mask.data()), {b.size(), b.maxModules()}, false);
           },
           "bool (worlds, max modules): True where the row is a module of that world.")
       .def_property_readonly(
           "obs_size",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             auto a = b.arrays();
             return view(a, a->obsSize.data(), {b.size(), b.maxModules()}, false);
           },
           "int32 (worlds, max modules).")
       .def_property_readonly(
           "act_size",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             auto a = b.arrays();
             return view(a, a->actSize.data(), {b.size(), b.maxModules()}, false);
           },
           "int32 (worlds, max modules).")
       .def_property_readonly(
           "time",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             py::array_t<double> t(b.size());
             for (int i = 0; i < b.size(); ++i) t.mutable_at(i) = b.world(i).time();
             return t;
@@ -477,7 +514,8 @@ PYBIND11_MODULE(_rm3d, m) {
           "float64 (worlds,): each world's simulated seconds.")
       .def_property_readonly(
           "finished",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             py::array_t<bool> t(b.size());
             for (int i = 0; i < b.size(); ++i) t.mutable_at(i) = b.world(i).finished();
             return t;
@@ -485,7 +523,8 @@ PYBIND11_MODULE(_rm3d, m) {
           "bool (worlds,): World.finished of each.")
       .def_property_readonly(
           "metrics",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             py::list out;
             for (int i = 0; i < b.size(); ++i) out.append(py::cast(b.world(i).metrics()));
             return out;
@@ -493,18 +532,20 @@ PYBIND11_MODULE(_rm3d, m) {
           "A list of dicts: each world's metrics.")
       .def(
           "summaries",
-          [](Batch& b) {
+          [](PyBatch& pb) {
+            Batch& b = pb.get();
             py::list out;
             for (int i = 0; i < b.size(); ++i) out.append(jsonLoads(b.world(i).summaryJson()));
             return out;
           },
           "A list of dicts: each world's summary now (as World.summary()).")
       .def(
-          "snapshot", [](Batch& b, int i) { return py::bytes(b.world(i).snapshot()); }, py::arg("i"),
-          "World i's snapshot (World.from_snapshot() makes it a World of its own).")
-      .def("close", &Batch::close, "Closes every world; later calls raise rm3d.Error.")
-      .def("__enter__", [](Batch& b) -> Batch& { return b; })
-      .def("__exit__", [](Batch& b, py::args) { b.close(); });
+          "snapshot", [](PyBatch& pb, int i) { return py::bytes(pb.get().world(i).snapshot()); },
+          py::arg("i"), "World i's snapshot (World.from_snapshot() makes it a World of its own).")
+      .def(
+          "close", [](PyBatch& pb) { pb.get().close(); }, "Closes every world; later calls raise rm3d.Error.")
+      .def("__enter__", [](PyBatch& pb) -> PyBatch& { return pb; })
+      .def("__exit__", [](PyBatch& pb, py::args) { pb.get().close(); });
 
   m.def(
       "_evaluate",

@@ -222,3 +222,37 @@ def test_positional_arguments_as_the_contract_writes_them():
     assert strip(a.summary()) == strip(b.summary()) and a.summary()["seed"] == 3
     batch = rm3d.Batch(SNAKE, [1, 2], {"modules": 2}, 2)
     assert batch.obs.shape == (2, 2, 12)
+
+
+def test_a_second_thread_gets_busy_not_a_crash():
+    import threading
+    w = rm3d.World(SNAKE, params={"modules": 30})
+    errors = []
+
+    def long_step():
+        w.step(600)
+
+    t = threading.Thread(target=long_step)
+    t.start()
+    seen = 0
+    while t.is_alive():
+        try:
+            w.obs  # from this thread while the other steps
+        except rm3d.Error as e:
+            errors.append(str(e))
+        seen += 1
+    t.join()
+    assert w.steps == 600
+    assert all("busy" in e for e in errors)
+    b = rm3d.Batch(SNAKE, seeds=[1, 2], params={"modules": 20}, threads=2)
+    t = threading.Thread(target=lambda: b.step(300))
+    t.start()
+    busy = 0
+    while t.is_alive():
+        try:
+            b.step()
+        except rm3d.Error as e:
+            assert "busy" in str(e)
+            busy += 1
+    t.join()
+    assert list(b.time) == [b.time[0], b.time[0]]

@@ -26,8 +26,11 @@ namespace {
 WorldScript& script(lua_State* L) {
   return *static_cast<WorldScript*>(LuaVm::from(L)->user());
 }
-World& world(lua_State* L) {
+const World& world(lua_State* L) {
   return script(L).world();
+}
+WorldEditor& editor(lua_State* L) {
+  return script(L).editor();
 }
 
 /// Bounds on settings: below or above these a run cannot make progress or cannot mean anything.
@@ -127,7 +130,7 @@ int worldSet(lua_State* L) {
     script(L).expectFaults = int(n);
   }
   lua_pop(L, 1);
-  world(L).setSettings(s);
+  editor(L).setSettings(s);
   return 0;
 }
 
@@ -156,7 +159,7 @@ int worldGround(lua_State* L) {
     return luaL_error(L, "%s: restitution must be in [0, 1] (0: no bounce, 1: a full bounce), got %s", fn,
                       numText(restitution).s);
   return callWorld(L, fn, [&] {
-    world(L).addGround(friction, restitution);
+    editor(L).addGround(friction, restitution);
     return 0;
   });
 }
@@ -216,8 +219,8 @@ int addObstacle(lua_State* L, const char* fn, ShapeKind kind) {
     s.radius = radius;
     s.length = length;
     if (fromFile) loadMeshShape(world(L), file, scale, kind, s);
-    part = world(L).addObstacle(s, pose, mass, friction, rolling);
-    if (mass > 0 && velocity.squaredNorm() > 0) world(L).physics().setPartVelocity(part, velocity);
+    part = editor(L).addObstacle(s, pose, mass, friction, rolling);
+    if (mass > 0 && velocity.squaredNorm() > 0) editor(L).setPartVelocity(part, velocity);
     return 0;
   });
   pushBody(L, part);  // outside the try: pushing may raise a Lua error (a longjmp)
@@ -327,7 +330,7 @@ int worldSpawn(lua_State* L) {
   callWorld(L, fn, [&] {
     World::SpawnDef def;
     def.type = type;
-    if (jointsType == LUA_TTABLE) def.joints = readJointAngles(L, jointsIndex, world(L).moduleType(type));
+    if (jointsType == LUA_TTABLE) def.joints = readJointAngles(L, jointsIndex, editor(L).moduleType(type));
     def.pose = pose;
     def.fixed = fixed;
     if (name) def.name = name;
@@ -338,7 +341,7 @@ int worldSpawn(lua_State* L) {
     for (const Module& m : world(L).modules())
       if (!def.name.empty() && m.name == def.name)
         throw InputError("a module named '" + def.name + "' exists already");
-    spawned = world(L).spawn(def);
+    spawned = editor(L).spawn(def);
     return 0;
   });
   pushModule(L, spawned);  // outside the try: pushing may raise a Lua error (a longjmp)
@@ -354,7 +357,7 @@ int worldConnect(lua_State* L) {
   const int db = checkDockName(L, 4, b);
   const int orientation = int(luaL_optinteger(L, 5, 0));
   return callWorld(L, fn, [&] {
-    world(L).connect(a, da, b, db, orientation);
+    editor(L).connect(a, da, b, db, orientation);
     return 0;
   });
 }
@@ -369,7 +372,7 @@ int worldPlaceOnGround(lua_State* L) {
   checkInBounds(L, fn, Vec3(0, 0, z));
   double moved = 0;
   callWorld(L, fn, [&] {
-    moved = world(L).placeOnGround(m, z);
+    moved = editor(L).placeOnGround(m, z);
     return 0;
   });
   lua_pushnumber(L, moved);
@@ -389,7 +392,7 @@ int worldCamera(lua_State* L) {
   c.fovDeg = optNumberField(L, 1, fn, "fov", 45.0);
   if (c.fovDeg <= 1 || c.fovDeg >= 170) return luaL_error(L, "%s: fov must be between 1 and 170 degrees", fn);
   if (c.follow >= 0 && !c.eye) c.eye = Vec3(0.6, -1.0, 0.6);
-  world(L).setCamera(c);
+  editor(L).setCamera(c);
   return 0;
 }
 
@@ -409,7 +412,7 @@ int worldChannel(lua_State* L) {
   c.delay = int(delay);
   c.rate = int(rate);
   c.maxBytes = size_t(bytes);
-  world(L).setChannel(c);
+  editor(L).setChannel(c);
   return 0;
 }
 
@@ -518,7 +521,7 @@ int worldModuleType(lua_State* L) {
   const char* name = luaL_checkstring(L, 1);
   const ModuleTypeDef* type = nullptr;
   callWorld(L, "world.module_type", [&] {
-    type = &world(L).moduleType(name);
+    type = &editor(L).moduleType(name);
     return 0;
   });
   pushModuleTypeData(L, *type);
@@ -613,7 +616,7 @@ int worldDone(lua_State* L) {
 /// world.trace(name, value): records a series for `rm3d run --trace` (column trace.<name> of the
 /// world's rows) and the viewer; name: letters, digits, _ . -; value: a finite number
 int worldTrace(lua_State* L) {
-  return recordSeries(L, world(L).worldTraces(), "world.trace", "the world script");
+  return recordSeries(L, editor(L).worldTraces(), "world.trace", "the world script");
 }
 
 /// world.metric(name, value): a named result, under "metrics" in the --json summary (a later
@@ -621,8 +624,8 @@ int worldTrace(lua_State* L) {
 int worldMetric(lua_State* L) {
   const char* name = checkSeriesName(L, 1, "world.metric");
   const double v = checkSeriesValue(L, 2, "world.metric");
-  World& w = world(L);
-  if (w.metrics().size() >= World::kMaxMetrics && !w.metrics().count(name))
+  WorldEditor& w = editor(L);
+  if (w.view().metrics().size() >= World::kMaxMetrics && !w.view().metrics().count(name))
     return luaL_error(L, "world.metric: too many metrics (at most %d); '%s' is one more",
                       int(World::kMaxMetrics), name);
   return callWorld(L, "world.metric", [&] {
@@ -633,7 +636,7 @@ int worldMetric(lua_State* L) {
 
 /// world.stop(): end the run after this step
 int worldStop(lua_State* L) {
-  world(L).requestStop();
+  editor(L).requestStop();
   return 0;
 }
 
@@ -661,7 +664,7 @@ int expectFn(lua_State* L) {
     else
       luaL_tolstring(L, 2, nullptr);
     lua_concat(L, 2);
-    world(L).addFailure(lua_tostring(L, -1));
+    editor(L).addFailure(lua_tostring(L, -1));
     lua_pop(L, 1);
   }
   lua_pushboolean(L, ok);
@@ -709,8 +712,11 @@ void pushArgs(lua_State* L, const std::map<std::string, std::string>& params) {
 
 }  // namespace
 
-World& scriptWorld(lua_State* L) {
+const World& scriptWorld(lua_State* L) {
   return script(L).world();
+}
+WorldEditor& scriptEditor(lua_State* L) {
+  return script(L).editor();
 }
 
 void seedWorldRandom(lua_State* L, uint64_t seed) {

@@ -9,13 +9,17 @@
 #include <lua.hpp>
 
 #include "physics/shape_def.h"
+#include "world/world_editor.h"
 
 namespace rm3d {
 
 class World;
+class WorldEditor;
 
-/// The World of the world script running in L (world_api.cpp).
-World& scriptWorld(lua_State* L);
+/// The World of the world script running in L, read-only, and the editor that changes it
+/// (world_api.cpp; world/world_editor.h).
+const World& scriptWorld(lua_State* L);
+WorldEditor& scriptEditor(lua_State* L);
 
 void openModuleHandle(lua_State* L);
 void openBodyHandle(lua_State* L);
@@ -32,7 +36,7 @@ void openClothHandle(lua_State* L);
 int worldCloth(lua_State* L);
 /// Fills a Hull (or TriMesh) shape from a mesh file (resolved like other world paths). Throws
 /// InputError.
-void loadMeshShape(World& world, const char* file, double scale, ShapeKind kind, ShapeDef& out);
+void loadMeshShape(const World& world, const char* file, double scale, ShapeKind kind, ShapeDef& out);
 /// world.heightfield{...} and its handle (world_heightfield.cpp).
 int worldHeightfield(lua_State* L);
 void openHeightfieldHandle(lua_State* L);

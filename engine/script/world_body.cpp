@@ -16,8 +16,11 @@ namespace {
 
 constexpr const char* kBodyMeta = "rm3d.Body";
 
-World& world(lua_State* L) {
+const World& world(lua_State* L) {
   return scriptWorld(L);
+}
+WorldEditor& editor(lua_State* L) {
+  return scriptEditor(L);
 }
 
 int checkBody(lua_State* L) {
@@ -68,7 +71,7 @@ void pushBody(lua_State* L, int part) {
   luaL_setmetatable(L, kBodyMeta);
 }
 
-void loadMeshShape(World& w, const char* file, double scale, ShapeKind kind, ShapeDef& out) {
+void loadMeshShape(const World& w, const char* file, double scale, ShapeKind kind, ShapeDef& out) {
   const std::string path = w.resolvePath(file);
   if (path.empty())
     throw InputError(std::string("mesh file '") + file + "' not found " + w.resolveLookedIn());

@@ -16,8 +16,11 @@ namespace {
 
 constexpr const char* kClothMeta = "rm3d.Cloth";
 
-World& world(lua_State* L) {
+const World& world(lua_State* L) {
   return scriptWorld(L);
+}
+WorldEditor& editor(lua_State* L) {
+  return scriptEditor(L);
 }
 
 int checkCloth(lua_State* L) {
@@ -159,12 +162,12 @@ int clothPositions(lua_State* L) {
 /// c:pin(i): node i stays where it is now; c:unpin(i) frees it; c:pinned(i) -> bool
 int clothPin(lua_State* L) {
   const int c = checkCloth(L);
-  world(L).physics().setClothNodePinned(c, checkNode(L, 2, c), true);
+  editor(L).setClothNodePinned(c, checkNode(L, 2, c), true);
   return 0;
 }
 int clothUnpin(lua_State* L) {
   const int c = checkCloth(L);
-  world(L).physics().setClothNodePinned(c, checkNode(L, 2, c), false);
+  editor(L).setClothNodePinned(c, checkNode(L, 2, c), false);
   return 0;
 }
 int clothPinned(lua_State* L) {
@@ -244,7 +247,7 @@ int worldCloth(lua_State* L) {
     readIndices(L, "pinned", corners);
     for (int k : corners) desc.pinned.push_back(clothCornerNode(desc.nx, desc.ny, k));
     readIndices(L, "pinned_nodes", desc.pinned);
-    c = world(L).addCloth(desc, color);
+    c = editor(L).addCloth(desc, color);
     return 0;
   });
   // The handle is made outside the try: making it may raise a Lua error (a longjmp).

@@ -17,8 +17,11 @@ namespace {
 
 constexpr const char* kHeightfieldMeta = "rm3d.Heightfield";
 
-World& world(lua_State* L) {
+const World& world(lua_State* L) {
   return scriptWorld(L);
+}
+WorldEditor& editor(lua_State* L) {
+  return scriptEditor(L);
 }
 
 /// The obstacle a Heightfield handle stands for.
@@ -158,7 +161,8 @@ int worldHeightfield(lua_State* L) {
     return luaL_error(L, "%s: friction must not be negative, got %s", fn, numText(friction).s);
   int index = -1;
   callWorld(L, fn, [&] {  // raises the Lua error after every C++ object is gone
-    World& w = world(L);
+    WorldEditor& e = editor(L);
+    const World& w = e.view();
     const std::string path = w.resolvePath(image);
     if (path.empty()) throw InputError(std::string("image '") + image + "' not found " + w.resolveLookedIn());
     GrayImage img;
@@ -173,7 +177,7 @@ int worldHeightfield(lua_State* L) {
     s.source = image;
     Pose pose;
     pose.pos = at;
-    w.addObstacle(s, pose, 0, friction);
+    e.addObstacle(s, pose, 0, friction);
     index = int(w.obstacles().size()) - 1;
     return 0;
   });

@@ -16,8 +16,11 @@ namespace {
 
 constexpr const char* kModuleMeta = "rm3d.Module";
 
-World& world(lua_State* L) {
+const World& world(lua_State* L) {
   return scriptWorld(L);
+}
+WorldEditor& editor(lua_State* L) {
+  return scriptEditor(L);
 }
 
 int checkJointName(lua_State* L, int arg, int module) {
@@ -44,7 +47,7 @@ int moduleOrientation(lua_State* L) {
 int moduleVelocity(lua_State* L) {
   const int m = checkModule(L, 1);
   const Module& mod = world(L).module(m);
-  pushVec3(L, world(L).physics().partLinearVelocity(mod.parts[size_t(mod.type->rootLink)]));
+  pushVec3(L, world(L).physicsConst().partLinearVelocity(mod.parts[size_t(mod.type->rootLink)]));
   return 1;
 }
 
@@ -170,7 +173,7 @@ int moduleSetDock(lua_State* L) {
   const Module& mod = world(L).module(m);
   if (!mod.fault.empty())
     return luaL_error(L, "set_dock: %s is faulted; its docks cannot change", mod.name.c_str());
-  world(L).mutableModule(m).docks[size_t(d)].enabled = lua_toboolean(L, 3);
+  editor(L).setDockEnabled(m, d, lua_toboolean(L, 3));
   return 0;
 }
 
@@ -196,9 +199,7 @@ int modulePush(lua_State* L) {
   if (!(f <= kMaxPush))
     return luaL_error(L, "m:push: the force must be at most %s N in magnitude, got {%s, %s, %s} (%s N)",
                       numText(kMaxPush).s, numText(v[0]).s, numText(v[1]).s, numText(v[2]).s, numText(f).s);
-  const Module& mod = world(L).module(m);
-  const int part = mod.parts[size_t(mod.type->rootLink)];
-  world(L).physics().addForce(part, Vec3(v[0], v[1], v[2]), world(L).physics().partPose(part).pos);
+  editor(L).pushModule(m, Vec3(v[0], v[1], v[2]));
   return 0;
 }
 
@@ -224,7 +225,7 @@ int moduleSensorRead(lua_State* L) {
     luaL_checkoption(L, 3, nullptr, fields);
     velocity = true;
   }
-  pushSensorReading(L, world(L).readSensor(m, code, velocity));
+  pushSensorReading(L, editor(L).readSensor(m, code, velocity));
   return 1;
 }
 
@@ -238,15 +239,15 @@ int moduleInjectFault(lua_State* L) {
     const char* name = luaL_checkstring(L, -1);
     const int j = world(L).module(m).type->findJoint(name);
     if (j < 0) return luaL_error(L, "inject_fault: no joint named '%s'", name);
-    world(L).stallJoint(m, j);
+    editor(L).stallJoint(m, j);
     ++given;
   }
   if (lua_getfield(L, 2, "dock") != LUA_TNIL) {
-    world(L).blockDock(m, checkDockName(L, -1, m));
+    editor(L).blockDock(m, checkDockName(L, -1, m));
     ++given;
   }
   if (lua_getfield(L, 2, "sensor") != LUA_TNIL) {
-    world(L).killSensor(m, checkSensorName(L, lua_gettop(L), m));
+    editor(L).killSensor(m, checkSensorName(L, lua_gettop(L), m));
     ++given;
   }
   if (given == 0) return luaL_error(L, "inject_fault: name a joint, dock or sensor");

@@ -174,7 +174,7 @@ int addParticles(lua_State* L, const char* fn, ParticleDef::Kind kind) {
   d.substeps = int(substeps);
   int index = -1;
   callWorld(L, fn, [&] {
-    index = scriptWorld(L).addParticles(d);
+    index = scriptEditor(L).addParticles(d);
     return 0;
   });
   // The handle is made outside the try: making it may raise a Lua error (a longjmp).

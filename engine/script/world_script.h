@@ -9,6 +9,7 @@
 
 #include "script/lua_vm.h"
 #include "world/programs.h"
+#include "world/world_editor.h"
 
 namespace rm3d {
 
@@ -40,7 +41,9 @@ class WorldScript : public WorldProgram {
     double first = 0;   ///< the time asked for (at) or the period (every)
     int runs = 0;       ///< times called
   };
-  World& world() { return m_world; }
+  /// The world, read-only, and the narrow editor the bindings change it through.
+  const World& world() const { return m_world; }
+  WorldEditor& editor() { return m_editor; }
   /// True once the watchdog stopped a call into the world script (its load or a hook).
   bool stoppedByWatchdog() const { return m_vm.watchdogStops() > 0; }
   std::vector<int> onStep;
@@ -56,6 +59,7 @@ class WorldScript : public WorldProgram {
  private:
   void setUp(const std::string& folder);
   World& m_world;
+  WorldEditor m_editor{m_world};
   LuaVm m_vm;
 };
 

@@ -124,12 +124,13 @@ void TraceWriter::writeRows(World& w, bool modules) {
       m_moduleLayout.resize(n, nullptr);
     }
     for (size_t i = 0; i < n; ++i) {
-      Module& m = w.mutableModule(int(i));
+      const Module& m = w.module(int(i));
+      TraceSeries& traces = w.moduleTraces(int(i));
       if (!m_moduleLayout[i]) m_moduleLayout[i] = &layout(m.type);
       const TypeLayout& l = *m_moduleLayout[i];
       std::vector<int>& series = m_moduleSeries[i];
-      for (size_t s = series.size(); s < m.traces.names.size(); ++s)
-        series.push_back(column("trace." + m.traces.names[s]));
+      for (size_t s = series.size(); s < traces.names.size(); ++s)
+        series.push_back(column("trace." + traces.names[s]));
       m_kind.assign(m_columns.size(), Cell::Empty);  // no allocation once the width is reached
       m_value.resize(m_columns.size());
       const Pose p = w.modulePose(int(i));
@@ -146,7 +147,7 @@ void TraceWriter::writeRows(World& w, bool modules) {
         put(l.docks[d], Cell::Integer, s.engaged ? 2 : s.enabled ? 1 : 0);
         if (s.engaged) put(l.docks[d] + 1, Cell::Integer, w.module(s.peerModule).id);
       }
-      writeRow(m_moduleText[i], m.traces, series);
+      writeRow(m_moduleText[i], traces, series);
     }
   }
   // The world's row: only when one of its series was recorded since its last row.

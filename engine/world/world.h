@@ -168,7 +168,6 @@ class World {
     double particles = 0;  ///< part of `other`: fluids and debris (world/particles.cpp)
   };
   const StepTimes& lastStepTimes() const { return m_times; }
-  PhysicsWorld& physics() { return *m_physics; }
   const PhysicsWorld& physicsConst() const { return *m_physics; }
 
   // --- building (world scripts, tests) ---
@@ -321,14 +320,20 @@ class World {
   void blockDock(int module, int dock);
   void killSensor(int module, int code);
 
-  /// A module's record, writable: main thread only (world scripts, tests). Behaviours get a
-  /// ModuleHandle instead (world/module_handle.h).
-  Module& mutableModule(int i) { return m_modules[size_t(i)]; }
+  /// Sets a joint's command (main thread, between steps: tests, the API). Behaviours set theirs
+  /// through their ModuleHandle, world scripts through a WorldEditor (world/world_editor.h).
+  void setJointCommand(int m, int joint, JointMode mode, double value) {
+    m_modules[size_t(m)].commands[size_t(joint)] = {mode, value};
+  }
+  /// Module m's trace series, writable for the trace writer (which clears their `fresh` flags).
+  TraceSeries& moduleTraces(int m) { return m_modules[size_t(m)].traces; }
   void faultModule(int i, const std::string& message);
 
  private:
   friend class BehaviourPool;
   friend class ModuleHandle;
+  friend class WorldEditor;  // the world script's narrow access (world/world_editor.h)
+  PhysicsWorld& physics() { return *m_physics; }
   /// Reads a sensor of module `mi` whose record is `self`; writes only `self` (its cache), so
   /// behaviours may call it in parallel during their phase.
   SensorReading readSensor(Module& self, int mi, int code, bool velocity) const;

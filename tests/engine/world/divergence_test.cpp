@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "test_world.h"
+#include "world/world_editor.h"
 
 using namespace rm3d;
 using rm3d::test::makeWorld;
@@ -86,10 +87,9 @@ world.sphere{radius = 0.1, at = {9.5, 0, 0}, mass = 1, velocity = {60, 0, 0}}
 local m = world.spawn("superbot", {at = {0, 0, 1}, name = "spinner"})
 )");
   // A torque on the root link's body from C++ (the world API pushes forces only).
-  const Module& m = spin->module(0);
   spin->start();
   for (int i = 0; i < 60 && !spin->finished(); ++i) {
-    spin->physics().addTorque(m.parts[size_t(m.type->rootLink)], Vec3(0, 0, 50));
+    WorldEditor(*spin).twistModule(0, Vec3(0, 0, 50));
     spin->step();
   }
   INFO(spin->divergence());
@@ -102,9 +102,8 @@ TEST_CASE("a NaN state stops the run and the summary carries strings, never null
 world.spawn("superbot", {at = {0, 0, 1}, name = "lost"})
 )");
   w->start();
-  const Module& m = w->module(0);
   // A force no binding accepts (they stop at 1e9 N): Bullet's floats overflow.
-  w->physics().addForce(m.parts[size_t(m.type->rootLink)], Vec3(1e38, 0, 0), w->modulePose(0).pos);
+  WorldEditor(*w).pushModule(0, Vec3(1e38, 0, 0));  // at the root link's centre
   w->step();
   const std::string& msg = w->divergence();
   INFO(msg);

@@ -20,9 +20,9 @@ world.spawn("superbot", {at = {0, 0, 0.053}})
 
 TEST_CASE("a servo reaches a 45 degree target within 2 degrees in 1 s, and the sign is right-handed") {
   auto w = makeWorld(kSingle);
-  Module& m = w->mutableModule(0);
+  const Module& m = w->module(0);
   const int pitch = m.type->findJoint("pitch");
-  m.commands[size_t(pitch)] = {JointMode::Servo, kPi / 4};
+  w->setJointCommand(0, pitch, JointMode::Servo, kPi / 4);
   stepFor(*w, 1.0);
   CHECK(std::abs(w->jointAngle(0, pitch) - kPi / 4) < 2.0 / kDegPerRad);
   // angle = rotation of the child (front_outer) relative to the parent about +y
@@ -33,10 +33,10 @@ TEST_CASE("a servo reaches a 45 degree target within 2 degrees in 1 s, and the s
 
 TEST_CASE("limits hold when a servo target or a velocity drive goes beyond them") {
   auto w = makeWorld(kSingle);
-  Module& m = w->mutableModule(0);
+  const Module& m = w->module(0);
   const int roll = m.type->findJoint("roll"), yaw = m.type->findJoint("yaw");
-  m.commands[size_t(roll)] = {JointMode::Servo, 3.0};
-  m.commands[size_t(yaw)] = {JointMode::Velocity, -3.0};
+  w->setJointCommand(0, roll, JointMode::Servo, 3.0);
+  w->setJointCommand(0, yaw, JointMode::Velocity, -3.0);
   double worstRoll = 0, worstYaw = 0;
   for (int i = 0; i < 180; ++i) {
     w->step();
@@ -51,9 +51,9 @@ TEST_CASE("limits hold when a servo target or a velocity drive goes beyond them"
 
 TEST_CASE("a velocity drive turns at the commanded speed") {
   auto w = makeWorld(kSingle);
-  Module& m = w->mutableModule(0);
+  const Module& m = w->module(0);
   const int yaw = m.type->findJoint("yaw");
-  m.commands[size_t(yaw)] = {JointMode::Velocity, 1.0};
+  w->setJointCommand(0, yaw, JointMode::Velocity, 1.0);
   stepFor(*w, 0.5);
   const double a0 = w->jointAngle(0, yaw);
   stepFor(*w, 0.5);
@@ -129,10 +129,10 @@ TEST_CASE("separate collision shapes keep masses and inertias: free-floating dyn
     const std::string script =
         std::string("world.set{gravity = {0, 0, 0}}\nworld.spawn('") + type + "', {at = {0, 0, 1}})\n";
     auto w = makeWorld(script);
-    Module& m = w->mutableModule(0);
-    m.commands[size_t(m.type->findJoint("pitch"))] = {JointMode::Servo, 1.0};
-    m.commands[size_t(m.type->findJoint("yaw"))] = {JointMode::Velocity, -2.0};
-    m.commands[size_t(m.type->findJoint("roll"))] = {JointMode::Servo, -0.7};
+    const Module& m = w->module(0);
+    w->setJointCommand(0, m.type->findJoint("pitch"), JointMode::Servo, 1.0);
+    w->setJointCommand(0, m.type->findJoint("yaw"), JointMode::Velocity, -2.0);
+    w->setJointCommand(0, m.type->findJoint("roll"), JointMode::Servo, -0.7);
     stepFor(*w, 1.0);
     std::vector<Pose> poses;
     for (size_t l = 0; l < m.type->links.size(); ++l) poses.push_back(w->linkPose(0, int(l)));

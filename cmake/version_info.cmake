@@ -1,5 +1,5 @@
 # Writes the git revision of the source tree into a header, at every build, touching it only when
-# it changed (so a rebuild recompiles engine/app/version.cpp alone, and only after a commit or an
+# it changed (so a rebuild recompiles engine/core/version.cpp alone, and only after a commit or an
 # edit). Outside a git tree (a release tarball) the revision is empty and rm3dVersion() is the
 # project version. Run as: cmake -DSRC=<source dir> -DOUT=<header> -P version_info.cmake
 set(rev "")

@@ -22,9 +22,10 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "app/run_capture.h"
 #include "core/error.h"
 #include "core/source_files.h"
+#include "io/run_capture.h"
+#include "io/summary.h"
 #include "script/world_script.h"
 #include "world/world.h"
 
@@ -383,7 +384,7 @@ std::vector<std::string> Simulation::moduleNames() const {
 
 std::string Simulation::summaryJson() const {
   m->check();
-  return m->world->summary(m->wallSeconds).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  return runSummary(*m->world, m->wallSeconds).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 std::string Simulation::finish() {
@@ -397,7 +398,7 @@ std::string Simulation::finish() {
     if (script && w.scriptError().empty() && !script->atEnd(w.time(), err)) w.setScriptError(err);
     m->endRecording();
   }
-  nlohmann::json j = w.summary(m->wallSeconds);
+  nlohmann::json j = runSummary(w, m->wallSeconds);
   if (WorldScript* script = w.script()) j["warnings"] = script->hooksNeverRun(w.time());
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

@@ -27,10 +27,10 @@ struct RunArgs {
   bool watch = false;                    ///< real time, reload edits
   double watchdog = 5;                   ///< --watchdog S (RunOptions::watchdogSeconds)
   double memoryBudget = 2048;            ///< --memory-budget MIB (RunOptions::memoryBudget)
-  std::string trace;                     ///< --trace FILE.csv (world/trace_writer.h)
+  std::string trace;                     ///< --trace FILE.csv (io/trace_writer.h)
   int traceEvery = 0;                    ///< --trace-every N (0: not given, every step)
   std::vector<std::string> commandLine;  ///< argv as given, for the summary
-  // Record, replay, fork (app/run_capture.h, app/fork.h) and the camera of pictures.
+  // Record, replay, fork (io/run_capture.h, app/fork.h) and the camera of pictures.
   std::string record;            ///< --record FILE
   std::string fork;              ///< --fork FILE (with --at T)
   std::optional<double> at;      ///< --at T

@@ -1,5 +1,5 @@
 // `rm3d replay FILE`: draws a recording again without stepping physics, through the same
-// buildSnapshot/sceneCamera as the live run (render/scene_state.h), so the frames match it.
+// buildSnapshot/sceneCamera as the live run (io/scene_state.h), so the frames match it.
 #include "app/cmd_replay.h"
 
 #include <cmath>
@@ -10,9 +10,9 @@
 
 #include "app/app.h"
 #include "app/html_replay.h"
-#include "app/run_capture.h"
 #include "app/run_world.h"
 #include "app/video_pipe.h"
+#include "io/run_capture.h"
 #include "render/offscreen_renderer.h"
 
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
 // `rm3d replay FILE --view`: a recording in a window (GLFW + Dear ImGui) with a time slider.
 #pragma once
 
-#include "record/recording.h"
+#include "io/recording.h"
 
 namespace rm3d {
 

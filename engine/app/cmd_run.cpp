@@ -14,17 +14,19 @@
 #include "app/fork.h"
 #include "app/html_replay.h"
 #include "app/progress_line.h"
-#include "app/run_capture.h"
 #include "app/run_identity.h"
 #include "app/run_world.h"
 #include "app/video_pipe.h"
 #include "app/world_session.h"
 #include "core/error.h"
 #include "core/source_files.h"
+#include "io/graph_export.h"
+#include "io/run_capture.h"
+#include "io/summary.h"
+#include "io/trace_writer.h"
+#include "io/world_snapshot.h"
 #include "render/offscreen_renderer.h"
-#include "render/world_snapshot.h"
 #include "script/world_script.h"
-#include "world/trace_writer.h"
 
 namespace fs = std::filesystem;
 
@@ -227,7 +229,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
       return 2;
     }
   }
-  // --trace: rows go to FILE.part while the run lasts (world/trace_writer.h).
+  // --trace: rows go to FILE.part while the run lasts (io/trace_writer.h).
   TraceWriter trace;
   if (a.traceEvery > 0 && a.trace.empty()) {
     std::fprintf(stderr, "rm3d run: --trace-every %d needs --trace FILE.csv\n", a.traceEvery);
@@ -249,7 +251,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
     std::fprintf(stderr, "rm3d run: --size %s: expected WIDTHxHEIGHT, e.g. 1280x720\n", a.size.c_str());
     return 2;
   }
-  // Record, fork, camera (app/run_capture.h, app/fork.h): checked before the run.
+  // Record, fork, camera (io/run_capture.h, app/fork.h): checked before the run.
   const CameraArgs cameraArgs{a.eye, a.target, a.fov};
   if (!checkCaptureArgs(a, cameraArgs, err)) {
     std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
@@ -439,7 +441,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
   if (!a.graph.empty() && r.loadError.empty()) {
     const bool dot = fs::path(a.graph).extension() == ".dot" || fs::path(a.graph).extension() == ".gv";
     std::ofstream f(a.graph);
-    f << (dot ? w.graphDot() : w.graphJson() + "\n");
+    f << (dot ? graphDot(w) : graphJson(w) + "\n");
     f.close();
     if (!f) {
       std::fprintf(stderr, "rm3d run: --graph %s: cannot write the file\n", a.graph.c_str());
@@ -471,7 +473,7 @@ int runCommand(const RunArgs& a, const std::string& root) {
   // The summary last, so it lists every output that failed.
   if (!a.json.empty()) {
     nlohmann::json j =
-        r.loadError.empty() ? w.summary(r.wallSeconds) : nlohmann::json{{"error", r.loadError}};
+        r.loadError.empty() ? runSummary(w, r.wallSeconds) : nlohmann::json{{"error", r.loadError}};
     if (!r.runError.empty()) j["error"] = r.runError;
     addRunIdentity(j, a.commandLine, o.params);
     j["interrupted"] = r.signal != 0;

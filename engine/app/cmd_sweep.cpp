@@ -21,7 +21,7 @@
 
 #include "app/run_world.h"
 #include "app/sweep.h"
-#include "app/version.h"
+#include "core/version.h"
 
 extern char** environ;
 

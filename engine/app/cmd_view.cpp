@@ -27,11 +27,11 @@
 #include "app/run_world.h"
 #include "app/world_session.h"
 #include "core/error.h"
+#include "io/scene_state.h"
+#include "io/world_snapshot.h"
 #include "render/picking.h"
 #include "render/scene_renderer.h"
-#include "render/scene_state.h"
 #include "render/view_math.h"
-#include "render/world_snapshot.h"
 #include "world/world.h"
 
 namespace fs = std::filesystem;

@@ -6,7 +6,7 @@
 
 #include "core/source_files.h"
 #include "core/text_file.h"
-#include "render/scene_state.h"
+#include "io/scene_state.h"
 
 namespace fs = std::filesystem;
 

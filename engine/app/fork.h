@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "record/recording.h"
+#include "io/recording.h"
 #include "world/world.h"
 
 namespace rm3d {

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "record/recording.h"
+#include "io/recording.h"
 
 namespace rm3d {
 

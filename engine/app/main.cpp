@@ -15,7 +15,7 @@
 #include "app/cmd_view.h"
 #include "app/data_root.h"
 #include "app/sweep.h"
-#include "app/version.h"
+#include "core/version.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "core/types.h"
-#include "render/snapshot.h"
+#include "io/snapshot.h"
 
 namespace rm3d {
 

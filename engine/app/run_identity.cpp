@@ -4,8 +4,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "app/version.h"
 #include "core/param_value.h"
+#include "core/version.h"
 
 namespace rm3d {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "render/snapshot.h"
+#include "io/snapshot.h"
 
 namespace rm3d {
 

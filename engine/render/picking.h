@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "render/snapshot.h"
+#include "io/snapshot.h"
 #include "render/view_math.h"
 
 namespace rm3d {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "render/snapshot.h"
+#include "io/snapshot.h"
 
 namespace rm3d {
 

@@ -4,7 +4,7 @@
 
 #include <Eigen/Geometry>
 
-#include "render/snapshot.h"
+#include "io/snapshot.h"
 
 namespace rm3d {
 

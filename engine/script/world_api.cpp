@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/param_value.h"
 #include "docking/dock_frame.h"
+#include "io/graph_export.h"
 #include "script/lua_options.h"
 #include "script/lua_value.h"
 #include "script/module_type_data.h"
@@ -425,7 +426,7 @@ int worldGraph(lua_State* L) {
   char* copy = nullptr;
   size_t size = 0;
   callWorld(L, "world.graph", [&] {
-    const std::string text = f == 0 ? world(L).graphJson() : world(L).graphDot();
+    const std::string text = f == 0 ? graphJson(world(L)) : graphDot(world(L));
     size = text.size();
     copy = new char[size + 1];
     std::memcpy(copy, text.data(), size);

@@ -13,7 +13,6 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -161,7 +160,6 @@ class World {
   void sampleTracking();
   /// Connected components (module indices, each sorted), by the connection graph.
   std::vector<std::vector<int>> components() const;
-  nlohmann::json summary(double wallSeconds) const;
   /// Phase timings of the last step, ms.
   struct StepTimes {
     double behaviours = 0, physics = 0, other = 0;
@@ -169,6 +167,8 @@ class World {
   };
   const StepTimes& lastStepTimes() const { return m_times; }
   const PhysicsWorld& physicsConst() const { return *m_physics; }
+  /// False before the world is built (a world that failed to load has no physics).
+  bool hasPhysics() const { return m_physics != nullptr; }
 
   // --- building (world scripts, tests) ---
   void setSettings(const WorldSettings& s);
@@ -247,9 +247,6 @@ class World {
   bool disconnect(int m, int dock);
   void setChannel(const ChannelDef& c) { m_router.setChannel(c); }
   const ChannelDef& channel() const { return m_router.channel(); }
-  /// The connection graph now, as JSON ({"modules": [...], "connections": [...]}) or Graphviz DOT.
-  std::string graphJson() const;
-  std::string graphDot() const;
   /// Load through a connection during the last step (force N, torque N m about the dock face).
   Wrench connectionLoad(const Connection& c) const;
   /// Messages counted over the run: sent, delivered (read), lost in flight.

@@ -1,4 +1,4 @@
-// Fuzzes the recording reader (record/recording.h): the input is written to a file and loaded
+// Fuzzes the recording reader (io/recording.h): the input is written to a file and loaded
 // (every size field must be checked against the file before anything is allocated), and when it
 // loads, every frame is decoded. A refusal must say what is wrong and name the file.
 #include <unistd.h>
@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "record/recording.h"
+#include "io/recording.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::string path = "/tmp/rm3d_fuzz_recording_" + std::to_string(getpid()) + ".rec";

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "io/summary.h"
 #include "world/world.h"
 
 namespace {
@@ -25,7 +26,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     rm3d::World w(o);
     w.loadString(std::string(reinterpret_cast<const char*>(data), size), "fuzz.lua");
     for (int i = 0; i < kSteps && !w.stopped(); ++i) w.step();
-    (void)w.summary(0).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    (void)runSummary(w, 0).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   } catch (const rm3d::InputError&) {
   }
   return 0;

@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "io/world_snapshot.h"
 #include "render/offscreen_renderer.h"
-#include "render/world_snapshot.h"
 #include "test_world.h"
 
 #pragma GCC diagnostic push

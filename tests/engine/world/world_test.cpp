@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "io/summary.h"
 #include "test_world.h"
 
 using namespace rm3d;
@@ -176,7 +177,7 @@ end)";
     a->step();
     b->step();
   }
-  nlohmann::json ja = a->summary(0), jb = b->summary(0);
+  nlohmann::json ja = runSummary(*a, 0), jb = runSummary(*b, 0);
   CHECK(ja.dump() == jb.dump());
   CHECK(a->modulePose(0).pos.x() != 0.0);
 }

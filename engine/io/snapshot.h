@@ -1,5 +1,5 @@
-// A read-only picture of a world at one instant: what the renderer draws. The World fills it;
-// the renderer never sees the World itself. Frames: z up, metres.
+// A read-only picture of a world at one instant: what the renderer draws (render/). io/world_snapshot.h fills
+// it; the renderer never sees the World itself. Frames: z up, metres.
 #pragma once
 
 #include <Eigen/Geometry>

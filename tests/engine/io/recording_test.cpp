@@ -1,6 +1,6 @@
 // The recording reader's size checks: a size field is checked against the bytes the file really
 // has before anything is allocated.
-#include "record/recording.h"
+#include "io/recording.h"
 
 #include <doctest/doctest.h>
 #include <unistd.h>

@@ -2,7 +2,7 @@
 // chooses a camera. Reads the world, never changes it.
 #pragma once
 
-#include "render/snapshot.h"
+#include "io/snapshot.h"
 
 namespace rm3d {
 
@@ -10,7 +10,7 @@ class World;
 
 Snapshot buildSnapshot(const World& world);
 /// The world's camera (world.camera{...}); without one, frames every module and body as they are
-/// now (sceneCamera with the state now as the start). Runs keep their start: render/scene_state.h.
+/// now (sceneCamera with the state now as the start). Runs keep their start: io/scene_state.h.
 Camera worldCamera(const World& world);
 
 }  // namespace rm3d

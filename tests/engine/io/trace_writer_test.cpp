@@ -1,7 +1,7 @@
 // The --trace writer: rows at the traced steps, columns added as they appear with earlier rows
 // padded to the final width, series taken once ("latest since the last row"), the world's row
 // only when one of its series was recorded, and names quoted for CSV.
-#include "world/trace_writer.h"
+#include "io/trace_writer.h"
 
 #include <doctest/doctest.h>
 #include <unistd.h>

@@ -1,4 +1,6 @@
 // The run summary (`--json`): the fields docs/command-line.md lists, module by module, in id order.
+#include "io/summary.h"
+
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -15,33 +17,33 @@ nlohmann::json number(double v) {
 }
 }  // namespace
 
-nlohmann::json World::summary(double wallSeconds) const {
+nlohmann::json runSummary(const World& w, double wallSeconds) {
   using nlohmann::json;
   json j;
-  j["world"] = m_worldFile;
-  j["sim_time"] = m_time;
-  j["steps"] = m_steps;
-  j["dt"] = m_settings.dt;
-  j["solver"] = solverName(m_settings.solver);
-  j["substeps"] = m_settings.substeps;
-  j["solver_iterations"] = m_settings.solverIterations;
+  j["world"] = w.worldFile();
+  j["sim_time"] = w.time();
+  j["steps"] = w.steps();
+  j["dt"] = w.settings().dt;
+  j["solver"] = solverName(w.settings().solver);
+  j["substeps"] = w.settings().substeps;
+  j["solver_iterations"] = w.settings().solverIterations;
   j["wall_seconds"] = wallSeconds;
-  j["seed"] = m_settings.seed;
+  j["seed"] = w.settings().seed;
   json mods = json::array();
-  for (size_t i = 0; i < m_modules.size(); ++i) {
-    const Module& m = m_modules[i];
+  for (size_t i = 0; i < w.modules().size(); ++i) {
+    const Module& m = w.modules()[i];
     json mj;
     mj["id"] = m.id;
     mj["name"] = m.name;
     mj["type"] = m.type->name;
-    if (m_physics) {
-      const Pose p = modulePose(int(i));
+    if (w.hasPhysics()) {
+      const Pose p = w.modulePose(int(i));
       mj["position"] = {number(p.pos.x()), number(p.pos.y()), number(p.pos.z())};
       mj["orientation"] = {number(p.rot.w()), number(p.rot.x()), number(p.rot.y()), number(p.rot.z())};
     }
     json joints = json::object();
     for (size_t k = 0; k < m.type->joints.size(); ++k)
-      joints[m.type->joints[k].name] = number(jointAngle(int(i), int(k)));
+      joints[m.type->joints[k].name] = number(w.jointAngle(int(i), int(k)));
     mj["joints"] = joints;
     json docks = json::object();
     for (size_t k = 0; k < m.docks.size(); ++k) {
@@ -49,8 +51,8 @@ nlohmann::json World::summary(double wallSeconds) const {
       json dj = {
           {"enabled", d.enabled}, {"engaged", d.engaged}, {"peer_module", nullptr}, {"peer_dock", nullptr}};
       if (d.engaged) {
-        dj["peer_module"] = m_modules[size_t(d.peerModule)].id;
-        dj["peer_dock"] = m_modules[size_t(d.peerModule)].type->docks[size_t(d.peerDock)].name;
+        dj["peer_module"] = w.modules()[size_t(d.peerModule)].id;
+        dj["peer_dock"] = w.modules()[size_t(d.peerModule)].type->docks[size_t(d.peerDock)].name;
       }
       docks[m.type->docks[k].name] = dj;
     }
@@ -59,47 +61,47 @@ nlohmann::json World::summary(double wallSeconds) const {
     mods.push_back(mj);
   }
   j["modules"] = mods;
-  auto dockName = [&](int m, int d) { return m_modules[size_t(m)].type->docks[size_t(d)].name; };
+  auto dockName = [&](int m, int d) { return w.modules()[size_t(m)].type->docks[size_t(d)].name; };
   json conns = json::array();
-  for (const Connection& c : connections())
-    conns.push_back({m_modules[size_t(c.moduleA)].id, dockName(c.moduleA, c.dockA),
-                     m_modules[size_t(c.moduleB)].id, dockName(c.moduleB, c.dockB)});
+  for (const Connection& c : w.connections())
+    conns.push_back({w.modules()[size_t(c.moduleA)].id, dockName(c.moduleA, c.dockA),
+                     w.modules()[size_t(c.moduleB)].id, dockName(c.moduleB, c.dockB)});
   j["connections"] = conns;
   json events = json::array();
-  for (const DockEvent& e : World::events()) {
+  for (const DockEvent& e : w.events()) {
     json ej = {{"time", e.time},
                {"event", dockEventName(e.kind)},
-               {"module_a", m_modules[size_t(e.moduleA)].id},
+               {"module_a", w.modules()[size_t(e.moduleA)].id},
                {"dock_a", dockName(e.moduleA, e.dockA)},
-               {"module_b", m_modules[size_t(e.moduleB)].id},
+               {"module_b", w.modules()[size_t(e.moduleB)].id},
                {"dock_b", dockName(e.moduleB, e.dockB)}};
     if (e.force >= 0) ej["load"] = {{"force", number(e.force)}, {"torque", number(e.torque)}};
     events.push_back(ej);
   }
-  const MessageStats ms = messageStats();
+  const MessageStats ms = w.messageStats();
   j["messages"] = {{"sent", ms.sent}, {"received", ms.received}, {"dropped", ms.dropped}};
   j["events"] = events;
   json failures = json::array();
-  for (const Failure& f : m_failures) failures.push_back({{"time", f.time}, {"message", f.message}});
+  for (const Failure& f : w.failures()) failures.push_back({{"time", f.time}, {"message", f.message}});
   j["failures"] = failures;
   json metrics = json::object();
-  for (const auto& [name, value] : m_metrics) metrics[name] = value;
+  for (const auto& [name, value] : w.metrics()) metrics[name] = value;
   j["metrics"] = metrics;
   // Environment: kind, count, bounds and whether any node is not finite, per cloth.
   json env = json::array();
-  for (size_t c = 0; c < m_cloths.size(); ++c) {
-    const ClothStats st = clothStats(int(c));
+  for (size_t c = 0; c < w.cloths().size(); ++c) {
+    const World::ClothStats st = w.clothStats(int(c));
     auto vec = [&](const Vec3& v) { return json{number(v.x()), number(v.y()), number(v.z())}; };
     env.push_back({{"kind", "cloth"},
                    {"count", st.nodes},
-                   {"resolution", {m_cloths[c].nx, m_cloths[c].ny}},
+                   {"resolution", {w.cloths()[c].nx, w.cloths()[c].ny}},
                    {"bounds", {{"min", vec(st.lo)}, {"max", vec(st.hi)}}},
                    {"nan", st.nan}});
   }
   if (!env.empty()) j["environment"] = env;  // absent without any: older summaries stay as they were
-  if (!m_particles.empty()) {                // only then, so summaries without particles keep their bytes
+  if (!w.particleSystems().empty()) {        // only then, so summaries without particles keep their bytes
     json systems = json::array();
-    for (const auto& ps : m_particles) {
+    for (const auto& ps : w.particleSystems()) {
       Vec3 lo, hi;
       ps->bounds(lo, hi);
       const Vec3 v = ps->meanVelocity();
@@ -113,8 +115,8 @@ nlohmann::json World::summary(double wallSeconds) const {
     }
     j["particles"] = systems;
   }
-  j["faults"] = faultCount();
-  const std::string& error = m_scriptError.empty() ? m_divergence : m_scriptError;
+  j["faults"] = w.faultCount();
+  const std::string& error = w.scriptError().empty() ? w.divergence() : w.scriptError();
   j["error"] = error.empty() ? json(nullptr) : json(error);
   return j;
 }

@@ -1,7 +1,7 @@
-// Snapshot building from a live World: its layout and its state now (render/scene_state.h).
-#include "render/world_snapshot.h"
+// Snapshot building from a live World: its layout and its state now (io/scene_state.h).
+#include "io/world_snapshot.h"
 
-#include "render/scene_state.h"
+#include "io/scene_state.h"
 #include "world/world.h"
 
 namespace rm3d {

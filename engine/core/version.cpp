@@ -1,5 +1,5 @@
 // rm3dVersion(): the strings come from the build (CMakeLists.txt, cmake/version_info.cmake).
-#include "app/version.h"
+#include "core/version.h"
 
 #include "rm3d_version_info.h"
 

@@ -1,4 +1,4 @@
-#include "app/run_capture.h"
+#include "io/run_capture.h"
 
 #include <chrono>
 #include <cmath>

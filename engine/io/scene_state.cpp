@@ -1,5 +1,5 @@
 // Scene layout and state: the mesh table, capturing a world's state, and building a Snapshot.
-#include "render/scene_state.h"
+#include "io/scene_state.h"
 
 #include <algorithm>
 #include <cmath>

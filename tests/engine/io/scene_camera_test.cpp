@@ -2,7 +2,7 @@
 // at the start, so particles moving later widen nothing.
 #include <doctest/doctest.h>
 
-#include "render/scene_state.h"
+#include "io/scene_state.h"
 
 TEST_CASE("sceneCamera frames the particle sets' bounds at the start") {
   rm3d::SceneLayout layout;  // no modules, no bodies: the default frame about the origin

@@ -1,6 +1,6 @@
 // Recording files: writing (zlib-packed chunks) and reading back with every check a damaged or
 // foreign file needs (magic, version, sizes, CRC), so a bad file is an error message, not a crash.
-#include "record/recording.h"
+#include "io/recording.h"
 
 #include <zlib.h>
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "record/recording.h"
-#include "render/scene_state.h"
+#include "io/recording.h"
+#include "io/scene_state.h"
 #include "world/world.h"
 
 namespace rm3d {

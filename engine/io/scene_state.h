@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/types.h"
-#include "render/snapshot.h"
+#include "io/snapshot.h"
 
 namespace rm3d {
 

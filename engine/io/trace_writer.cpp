@@ -1,5 +1,5 @@
 // `rm3d run --trace`: rows while the run lasts, the file with its header at the end.
-#include "world/trace_writer.h"
+#include "io/trace_writer.h"
 
 #include <algorithm>
 #include <cerrno>

@@ -6,7 +6,7 @@
 //            then the payload packed with zlib (deflate)
 // Chunks, in order: META (JSON: world file, project root, seed, params, dt, arguments, version),
 // LAYO (the scene layout: meshes, items, module names, joints, docks, camera, then cloth, which
-// files from before cloth lack: render/scene_state.h),
+// files from before cloth lack: io/scene_state.h),
 // then one FRAM per step from step 0 (the state before the first step), then SRCS (every Lua
 // text the run read: world script, module types, behaviours, required modules) and END_ (frame
 // count). A frame is its clock, the new dock events and faults of that step (frame 0: the
@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "docking/docking.h"
-#include "render/scene_state.h"
+#include "io/scene_state.h"
 
 namespace rm3d {
 

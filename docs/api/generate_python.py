@@ -89,6 +89,7 @@ def render():
     describe_class(out, "rm3d.World", rm3d.World)
     describe_class(out, "rm3d.Batch", rm3d.Batch)
     describe_function(out, "rm3d.evaluate", rm3d.evaluate)
+    describe_function(out, "rm3d.executable", rm3d.executable)
     out.append("## `rm3d.Error`\n")
     out.append("Raised for bad input: a world that does not load, a world-script error, an action array "
                "with NaN, a damaged snapshot, a call after close. A subclass of `RuntimeError`; its "

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -123,6 +124,8 @@ struct Simulation::Impl {
   int rowLimit = -1;  ///< rows of the target that are this world's (-1: own arrays, all)
   int64_t refreshedAt = -1;
   std::vector<std::vector<double>> rows;  ///< observe() scratch, per module
+  std::vector<double> rewardRow;          ///< world.reward / world.done scratch
+  std::vector<uint8_t> doneRow;
   bool closed = false, ended = false;
   double wallSeconds = 0;
   std::unique_ptr<RunCapture> capture;
@@ -188,7 +191,7 @@ struct Simulation::Impl {
     if (target == own && (n != own->rows || obsDim > own->obsDim || actDim > own->actDim))
       resizeOwn(n, obsDim, actDim);
     AgentArrays& a = arr();
-    const int avail = std::min(n, capacity());
+    const int avail = std::max(0, std::min(n, capacity()));
     for (int i = 0; i < avail; ++i) {
       const size_t r = size_t(rowOffset + i);
       std::vector<double>& row = rows[size_t(i)];
@@ -212,12 +215,12 @@ struct Simulation::Impl {
     WorldScript* s = world->script();
     std::string err;
     if (s && world->scriptError().empty() && avail > 0) {
-      std::vector<double> rw(static_cast<size_t>(n));
-      std::vector<uint8_t> dn(static_cast<size_t>(n));
-      if (s->hasReward() && !s->reward(n, rw.data(), err)) world->setScriptError(err);
-      if (s->hasDone() && err.empty() && !s->done(n, dn.data(), err)) world->setScriptError(err);
-      std::copy(rw.begin(), rw.begin() + avail, reward);
-      std::copy(dn.begin(), dn.begin() + avail, done);
+      rewardRow.assign(size_t(n), 0.0);  // one per module, even those past the batch's rows
+      doneRow.assign(size_t(n), 0);
+      if (s->hasReward() && !s->reward(n, rewardRow.data(), err)) world->setScriptError(err);
+      if (s->hasDone() && err.empty() && !s->done(n, doneRow.data(), err)) world->setScriptError(err);
+      std::copy_n(rewardRow.begin(), avail, reward);
+      std::copy_n(doneRow.begin(), avail, done);
     }
   }
 
@@ -300,9 +303,11 @@ struct Simulation::Impl {
 
 Simulation::Simulation() : m(std::make_unique<Impl>()) {}
 Simulation::~Simulation() {
+  // A destructor cannot throw: a recording that cannot be finished is reported, not dropped silently.
   try {
     if (m && !m->closed) m->endRecording();
-  } catch (...) {
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rm3d: %s\n", e.what());
   }
 }
 
@@ -494,12 +499,15 @@ std::string Simulation::snapshot() const {
   return out;
 }
 
-std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, int threads) {
+std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, int threads,
+                                                     const std::function<bool()>& interrupted) {
   if (bytes.size() < 16 || bytes.compare(0, 8, kMagic, 8) != 0)
     throw Error("snapshot: not an RM3D snapshot (it does not start with " + std::string(kMagic, 8) + ")");
   size_t at = 8;
   const uint64_t rawSize = get64(bytes, at);
-  if (rawSize > (uint64_t(1) << 34)) throw Error("snapshot: its size field is implausible (damaged bytes)");
+  // zlib expands at most about 1032 to 1: a larger size field is damage, not a reason to allocate.
+  if (rawSize > (uint64_t(bytes.size() - at) + 64) * 1032)
+    throw Error("snapshot: its size field is implausible (damaged bytes)");
   std::string body(size_t(rawSize), '\0');
   uLongf got = uLongf(rawSize);
   if (uncompress(reinterpret_cast<Bytef*>(body.data()), &got,
@@ -531,7 +539,8 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
     for (const auto& a : h.at("acts")) {
       const Impl::Act act{a.at(0).get<int64_t>(), a.at(1).get<int>(), a.at(2).get<int>(),
                           a.at(3).get<size_t>()};
-      if (act.rows < 0 || act.stride < 0 || act.at + size_t(act.rows) * size_t(act.stride) > m.actData.size())
+      if (act.rows < 0 || act.stride < 0 || act.at > m.actData.size() ||
+          size_t(act.rows) * size_t(act.stride) > m.actData.size() - act.at)
         throw Error("snapshot: an action record lies outside the data (damaged bytes)");
       m.acts.push_back(act);
     }
@@ -552,6 +561,9 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
       }
     };
     while (w.steps() < steps) {
+      if (interrupted && w.steps() > 0 && w.steps() % 64 == 0 && interrupted())
+        throw Error("snapshot: the re-run was interrupted at step " + std::to_string(w.steps()) + " of " +
+                    std::to_string(steps));
       readsDue();
       while (a < m.acts.size() && m.acts[a].step < w.steps()) ++a;
       if (a < m.acts.size() && m.acts[a].step == w.steps())
@@ -578,9 +590,9 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
   return s;
 }
 
-void Simulation::restore(const std::string& bytes) {
+void Simulation::restore(const std::string& bytes, const std::function<bool()>& interrupted) {
   m->check();
-  std::unique_ptr<Simulation> other = fromSnapshot(bytes, m->options.threads);
+  std::unique_ptr<Simulation> other = fromSnapshot(bytes, m->options.threads, interrupted);
   std::shared_ptr<AgentArrays> target = m->target;
   const int offset = m->rowOffset, limit = m->rowLimit;
   const bool bound = target != m->own;
@@ -589,9 +601,9 @@ void Simulation::restore(const std::string& bytes) {
   if (bound) bindArrays(target, offset, limit);
 }
 
-std::unique_ptr<Simulation> Simulation::fork() const {
+std::unique_ptr<Simulation> Simulation::fork(const std::function<bool()>& interrupted) const {
   m->check();
-  return fromSnapshot(snapshot(), m->options.threads);
+  return fromSnapshot(snapshot(), m->options.threads, interrupted);
 }
 
 void Simulation::close() {

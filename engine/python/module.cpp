@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "rm3d/simulation.h"
 
@@ -156,6 +157,21 @@ Options makeOptions(const py::object& seed, const py::object& params, int thread
   return o;
 }
 
+/// Runs f() without the GIL, the object marked busy meanwhile (null: nothing to mark). An Error
+/// raised because Ctrl-C interrupted f becomes the KeyboardInterrupt that is pending.
+template <class F>
+auto withoutGil(bool* busy, F&& f) -> decltype(f()) {
+  std::optional<BusyGuard> guard;
+  if (busy) guard.emplace(*busy);
+  try {
+    py::gil_scoped_release release;
+    return f();
+  } catch (const Error&) {
+    if (PyErr_Occurred()) throw py::error_already_set();
+    throw;
+  }
+}
+
 /// Asked between steps while the GIL is released: true (and the Python error left set) when a
 /// signal handler raised, so Ctrl-C ends a long step() at a step boundary.
 bool askPython() {
@@ -215,8 +231,8 @@ PYBIND11_MODULE(_rm3d, m) {
           "from_snapshot",
           [](const py::bytes& b, int threads) {
             std::string bytes = b;
-            py::gil_scoped_release release;
-            return PyWorld{Simulation::fromSnapshot(bytes, threads)};
+            return withoutGil(nullptr,
+                              [&] { return PyWorld{Simulation::fromSnapshot(bytes, threads, askPython)}; });
           },
           py::arg("snapshot"), py::kw_only(), py::arg("threads") = 1,
           "A world rebuilt from snapshot() bytes, in this process or another: from here on it runs bit for "
@@ -225,12 +241,8 @@ PYBIND11_MODULE(_rm3d, m) {
           "step",
           [](PyWorld& w, long long n) {
             Simulation& s = w.s();
-            {
-              BusyGuard busy(w.busy);
-              py::gil_scoped_release release;
-              s.step(n, askPython);
-            }
-            if (PyErr_Occurred()) throw py::error_already_set();
+            withoutGil(&w.busy, [&] { s.step(n, askPython); });
+            if (PyErr_Occurred()) throw py::error_already_set();  // Ctrl-C ended it early
           },
           py::arg("n") = 1,
           "Runs n control steps (the GIL is released). With policy=True each step first applies the `act` "
@@ -316,13 +328,8 @@ PYBIND11_MODULE(_rm3d, m) {
       .def(
           "snapshot",
           [](PyWorld& w) {
-            std::string b;
-            {
-              Simulation& s = w.s();
-              py::gil_scoped_release release;
-              b = s.snapshot();
-            }
-            return py::bytes(b);
+            Simulation& s = w.s();
+            return py::bytes(withoutGil(&w.busy, [&] { return s.snapshot(); }));
           },
           "The run so far as bytes (its world, Lua texts, seed, params and inputs); restore() or "
           "World.from_snapshot() re-run it to this step, bit for bit.")
@@ -331,8 +338,7 @@ PYBIND11_MODULE(_rm3d, m) {
           [](PyWorld& w, const py::bytes& b) {
             std::string bytes = b;
             Simulation& s = w.s();
-            py::gil_scoped_release release;
-            s.restore(bytes);
+            withoutGil(&w.busy, [&] { s.restore(bytes, askPython); });
           },
           "Makes this world the snapshot's (rebuilt and re-run to its step). Damaged bytes raise rm3d.Error "
           "and leave the world as it was.")
@@ -340,8 +346,7 @@ PYBIND11_MODULE(_rm3d, m) {
           "fork",
           [](PyWorld& w) {
             Simulation& s = w.s();
-            py::gil_scoped_release release;
-            return PyWorld{s.fork()};
+            return withoutGil(&w.busy, [&] { return PyWorld{s.fork(askPython)}; });
           },
           "An independent copy of this world at this step.")
       .def(
@@ -412,12 +417,8 @@ PYBIND11_MODULE(_rm3d, m) {
           "step",
           [](PyBatch& pb, long long n) {
             Batch& b = pb.get();
-            {
-              BusyGuard busy(pb.busy);
-              py::gil_scoped_release release;
-              b.step(n, askPython);
-            }
-            if (PyErr_Occurred()) throw py::error_already_set();
+            withoutGil(&pb.busy, [&] { b.step(n, askPython); });
+            if (PyErr_Occurred()) throw py::error_already_set();  // Ctrl-C ended it early
           },
           py::arg("n") = 1,
           "Every world that has not stopped runs n steps (policy: the act rows each step); errors raise "
@@ -435,9 +436,7 @@ PYBIND11_MODULE(_rm3d, m) {
               auto d = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(a);
               mk.assign(d.data(), d.data() + d.size());
             }
-            BusyGuard busy(pb.busy);
-            py::gil_scoped_release release;
-            b.reset(mk);
+            withoutGil(&pb.busy, [&] { b.reset(mk); });
           },
           py::arg("mask") = py::none(),
           "Starts the worlds where mask (bool, one per world; None: all) is True again from their files, "

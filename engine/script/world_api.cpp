@@ -594,24 +594,24 @@ int worldOnEnd(lua_State* L) {
   return 0;
 }
 
+/// Stores the function at arg 1 in `ref` (a registry reference), replacing the one before.
+int replaceHook(lua_State* L, int& ref) {
+  const int fn = storeFunction(L, 1);
+  if (ref >= 0) luaL_unref(L, LUA_REGISTRYINDEX, ref);
+  ref = fn;
+  return 0;
+}
+
 /// world.reward(fn(t)): for the Python API (docs/python.md): fn returns a number (every module
 /// gets it) or a list with one number per module, read after each step into the reward array
 int worldReward(lua_State* L) {
-  WorldScript& s = script(L);
-  const int ref = storeFunction(L, 1);
-  if (s.rewardRef >= 0) luaL_unref(L, LUA_REGISTRYINDEX, s.rewardRef);
-  s.rewardRef = ref;
-  return 0;
+  return replaceHook(L, script(L).rewardRef);
 }
 
 /// world.done(fn(t)): for the Python API: fn returns a boolean (every module) or a list with one
 /// per module, read after each step into the done array
 int worldDone(lua_State* L) {
-  WorldScript& s = script(L);
-  const int ref = storeFunction(L, 1);
-  if (s.doneRef >= 0) luaL_unref(L, LUA_REGISTRYINDEX, s.doneRef);
-  s.doneRef = ref;
-  return 0;
+  return replaceHook(L, script(L).doneRef);
 }
 
 /// world.trace(name, value): records a series for `rm3d run --trace` (column trace.<name> of the

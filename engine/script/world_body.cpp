@@ -19,9 +19,6 @@ constexpr const char* kBodyMeta = "rm3d.Body";
 const World& world(lua_State* L) {
   return scriptWorld(L);
 }
-WorldEditor& editor(lua_State* L) {
-  return scriptEditor(L);
-}
 
 int checkBody(lua_State* L) {
   return *static_cast<int*>(luaL_checkudata(L, 1, kBodyMeta));

@@ -486,13 +486,13 @@ bool World::observe(int mi, std::vector<double>& out) {
   ModuleProgram* b = m_behaviours[size_t(mi)].get();
   if (!m.fault.empty()) return false;
   if (b && b->hasObserve()) {
-    std::vector<double> row;
+    out.clear();  // keeps its capacity: no allocation once a row has been seen
     std::string err;
-    if (!b->observe(row, err)) {
+    if (!b->observe(out, err)) {
       m.fault = err.empty() ? "fault" : err;
+      out.clear();
       return false;
     }
-    out.swap(row);
     return true;
   }
   const int joints = int(m.type->joints.size());

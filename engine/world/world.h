@@ -284,8 +284,8 @@ class World {
   int actSize(int m) const;
   /// Module m's observation, written over `out`: observe() when its behaviour defines one, else
   /// its joint angles (rad), joint velocities (rad/s) and per dock 1 (engaged) or 0. A failing
-  /// observe() faults the module (false; `out` is left as it was). Modules may be observed in
-  /// parallel (each VM is its own).
+  /// observe() faults the module (false; `out` empty). A faulted module is not observed (false;
+  /// `out` unchanged). Modules may be observed in parallel (each VM is its own).
   bool observe(int m, std::vector<double>& out);
   /// Runs fn(m) for every module on the behaviour pool (in parallel with --threads > 1).
   void forEachModule(const std::function<void(int)>& fn);

@@ -17,15 +17,13 @@ runs (default 3) of each, then a table with the ratios:
 
     PYTHONPATH=build/python /usr/bin/python3 tests/python/bench.py [--reps N] [--only 1,2,3,4]
 
-The rm3d binary: RM3D_BIN if set, else rm3d on PATH, else BUILD/rm3d beside the imported
-package (BUILD/python/rm3d).
+The rm3d binary: rm3d.executable() ($RM3D_BIN, else the one beside the package, else PATH).
 """
 import argparse
 import json
 import os
 import pathlib
 import platform
-import shutil
 import statistics
 import subprocess
 import sys
@@ -41,16 +39,7 @@ SNAKE = str(ROOT / "worlds" / "snake.lua")
 CHAIN = str(ROOT / "worlds" / "python" / "py_chain.lua")
 
 
-def rm3d_binary():
-    if os.environ.get("RM3D_BIN"):
-        return os.environ["RM3D_BIN"]
-    found = shutil.which("rm3d")
-    if found:
-        return found
-    return str(pathlib.Path(rm3d.__file__).resolve().parents[2] / "rm3d")
-
-
-BIN = rm3d_binary()
+BIN = rm3d.executable()
 
 
 def run_cli(*args):

@@ -1,9 +1,7 @@
 # Shared by the Python tests: where the checkout and the rm3d binary are. ctest sets RM3D_BIN and
 # PYTHONPATH (tests/CMakeLists.txt); run by hand:
 #   PYTHONPATH=build/python RM3D_BIN=build/rm3d /usr/bin/python3 -m pytest tests/python
-import os
 import pathlib
-import shutil
 
 import pytest
 
@@ -12,11 +10,8 @@ HERE = pathlib.Path(__file__).resolve().parent
 
 
 def rm3d_bin():
-    b = os.environ.get("RM3D_BIN") or shutil.which("rm3d")
-    if not b:
-        import rm3d
-        b = str(pathlib.Path(rm3d.__file__).resolve().parents[2] / "rm3d")
-    return b
+    import rm3d
+    return rm3d.executable()
 
 
 @pytest.fixture

@@ -113,3 +113,29 @@ def test_snapshots_off_keeps_no_log():
         w.snapshot()
     with pytest.raises(rm3d.Error, match="snapshots=False"):
         w.fork()
+
+
+def test_a_size_field_past_what_zlib_can_hold_is_refused_before_allocating():
+    w = rm3d.World(SNAKE, params={"modules": 2})
+    snap = bytearray(w.snapshot())
+    snap[8:16] = (1 << 40).to_bytes(8, "little")  # 1 TiB claimed for a few KiB of bytes
+    with pytest.raises(rm3d.Error, match="size field is implausible"):
+        rm3d.World.from_snapshot(bytes(snap))
+
+
+def test_ctrl_c_stops_a_long_restore_and_leaves_the_world_as_it_was():
+    import signal
+    import threading
+    w = rm3d.World(SNAKE, params={"modules": 20})
+    w.step(3000)
+    snap = w.snapshot()
+    v = rm3d.World(SNAKE, params={"modules": 20})
+    v.step(5)
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        v.restore(snap)
+    timer.join()
+    assert v.steps == 5
+    v.step(1)
+    assert v.steps == 6

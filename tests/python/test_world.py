@@ -53,7 +53,7 @@ def test_lua_control_loop_in_python_equals_one_call():
 
 def test_default_arrays_and_joint_targets():
     w = rm3d.World(str(HERE / "worlds" / "mixed.lua"), policy=True)
-    assert w.modules == ["superbot_1", "wheelbot_1"] or len(w.modules) == 2
+    assert w.modules == ["superbot_1", "wheelbot_2"]  # numbered across types
     sizes = list(w.obs_size)
     # SuperBot: 3 angles, 3 velocities, 6 docks; the other row is shorter and zero-padded.
     assert sizes[0] == 12 and sizes[1] < 12
@@ -243,7 +243,7 @@ def test_a_second_thread_gets_busy_not_a_crash():
         seen += 1
     t.join()
     assert w.steps == 600
-    assert all("busy" in e for e in errors)
+    assert errors and all("busy" in e for e in errors), (seen, errors[:1])
     b = rm3d.Batch(SNAKE, seeds=[1, 2], params={"modules": 20}, threads=2)
     t = threading.Thread(target=lambda: b.step(300))
     t.start()
@@ -255,4 +255,5 @@ def test_a_second_thread_gets_busy_not_a_crash():
             assert "busy" in str(e)
             busy += 1
     t.join()
-    assert list(b.time) == [b.time[0], b.time[0]]
+    assert busy > 0
+    assert b.time[0] == b.time[1] and b.time[0] >= 300 / 60

@@ -17,9 +17,7 @@ prints "untrained X m, trained Y m".
     PYTHONPATH=build/python /usr/bin/python3 worlds/python/train_chain.py [--quick] [--out DIR]
 """
 import argparse
-import os
 import pathlib
-import shutil
 import subprocess
 import sys
 
@@ -32,15 +30,6 @@ WORLD = ROOT / "worlds" / "python" / "py_chain.lua"
 PERIOD, LAG, LIMIT = 1.5, 2 * np.pi / 5, 1.5
 DT = 1 / 60  # py_chain.lua's world.set{dt = 1 / 60}
 
-
-def rm3d_binary():
-    """RM3D_BIN if set, else rm3d on PATH, else BUILD/rm3d beside the imported package."""
-    if os.environ.get("RM3D_BIN"):
-        return os.environ["RM3D_BIN"]
-    found = shutil.which("rm3d")
-    if found:
-        return found
-    return str(pathlib.Path(rm3d.__file__).resolve().parents[2] / "rm3d")
 
 
 def features(obs, t):
@@ -124,7 +113,7 @@ def main(argv=None):
             fh.write("%d,%.6f,%.6f\n" % (g, p, b))
     print("wrote %s" % csv)
     png = out / "curve.png"
-    cmd = [rm3d_binary(), "plot", str(csv), "--x", "generation", "--y",
+    cmd = [rm3d.executable(), "plot", str(csv), "--x", "generation", "--y",
            "policy_m,best_candidate_m", "--out", str(png), "--title",
            "train_chain: distance crawled in %.1f s" % seconds, "--ylabel", "distance (m)"]
     try:

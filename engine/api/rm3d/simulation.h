@@ -61,7 +61,9 @@ class Simulation {
   static std::unique_ptr<Simulation> fromString(const std::string& source, const std::string& name,
                                                 const Options& options);
   /// A world rebuilt from snapshot() bytes (in this process or another): bit-identical from here.
-  static std::unique_ptr<Simulation> fromSnapshot(const std::string& bytes, int threads = 1);
+  /// `interrupted`, when given, is asked every 64 steps of the re-run: true stops it (Error).
+  static std::unique_ptr<Simulation> fromSnapshot(const std::string& bytes, int threads = 1,
+                                                  const std::function<bool()>& interrupted = {});
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -95,9 +97,9 @@ class Simulation {
   /// The whole run so far as bytes (docs/python.md, "Snapshots"): restore re-runs it bit for bit.
   std::string snapshot() const;
   /// Makes this simulation the snapshot's (same as fromSnapshot, in place).
-  void restore(const std::string& bytes);
+  void restore(const std::string& bytes, const std::function<bool()>& interrupted = {});
   /// An independent copy at this step.
-  std::unique_ptr<Simulation> fork() const;
+  std::unique_ptr<Simulation> fork(const std::function<bool()>& interrupted = {}) const;
   /// Ends the recording (if any). Later calls other than close() throw Error.
   void close();
   bool closed() const;

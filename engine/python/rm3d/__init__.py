@@ -11,13 +11,35 @@ and `rm3d.pettingzoo` wrap it for those libraries when they are installed. docs/
 the guide.
 """
 import math as _math
+import os as _os
+import pathlib as _pathlib
+import shutil as _shutil
 import warnings as _warnings
 
 import numpy as _np
 
 from ._rm3d import Batch, Error, World
+from ._rm3d import _evaluate as _rm3d_evaluate
 
-__all__ = ["World", "Batch", "Error", "evaluate"]
+__all__ = ["World", "Batch", "Error", "evaluate", "executable"]
+
+
+def executable():
+    """The `rm3d` command line that goes with this package (for `rm3d plot`, `rm3d replay`, ...):
+    $RM3D_BIN if set; else the one beside the package (BUILD/rm3d for a build tree's
+    BUILD/python/rm3d, PREFIX/bin/rm3d for an installed PREFIX/lib/python3*/dist-packages/rm3d);
+    else `rm3d` on PATH. Raises rm3d.Error naming the places when there is none."""
+    if _os.environ.get("RM3D_BIN"):
+        return _os.environ["RM3D_BIN"]
+    here = _pathlib.Path(__file__).resolve().parent
+    tried = [here.parents[1] / "rm3d", here.parents[3] / "bin" / "rm3d"]
+    for p in tried:
+        if p.is_file() and _os.access(p, _os.X_OK):
+            return str(p)
+    found = _shutil.which("rm3d")
+    if found:
+        return found
+    raise Error("no rm3d executable found (looked at $RM3D_BIN, %s and PATH)" % ", ".join(map(str, tried)))
 
 
 def evaluate(path, params=None, seeds=None, seconds=None, threads=1, metric=None, root=None):
@@ -64,6 +86,3 @@ def evaluate(path, params=None, seeds=None, seconds=None, threads=1, metric=None
     if len(errors) > 3:
         _warnings.warn("rm3d.evaluate: %d more runs failed" % (len(errors) - 3), RuntimeWarning, stacklevel=2)
     return values if seeds is None else values.reshape(len(params), len(seeds))
-
-
-from ._rm3d import _evaluate as _rm3d_evaluate  # noqa: E402

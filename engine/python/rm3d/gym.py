@@ -111,6 +111,45 @@ def _used_index(sizes, width):
 _EnvBase = _gymnasium.Env if _gymnasium is not None else object
 
 
+class _Episode:
+    """The world an environment runs: one rm3d.World with policy=True that reset() brings back to
+    its start, by restoring the snapshot taken when it was made (bit-exact), or by making it
+    again (recreate=True, or a new seed)."""
+
+    def __init__(self, path, seed, params, threads, record, recreate=False):
+        self._args = (path, params, threads, record)
+        self._recreate = recreate
+        self.world = None
+        self._make(seed)
+
+    def _make(self, seed):
+        if self.world is not None:
+            self.world.close()
+        path, params, threads, record = self._args
+        self.world = World(path, seed=seed, params=params, threads=threads, policy=True,
+                           record=record)
+        self.seed = seed
+        self._start = None if self._recreate else self.world.snapshot()
+
+    def live(self):
+        if self.world is None:
+            raise Error("this environment is closed")
+        return self.world
+
+    def reset(self, seed=None):
+        self.live()
+        if self._start is None or (seed is not None and seed != self.seed):
+            self._make(self.seed if seed is None else seed)
+        else:
+            self.world.restore(self._start)
+        return self.world
+
+    def close(self):
+        if self.world is not None:
+            self.world.close()
+        self.world = self._start = None
+
+
 class Env(_EnvBase):
     """One RM3D world as a single-agent environment.
 
@@ -131,12 +170,7 @@ class Env(_EnvBase):
                  action_bounds=None, observation_bounds=None, reset="snapshot"):
         if reset not in ("snapshot", "recreate"):
             raise ValueError("reset must be 'snapshot' or 'recreate', got %r" % (reset,))
-        self._path, self._params, self._threads, self._record = path, params, threads, record
-        self._seed = seed
-        self._reset_mode = reset
-        self._world = None
-        self._snapshot = None
-        self._make_world(seed)
+        self._episode = _Episode(path, seed, params, threads, record, recreate=reset == "recreate")
         w = self._world
         self._obs_idx = _used_index(w.obs_size, w.obs.shape[1])
         self._act_idx = _used_index(w.act_size, w.act.shape[1])
@@ -145,23 +179,12 @@ class Env(_EnvBase):
         lo, hi = _bounds(action_bounds)
         self.action_space = make_box(lo, hi, (len(self._act_idx),))
 
-    def _make_world(self, seed):
-        if self._world is not None:
-            self._world.close()
-        self._world = World(self._path, seed=seed, params=self._params, threads=self._threads,
-                            policy=True, record=self._record)
-        self._seed = seed
-        self._snapshot = None
-        if self._reset_mode == "snapshot":
-            try:
-                self._snapshot = self._world.snapshot()
-            except Error:  # a world that cannot be snapshotted is made again on reset
-                self._snapshot = None
+    @property
+    def _world(self):
+        return self._episode.world
 
     def _live(self):
-        if self._world is None:
-            raise Error("this environment is closed")
-        return self._world
+        return self._episode.live()
 
     @property
     def world(self):
@@ -184,12 +207,7 @@ class Env(_EnvBase):
         self._live()
         if _gymnasium is not None:
             super().reset(seed=seed)
-        if seed is not None and seed != self._seed:
-            self._make_world(seed)
-        elif self._snapshot is not None:
-            self._world.restore(self._snapshot)
-        else:
-            self._make_world(self._seed)
+        self._episode.reset(seed)
         return self._observation(), self._info()
 
     def step(self, action):
@@ -211,10 +229,7 @@ class Env(_EnvBase):
         return None
 
     def close(self):
-        if self._world is not None:
-            self._world.close()
-            self._world = None
-        self._snapshot = None
+        self._episode.close()
 
 
 class VectorEnv:

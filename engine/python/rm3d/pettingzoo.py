@@ -15,8 +15,7 @@ are gymnasium Boxes when gymnasium is installed, else :class:`rm3d.gym.Box`.
 
 import numpy as np
 
-from . import Error, World
-from .gym import _bounds, make_box
+from .gym import _bounds, _Episode, make_box
 
 try:
     import pettingzoo as _pettingzoo
@@ -37,11 +36,7 @@ class ParallelEnv(_Base):
 
     def __init__(self, path, seed=None, params=None, threads=1, record=None,
                  action_bounds=None, observation_bounds=None):
-        self._path, self._params, self._threads, self._record = path, params, threads, record
-        self._seed = seed
-        self._world = None
-        self._snapshot = None
-        self._make_world(seed)
+        self._episode = _Episode(path, seed, params, threads, record)
         w = self._world
         self.possible_agents = list(w.modules)
         self.agents = list(self.possible_agents)
@@ -55,21 +50,12 @@ class ParallelEnv(_Base):
         self.action_spaces = {a: make_box(alo, ahi, (self._act_size[i],))
                               for a, i in self._index.items()}
 
-    def _make_world(self, seed):
-        if self._world is not None:
-            self._world.close()
-        self._world = World(self._path, seed=seed, params=self._params, threads=self._threads,
-                            policy=True, record=self._record)
-        self._seed = seed
-        try:
-            self._snapshot = self._world.snapshot()
-        except Error:  # made again on reset
-            self._snapshot = None
+    @property
+    def _world(self):
+        return self._episode.world
 
     def _live(self):
-        if self._world is None:
-            raise Error("this environment is closed")
-        return self._world
+        return self._episode.live()
 
     @property
     def world(self):
@@ -96,13 +82,7 @@ class ParallelEnv(_Base):
                 for a in agents}
 
     def reset(self, seed=None, options=None):
-        self._live()
-        if seed is not None and seed != self._seed:
-            self._make_world(seed)
-        elif self._snapshot is not None:
-            self._world.restore(self._snapshot)
-        else:
-            self._make_world(self._seed)
+        self._episode.reset(seed)
         self.agents = list(self.possible_agents)
         w = self._world
         infos = {a: {"time": w.time} for a in self.agents}
@@ -142,7 +122,4 @@ class ParallelEnv(_Base):
         return None
 
     def close(self):
-        if self._world is not None:
-            self._world.close()
-            self._world = None
-        self._snapshot = None
+        self._episode.close()

@@ -84,9 +84,9 @@ return {
   name = "atron",
   root = "north",
   links = {
-    { name = "north", mass = 0.425, color = { 0.2, 0.42, 0.85 }, friction = 1.0,
+    { name = "north", mass = 0.425, color = { 0.2, 0.42, 0.85 }, friction = 1.0, rolling_friction = 0.002,
       shapes = { { mesh = kMesh } }, collision = { { mesh = kCollision } } },
-    { name = "south", mass = 0.425, color = { 0.92, 0.92, 0.88 }, friction = 1.0,
+    { name = "south", mass = 0.425, color = { 0.92, 0.92, 0.88 }, friction = 1.0, rolling_friction = 0.002,
       shapes = { { mesh = kMesh, quat = { 0, 1, 0, 0 } } },  -- 180 degrees about x
       collision = { { mesh = kCollision, quat = { 0, 1, 0, 0 } } } },
   },

@@ -24,6 +24,8 @@
 --             mass = 0.13,              -- required, kg, > 0
 --             color = {r, g, b[, a]},   -- optional, 0..1 (default light grey)
 --             friction = 1.0,           -- optional, >= 0 (default 1)
+--             rolling_friction = 0,     -- optional, m, 0 to 0.1: the lever arm of its
+--                                       -- resistance to rolling and spinning (default 0)
 --             shapes = { shape, ... },  -- required, at least one: what the link is made
 --                                       -- of; drawn, and its mass properties come from them
 --             collision = { shape, ... } } -- optional separate collision geometry (like
@@ -71,13 +73,20 @@
 --             size = 0.034,             -- optional, side of the square face, m (default 0.034)
 --             symmetry = 4,             -- optional, how many ways the face mates about its
 --                                       -- normal (default 4: square)
---             -- run-time docking (all optional): a free, enabled dock pulls a compatible one
---             -- whose face is within capture_radius and looks back within capture_angle, and
---             -- latches once within latch_distance and latch_angle
+--             -- run-time docking (all optional): a free, enabled dock captures a compatible
+--             -- one whose face is within capture_radius and looks back within capture_angle,
+--             -- draws it in, and latches once within latch_distance and latch_angle
 --             capture_radius = 0.03,    -- m
 --             capture_angle = 0.5236,   -- rad (30 deg)
 --             latch_distance = 0.004,   -- m (at most capture_radius)
 --             latch_angle = 0.0873,     -- rad (5 deg), for the normals and the orientation
+--             capture = "joint",        -- "joint": a capture joint draws the faces together
+--                                       -- (needs the exact solver); "magnet": forces `pull`
+--             capture_speed = 0.05,     -- m/s: the joint closes the faces at most this fast
+--             capture_turn_speed = 1,   -- rad/s: ... and turns them at most this fast
+--             capture_force = 20,       -- N: the most force the joint exerts
+--             capture_torque = 1,       -- N m: the most torque the joint exerts
+--             capture_time = 3,         -- s: a capture not latched by then is reported stalled
 --             pull = 2,                 -- N, the magnet's pull (0: no attraction)
 --             strength = 100,           -- N: the connection breaks above this force ...
 --             strength_torque = 10 }    -- N m: ... or above this torque through it

@@ -20,6 +20,21 @@ class{"ShapeOptions",
             {"rolling_friction?", "number", "m: rolling and spinning resistance (default 0.0005 for dynamic bodies)"},
             {"velocity?", "number[]"}}}
 
+class{"DockSettings",
+  fields = {{"capture?", [["joint"|"magnet"]], "how a captured dock is drawn in (default joint)"},
+            {"capture_radius?", "number", "m (0.03)"},
+            {"capture_angle?", "number", "rad (0.5236, 30 deg)"},
+            {"latch_distance?", "number", "m (0.004)"},
+            {"latch_angle?", "number", "rad (0.0873, 5 deg)"},
+            {"capture_speed?", "number", "m/s: the capture joint closes the faces at most this fast (0.05)"},
+            {"capture_turn_speed?", "number", "rad/s: ... and turns them at most this fast (1)"},
+            {"capture_force?", "number", "N: the most force the capture joint exerts (20)"},
+            {"capture_torque?", "number", "N m: the most torque it exerts (1)"},
+            {"capture_time?", "number", "s: a capture not latched after this is reported stalled (3)"},
+            {"pull?", "number", "N: the magnet's pull (2)"},
+            {"strength?", "number", "N: a connection breaks above this force (100)"},
+            {"strength_torque?", "number", "N m: ... or above this torque (10)"}}}
+
 class{"world",
   table = "world = {}"}
 fn{"world.set", doc = [[Settings, all optional (seed before the first spawn); `solver` is `"exact"` (default: 2 substeps x 10 iterations) or `"pgs"` (default: 4 x 30; substeps and iterations given are kept; see [Physics](../physics.md)); `max_speed`, `max_angular_speed` and `bounds` are the divergence limits; `expect_faults = true` (or a number: exactly that many faulted modules) declares that the world faults modules on purpose, which `rm3d test` otherwise fails.]],
@@ -54,8 +69,12 @@ fn{"world.debris", doc = "The same with grains (`density` 1600, `friction` 0.6 s
   params = {{"o", "{min: number[], max: number[], spacing: number?, density: number?, friction: number?, kinetic_friction: number?, damping: number?, iterations: integer?, substeps: integer?, max_speed: number?}"}},
   returns = {{"Particles"}}}
 fn{"world.spawn", doc = "A module of `assets/modules/<type>.lua` (or of a module-type file given by path); `fixed = true` holds its root link in place (a base); `joints` is its initial posture, angles in radians by joint name (`{pitch = 0.5}`) or in joint order (`{0.5, 0, -0.3}`), within the joints' limits: the root link is at `at` and the other links follow, and the servos hold that posture until commanded; returns a Module.",
-  params = {{"type", "string", "a module type name or a module-type file"}, {"o?", "{at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?, joints: table<string|integer, number>?}"}},
+  params = {{"type", "string", "a module type name or a module-type file"}, {"o?", "{at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?, joints: table<string|integer, number>?, docks: DockSettings?}"}},
   returns = {{"Module"}}}
+fn{"world.docks", doc = [[Dock settings over the module types' for every module spawned after the call (a key left out keeps the type's value; `world.spawn`'s `docks` does the same for one module, over these): `capture` `"joint"` (the default: a capture joint draws the faces together, see [Docking at run time](../physics.md#docking-at-run-time)) or `"magnet"` (a force `pull` at each face), and the dock keys of a module-type file: `capture_radius`, `capture_angle`, `latch_distance`, `latch_angle`, `capture_speed`, `capture_turn_speed`, `capture_force`, `capture_torque`, `capture_time`, `pull`, `strength`, `strength_torque`.]],
+  params = {{"s", "DockSettings"}}}
+fn{"world.place_facing", doc = [[Before the first step: places b (and what is docked to it) so its dock `dock_b` faces a's `dock_a` squarely, `gap` metres (default 0.01) out along a's normal, turned `orientation` x 360/symmetry degrees about it (default 0); nothing is locked (the docks latch at run time if they are within capture; for modules on the ground, then `world.place_on_ground(b)`).]],
+  params = {{"a", "Module"}, {"dock_a", "string"}, {"b", "Module"}, {"dock_b", "string"}, {"gap?", "number", "metres between the faces (default 0.01)"}, {"orientation?", "integer", "turns about the normal (default 0)"}}}
 fn{"world.place_on_ground", doc = "Before the first step: moves m and everything connected to it straight down (or up) until the lowest point of their collision shapes is at height `z` (default 0, the ground plane); returns how far it moved (m).",
   params = {{"m", "Module"}, {"z?", "number", "metres (default 0, the ground plane)"}},
   returns = {{"number", "moved metres moved (+ up)"}}}
@@ -78,7 +97,7 @@ fn{"world.graph", doc = [[The connection graph now, as `"json"` (modules, connec
 fn{"world.module_type", doc = "A module type's data as a table (loading it if needed): `{name=, file=, root=, mass=, links = {{name=, mass=, com=}}, joints = {{name=, parent=, child=, pivot=, axis=, lower=, upper=, continuous=, torque=, speed=, gain=, stiffness=}}, docks = {{name=, link=, at=, normal=, up=, quat=, gender=, size=, symmetry=, strength=, strength_torque=}}}`, poses in the module frame at zero joint angles (every link's frame); a dock's `quat` turns its link frame into the dock frame (x the outward normal, z its `up`). For models built from the types (`lua/kinematics.lua`).",
   params = {{"name", "string"}},
   returns = {{"ModuleTypeData"}}}
-fn{"world.events", doc = [[Dock events so far (or since a time): `{time=, event=, module_a=, dock_a=, module_b=, dock_b=, force=, torque=}`, loads on "broken" ones.]],
+fn{"world.events", doc = [[Dock events so far (or since a time): `{time=, event=, module_a=, dock_a=, module_b=, dock_b=, force=, torque=, distance=, angle=}`; `event` is "engaged", "disengaged", "broken", "captured" (a capture joint began drawing the two docks together) or "stalled" (a capture not latched after the docks' `capture_time`); loads (N, N m) on "broken" ones, what is left to close (m, rad) on "stalled" ones.]],
   params = {{"since?", "number"}},
   returns = {{"{time: number, event: string, module_a: integer, dock_a: string, module_b: integer, dock_b: string, force: number?, torque: number?}[]"}}}
 fn{"world.messages", doc = "`{sent=, received=, dropped=}` counts so far (dropped: lost by the channel, sent on a free dock, or in flight over a connection that went).",
@@ -383,8 +402,8 @@ fn{"act", doc = [[For the Python API: called each step under `policy=True`, befo
 global{"act_size", type = "integer", value = "nil",
   doc = "How many numbers `act(a)` takes (0 to 4096); unset: the module's joint count."}
 fn{"on_reload", doc = "Called after a hot reload replaced the behaviour's definitions (`state` survives)."}
-fn{"on_dock", doc = [[Called at the start of the module's next step for each dock event: `dock` is the Dock handle (compare `dock:name() == "front"`), `event` what happened.]],
-  params = {{"dock", "Dock"}, {"event", [["engaged"|"disengaged"|"broken"]]}}}
+fn{"on_dock", doc = [[Called at the start of the module's next step for each dock event: `dock` is the Dock handle (compare `dock:name() == "front"`), `event` what happened: "engaged", "disengaged" or "broken"; and, before a connection exists, "captured" (a capture joint has begun drawing this dock and another together) and "stalled" (that capture has not latched after `capture_time`).]],
+  params = {{"dock", "Dock"}, {"event", [["engaged"|"disengaged"|"broken"|"captured"|"stalled"]]}}}
 
 text[[Behaviour VMs are sandboxed: `base` (without `dofile`, `loadfile`; `load` takes text only),
 `table`, `string`, `math`, `utf8`, `coroutine`, and `require` limited to the script's folder,

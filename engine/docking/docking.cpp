@@ -56,7 +56,8 @@ void Docking::connect(const DockingScene& s, int a, int da, int b, int db, int o
   lock(s, a, da, b, db, orientation, !facing);
 }
 
-void Docking::lock(const DockingScene& s, int a, int da, int b, int db, int orientation, bool snap) {
+void Docking::lock(const DockingScene& s, int a, int da, int b, int db, int orientation, bool snap,
+                   bool split) {
   Module& ma = s.modules[size_t(a)];
   Module& mb = s.modules[size_t(b)];
   const DockDef& defA = ma.type->docks[size_t(da)];
@@ -69,7 +70,29 @@ void Docking::lock(const DockingScene& s, int a, int da, int b, int db, int orie
     auto holdsFixed = [&](const std::vector<int>& c) {
       return std::any_of(c.begin(), c.end(), [&](int m) { return s.modules[size_t(m)].fixed; });
     };
-    if (!loop) {
+    auto partsOf = [&](const std::vector<int>& comp) {
+      std::vector<int> parts;
+      for (int m : comp)
+        for (int p : s.modules[size_t(m)].parts) parts.push_back(p);
+      return parts;
+    };
+    if (!loop && split && !holdsFixed(compA) && !holdsFixed(compB)) {
+      // Each side moves by its share of the correction `delta` (which would move b's side onto
+      // a's): b's by the share a's mass has of the pair's, a's by the rest, so the pair's centre of
+      // mass stays put. b's side moves by h (delta's rotation slerped, its translation scaled);
+      // a's by h delta^-1, so the faces mate exactly whatever the share.
+      const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
+      const Pose delta = matingFrame(dockPose(s.physics, s.modules[size_t(a)], da), orientation, sym) *
+                         dockPose(s.physics, s.modules[size_t(b)], db).inverse();
+      const std::vector<int> pa = partsOf(compA), pb = partsOf(compB);
+      double massA = 0, massB = 0;
+      for (int p : pa) massA += s.physics.partMass(p);
+      for (int p : pb) massB += s.physics.partMass(p);
+      const double share = massA + massB > 0 ? massA / (massA + massB) : 0.5;
+      const Pose h{share * delta.pos, Quat::Identity().slerp(share, delta.rot).normalized()};
+      s.physics.transformParts(pb, h);
+      s.physics.transformParts(pa, h * delta.inverse());
+    } else if (!loop) {
       const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
       if (!holdsFixed(compB)) {
         const Pose delta = matingFrame(dockPose(s.physics, s.modules[size_t(a)], da), orientation, sym) *
@@ -225,7 +248,11 @@ void Docking::dock(const DockingScene& s) {
       m_freeDocks.push_back({i, int(d), pose});
     }
   }
-  if (m_freeDocks.size() < 2) return;
+  if (m_freeDocks.size() < 2) {
+    m_candidates.clear();
+    updateCaptures(s);
+    return;
+  }
   // Cells twice the largest capture radius: every dock within reach of a point lies in the 2x2x2
   // block of cells on the point's side of its own cell (8 look-ups, not 27).
   const double cell = 2.0 * m_captureCell;
@@ -256,6 +283,9 @@ void Docking::dock(const DockingScene& s) {
     m_cellHead[h] = int(i);
   }
   m_latches.clear();
+  m_candidates.clear();
+  // Capture joints need the exact solver; on "pgs" every dock pulls as a magnet.
+  const bool jointCapture = s.physics.settings().solver == SolverKind::Exact;
   for (size_t i = 0; i < m_freeDocks.size(); ++i) {
     const FreeDock& fa = m_freeDocks[i];
     const Eigen::Vector3i c = cellOf(fa.pose.pos);
@@ -281,6 +311,19 @@ void Docking::dock(const DockingScene& s) {
             const double facing = angleBetween(na, -nb);
             if (facing > std::min(da.captureAngle, db.captureAngle)) continue;
             const double latchAngle = std::min(da.latchAngle, db.latchAngle);
+            if (jointCapture && da.capture == DockDef::Capture::Joint &&
+                db.capture == DockDef::Capture::Joint) {
+              // A capture joint draws them in (updateCaptures decides when they latch).
+              const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
+              const Pose want =
+                  matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym);
+              const double twist = angleBetween(want.rot * Vec3::UnitZ(), fb.pose.rot * Vec3::UnitZ());
+              m_candidates.push_back(
+                  fa.module < fb.module
+                      ? Candidate{fa.module, fa.dock, fb.module, fb.dock, gap, facing, twist}
+                      : Candidate{fb.module, fb.dock, fa.module, fa.dock, gap, facing, twist});
+              continue;
+            }
             if (gap <= std::min(da.latchDistance, db.latchDistance) && facing <= latchAngle) {
               const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
               const Pose want =
@@ -317,6 +360,7 @@ void Docking::dock(const DockingScene& s) {
           }
         }
   }
+  updateCaptures(s);
   std::sort(m_latches.begin(), m_latches.end());
   for (const Latch& l : m_latches) {
     const Module& ma = s.modules[size_t(l.a)];
@@ -330,8 +374,75 @@ void Docking::dock(const DockingScene& s) {
     if (e.gap > std::min(da.latchDistance, db.latchDistance) ||
         e.angle > std::min(da.latchAngle, db.latchAngle))
       continue;
-    lock(s, l.a, l.da, l.b, l.db, bestOrientation(s, l.a, l.da, l.b, l.db), true);
+    lock(s, l.a, l.da, l.b, l.db, bestOrientation(s, l.a, l.da, l.b, l.db), true, l.split);
   }
+}
+
+void Docking::updateCaptures(const DockingScene& s) {
+  std::sort(m_candidates.begin(), m_candidates.end());
+  m_nextCaptures.clear();
+  size_t old = 0;
+  for (const Candidate& c : m_candidates) {
+    // Captures that are no longer candidates (the faces parted, a dock was disabled or took
+    // another) end.
+    while (old < m_captures.size() && std::tie(m_captures[old].a, m_captures[old].da, m_captures[old].b,
+                                               m_captures[old].db) < std::tie(c.a, c.da, c.b, c.db))
+      s.physics.removeCapture(m_captures[old++].id);
+    Module& ma = s.modules[size_t(c.a)];
+    Module& mb = s.modules[size_t(c.b)];
+    const DockDef& da = ma.type->docks[size_t(c.da)];
+    const DockDef& db = mb.type->docks[size_t(c.db)];
+    Capture cap;
+    if (old < m_captures.size() && m_captures[old].a == c.a && m_captures[old].da == c.da &&
+        m_captures[old].b == c.b && m_captures[old].db == c.db) {
+      cap = m_captures[old++];
+    } else {
+      const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
+      CaptureDesc d;
+      d.partA = ma.parts[size_t(da.link)];
+      d.partB = mb.parts[size_t(db.link)];
+      d.frameA = da.frame;
+      d.frameB = db.frame;
+      d.mate = matingFrame(Pose{}, bestOrientation(s, c.a, c.da, c.b, c.db), sym).rot;
+      d.speed = std::min(da.captureSpeed, db.captureSpeed);
+      d.angularSpeed = std::min(da.captureTurnSpeed, db.captureTurnSpeed);
+      d.force = std::min(da.captureForce, db.captureForce);
+      d.torque = std::min(da.captureTorque, db.captureTorque);
+      cap = Capture{c.a, c.da, c.b, c.db, s.physics.addCapture(d), s.time};
+      m_events.push_back({s.time, DockEventKind::Captured, c.a, c.da, c.b, c.db});
+      if (s.started) {
+        ma.dockEvents.emplace_back(c.da, DockEventKind::Captured);
+        mb.dockEvents.emplace_back(c.db, DockEventKind::Captured);
+      }
+    }
+    const double angle = std::max(c.facing, c.twist);
+    if (c.gap <= std::min(da.latchDistance, db.latchDistance) &&
+        angle <= std::min(da.latchAngle, db.latchAngle)) {
+      // Inside the latch limits: latch, sharing the last correction between the two sides.
+      s.physics.removeCapture(cap.id);
+      m_latches.push_back({c.a, c.da, c.b, c.db, true});
+      continue;
+    }
+    if (!cap.stalled && s.time - cap.start >= std::min(da.captureTime, db.captureTime)) {
+      cap.stalled = true;
+      DockEvent e{s.time, DockEventKind::Stalled, c.a, c.da, c.b, c.db};
+      e.gap = c.gap;
+      e.angle = angle;
+      m_events.push_back(e);
+      if (s.started) {
+        ma.dockEvents.emplace_back(c.da, DockEventKind::Stalled);
+        mb.dockEvents.emplace_back(c.db, DockEventKind::Stalled);
+      }
+    }
+    m_nextCaptures.push_back(cap);
+  }
+  while (old < m_captures.size()) s.physics.removeCapture(m_captures[old++].id);
+  m_captures.swap(m_nextCaptures);
+}
+
+void Docking::dropCaptures(const DockingScene& s) {
+  for (const Capture& c : m_captures) s.physics.removeCapture(c.id);
+  m_captures.clear();
 }
 
 Wrench Docking::connectionLoad(const std::vector<Module>& modules, const PhysicsWorld& physics,

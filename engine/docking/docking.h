@@ -31,6 +31,15 @@ struct DockEvent {
   DockEventKind kind = DockEventKind::Engaged;
   int moduleA, dockA, moduleB, dockB;
   double force = -1, torque = -1;  ///< measured load for Broken (N, N m), else -1
+  double gap = -1, angle = -1;     ///< what a Stalled capture has left to close (m, rad), else -1
+};
+
+/// A pair of docks a capture joint is drawing together (Docking::dock).
+struct Capture {
+  int a, da, b, db;      ///< a < b
+  int id = -1;           ///< the physics' capture joint
+  double start = 0;      ///< when it began
+  bool stalled = false;  ///< reported as stalled
 };
 
 /// What docking works on: the World's modules and physics, and the clock.
@@ -67,12 +76,21 @@ class Docking {
   Wrench connectionLoad(const std::vector<Module>& modules, const PhysicsWorld& physics,
                         const Connection& c) const;
 
+  /// The captures in progress (joint mode), by (a, da, b, db).
+  const std::vector<Capture>& captures() const { return m_captures; }
+  /// Drops every capture (the physics world is going away or being rebuilt).
+  void dropCaptures(const DockingScene& s);
+
   /// Docks released since the last call, (module, dock): the messages in flight there are lost.
   std::vector<std::pair<int, int>>& released() { return m_released; }
 
  private:
-  /// Locks two docks: optionally moves b's component so the faces mate exactly first.
-  void lock(const DockingScene& s, int a, int da, int b, int db, int orientation, bool snap);
+  /// Locks two docks: optionally moves b's component so the faces mate exactly first (or, with
+  /// `split`, both components, each by its share: the pair's centre of mass stays put).
+  void lock(const DockingScene& s, int a, int da, int b, int db, int orientation, bool snap,
+            bool split = false);
+  /// The capture joints: starts, ends, latches and stall reports for this step's candidates.
+  void updateCaptures(const DockingScene& s);
   void release(const DockingScene& s, size_t connection, DockEventKind kind, double force, double torque);
   int bestOrientation(const DockingScene& s, int a, int da, int b, int db) const;
 
@@ -100,9 +118,21 @@ class Docking {
   std::vector<char> m_linkPoseValid;
   struct Latch {
     int a, da, b, db;
+    bool split = false;  ///< a capture joint's latch: the last correction is shared
     bool operator<(const Latch& o) const { return std::tie(a, da, b, db) < std::tie(o.a, o.da, o.b, o.db); }
   };
   std::vector<Latch> m_latches;
+  /// Pairs inside the capture limits this step whose docks both capture by joint.
+  struct Candidate {
+    int a, da, b, db;  ///< a < b
+    double gap, facing, twist;
+    bool operator<(const Candidate& o) const {
+      return std::tie(a, da, b, db) < std::tie(o.a, o.da, o.b, o.db);
+    }
+  };
+  std::vector<Candidate> m_candidates;
+  std::vector<Capture> m_captures;  ///< sorted by (a, da, b, db)
+  std::vector<Capture> m_nextCaptures;
 };
 
 }  // namespace rm3d

@@ -76,6 +76,7 @@ nlohmann::json runSummary(const World& w, double wallSeconds) {
                {"module_b", w.modules()[size_t(e.moduleB)].id},
                {"dock_b", dockName(e.moduleB, e.dockB)}};
     if (e.force >= 0) ej["load"] = {{"force", number(e.force)}, {"torque", number(e.torque)}};
+    if (e.gap >= 0) ej["left"] = {{"distance", number(e.gap)}, {"angle", number(e.angle * kDegPerRad)}};
     events.push_back(ej);
   }
   const MessageStats ms = w.messageStats();

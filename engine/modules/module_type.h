@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,9 @@ struct LinkDef {
   std::vector<ShapeDef> collision;
   std::array<float, 4> color{0.8f, 0.8f, 0.8f, 1.0f};
   double friction = 1.0;
+  /// m: the lever arm of the link's resistance to rolling and spinning on what it rests on (a
+  /// contact resists a turn up to rolling_friction x mu x its normal force; 0: none).
+  double rollingFriction = 0.0;
 
   /// What physics builds the link from.
   const std::vector<ShapeDef>& collisionShapes() const { return collision.empty() ? shapes : collision; }
@@ -55,10 +59,37 @@ struct DockDef {
   double captureAngle = 0.5236;  ///< rad (30 deg)
   double latchDistance = 0.004;  ///< m
   double latchAngle = 0.0873;    ///< rad (5 deg)
-  double pull = 2.0;             ///< N, the magnet's pull inside the capture radius
-  double strength = 100.0;       ///< N: a connection breaks above this transmitted force
-  double strengthTorque = 10.0;  ///< N m: ... or above this transmitted torque
-  Pose frame;                    ///< derived: the dock frame in its link (docking/dock_frame.h)
+  /// How a captured dock is drawn in: a capture joint (a constraint of bounded speed, force and
+  /// torque between the two dock links, solved with the contacts; the default) or a magnet (a
+  /// force `pull` at each face, and torques pull x size). Pairs where either dock says magnet,
+  /// and every pair on the "pgs" solver, use the magnet.
+  enum class Capture : uint8_t { Joint, Magnet };
+  Capture capture = Capture::Joint;
+  double captureSpeed = 0.05;     ///< m/s: the joint closes the faces at most this fast ...
+  double captureTurnSpeed = 1.0;  ///< rad/s: ... and turns them at most this fast
+  double captureForce = 20.0;     ///< N: the most force the joint exerts
+  double captureTorque = 1.0;     ///< N m: the most torque the joint exerts
+  double captureTime = 3.0;       ///< s: a capture not latched after this is reported as stalled
+  double pull = 2.0;              ///< N, the magnet's pull inside the capture radius
+  double strength = 100.0;        ///< N: a connection breaks above this transmitted force
+  double strengthTorque = 10.0;   ///< N m: ... or above this transmitted torque
+  Pose frame;                     ///< derived: the dock frame in its link (docking/dock_frame.h)
+};
+
+/// Dock settings a world puts over its module types' (world.docks{} for every module spawned
+/// after it, world.spawn's `docks` for one module): the fields that are set win.
+struct DockSettings {
+  std::optional<DockDef::Capture> capture;
+  std::optional<double> captureRadius, captureAngle, latchDistance, latchAngle, captureSpeed,
+      captureTurnSpeed, captureForce, captureTorque, captureTime, pull, strength, strengthTorque;
+
+  bool empty() const { return key().empty(); }
+  /// These settings over `d`.
+  void applyTo(DockDef& d) const;
+  /// `o`'s set fields over these.
+  void overlay(const DockSettings& o);
+  /// A text naming exactly the fields set and their values ("" when none).
+  std::string key() const;
 };
 
 enum class SensorKind { Accelerometer, Gyro, Orientation, Position, Range, Contact };

@@ -100,6 +100,15 @@ void ExactLink::getInfo1(btConstraintInfo1* info) {
 void ExactLink::getInfo2(btConstraintInfo2*) {}
 
 void ExactSolver::beginSubstep() {
+  // Patches whose manifold had no rows in the last substep: the pair parted (or sleeps).
+  for (size_t i = 0; i < m_patches.size(); ++i) {
+    Patch& p = m_patches[i];
+    if (p.manifold && p.seen < m_substepCount) {
+      p = Patch{};
+      m_freePatches.push_back(int(i));
+    }
+  }
+  ++m_substepCount;
   m_bodies.clear();
   m_nodes.clear();
   m_clusters.clear();
@@ -466,45 +475,45 @@ void ExactSolver::buildGroups(int firstBody) {
 
   // Rows: the velocity error and cfm behind Bullet's right-hand side, and 1 / (effective mass)
   // with a group's inertia in place of its body's.
-  const int nc = m_tmpSolverContactConstraintPool.size(),
-            nf = m_tmpSolverContactFrictionConstraintPool.size();
-  m_rowExtra.resize(size_t(3 * (nc + nf)));
+  const int nc = m_tmpSolverContactConstraintPool.size(), nf = m_patchRows.size();
+  m_rowExtra.resize(size_t(4 * (nc + nf)));
   for (int i = 0; i < nc; ++i)
     for (int side = 0; side < 2; ++side)
       if (const RowSide r = rowSide(m_tmpSolverContactConstraintPool[i], side); r.group >= 0)
         ++m_groups[size_t(r.group)].contacts;
   for (int i = 0; i < nc + nf; ++i) {
-    btSolverConstraint& c =
-        i < nc ? m_tmpSolverContactConstraintPool[i] : m_tmpSolverContactFrictionConstraintPool[i - nc];
-    double* x = &m_rowExtra[size_t(3 * i)];
+    btSolverConstraint& c = i < nc ? m_tmpSolverContactConstraintPool[i] : m_patchRows[i - nc];
+    double* x = &m_rowExtra[size_t(4 * i)];
     const double jd = c.m_jacDiagABInv;
     if (jd == 0) {
-      x[0] = x[1] = x[2] = 0;
+      x[0] = x[1] = x[2] = x[3] = 0;
       continue;
     }
-    double w = 0;
+    double w = 0, wu = 0;
     for (int side = 0; side < 2; ++side) {
       const RowSide r = rowSide(c, side);
       if (!r.body->m_originalBody) continue;
       if (r.group < 0) {
         w += double(r.body->m_originalBody->getInvMass()) * double(r.n->length2()) + double(r.ac->dot(*r.rc));
+        wu +=
+            double(r.body->m_originalBody->getInvMass()) * double(r.n->length2()) + double(r.ac->dot(*r.rc));
       } else {
         const Group& gr = m_groups[size_t(r.group)];
         const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
         // Split among the group's contacts, so that they share its weight instead of the first
         // one swept carrying it all.
         w += (gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg)) * std::max(1, gr.contacts);
+        wu += (gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg));
       }
     }
     x[0] = double(c.m_rhs) / jd;
     x[1] = double(c.m_cfm) / jd;
     x[2] = 1.0 / (w + x[1]);
+    x[3] = 1.0 / (wu + x[1]);
   }
 }
 
-/// One row of the contact sweep, as Bullet's, except that a body in a rigid group moves with its
-/// group: its velocity includes the group's pending twist and an impulse goes to that twist.
-double ExactSolver::sweepRow(btSolverConstraint& c, double lo, double hi, const double* x) {
+double ExactSolver::rowVelocity(btSolverConstraint& c) {
   double vel = 0;
   const RowSide sides[2] = {rowSide(c, 0), rowSide(c, 1)};
   for (const RowSide& r : sides) {
@@ -516,11 +525,25 @@ double ExactSolver::sweepRow(btSolverConstraint& c, double lo, double hi, const 
           toEigen(*r.n).dot(gr.dv + gr.dw.cross(m_bodyOffset[size_t(r.index)])) + toEigen(*r.rc).dot(gr.dw);
     }
   }
+  return vel;
+}
+
+/// One row of the contact sweep, as Bullet's, except that a body in a rigid group moves with its
+/// group: its velocity includes the group's pending twist and an impulse goes to that twist.
+double ExactSolver::sweepRow(btSolverConstraint& c, double lo, double hi, const double* x) {
+  const double vel = rowVelocity(c);
   const double lambda = c.m_appliedImpulse;
-  const double next = std::clamp(lambda + x[2] * (x[0] - x[1] * lambda - vel), lo, hi);
+  const double inv = m_useSplit ? x[2] : x[3];
+  const double next = std::clamp(lambda + inv * (x[0] - x[1] * lambda - vel), lo, hi);
   const double delta = next - lambda;
   c.m_appliedImpulse = btScalar(next);
-  if (delta == 0) return 0;
+  applyRowImpulse(c, delta);
+  return delta * delta;
+}
+
+void ExactSolver::applyRowImpulse(btSolverConstraint& c, double delta) {
+  if (delta == 0) return;
+  const RowSide sides[2] = {rowSide(c, 0), rowSide(c, 1)};
   for (const RowSide& r : sides) {
     if (!r.body->m_originalBody) continue;
     if (r.group < 0) {
@@ -535,14 +558,13 @@ double ExactSolver::sweepRow(btSolverConstraint& c, double lo, double hi, const 
     p.head<3>() += toEigen(*r.n) * delta;
     p.tail<3>() += toEigen(*r.rc) * delta;
   }
-  return delta * delta;
 }
 
-/// Bullet's contact, friction and rolling-friction sweep, with rigid groups.
+/// The contact sweep, with rigid groups: Bullet's normal rows, then the patches' friction
+/// (contact_patches.cpp).
 btScalar ExactSolver::contactSweep() {
   double residual = 0;
-  const int nc = m_tmpSolverContactConstraintPool.size(),
-            nf = m_tmpSolverContactFrictionConstraintPool.size();
+  const int nc = m_tmpSolverContactConstraintPool.size();
   // Only the rows of the islands m_sweepIsland names, when it names any.
   auto wanted = [&](const btSolverConstraint& c) {
     if (m_sweepIsland.empty()) return true;
@@ -553,31 +575,14 @@ btScalar ExactSolver::contactSweep() {
     }
     return false;
   };
+  residual = std::max(residual, sweepCaptures(wanted));
   for (int j = 0; j < nc; ++j) {
     const int i = m_orderTmpConstraintPool[j];
     btSolverConstraint& c = m_tmpSolverContactConstraintPool[i];
-    const double* x = &m_rowExtra[size_t(3 * i)];
+    const double* x = &m_rowExtra[size_t(4 * i)];
     if (x[2] != 0 && wanted(c)) residual = std::max(residual, sweepRow(c, c.m_lowerLimit, c.m_upperLimit, x));
   }
-  for (int j = 0; j < nf; ++j) {
-    const int i = m_orderFrictionConstraintPool[j];
-    btSolverConstraint& c = m_tmpSolverContactFrictionConstraintPool[i];
-    const double total = m_tmpSolverContactConstraintPool[c.m_frictionIndex].m_appliedImpulse;
-    const double* x = &m_rowExtra[size_t(3 * (nc + i))];
-    if (total > 0 && x[2] != 0 && wanted(c))
-      residual = std::max(residual, sweepRow(c, -c.m_friction * total, c.m_friction * total, x));
-  }
-  for (int j = 0; j < m_tmpSolverContactRollingFrictionConstraintPool.size(); ++j) {
-    btSolverConstraint& c = m_tmpSolverContactRollingFrictionConstraintPool[j];
-    const btScalar total = m_tmpSolverContactConstraintPool[c.m_frictionIndex].m_appliedImpulse;
-    if (total <= 0 || !wanted(c)) continue;
-    const btScalar bound = std::min(c.m_friction * total, c.m_friction);
-    c.m_lowerLimit = -bound;
-    c.m_upperLimit = bound;
-    const btScalar r = resolveSingleConstraintRowGeneric(m_tmpSolverBodyPool[c.m_solverBodyIdA],
-                                                         m_tmpSolverBodyPool[c.m_solverBodyIdB], c);
-    residual = std::max(residual, double(r) * double(r));
-  }
+  residual = std::max(residual, sweepPatches(wanted));
   // The twists only predicted how the groups move within the sweep: each grouped body now takes
   // the impulses that reached it, and the exact solve passes them through its hinges (so joint
   // impulses, torques and loads carry them).
@@ -849,6 +854,11 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   const btScalar r = btSequentialImpulseConstraintSolver::solveGroupCacheFriendlySetup(
       bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer);
   m_h = double(info.m_timeStep);
+  setupPatches(manifolds, numManifolds);
+  if (patches)
+    setupCaptures(constraints, numConstraints);
+  else
+    m_groupCaptures.clear();
   m_groupBegin = int(m_clusters.size());
   if (m_rows.size() < joints.size()) m_rows.resize(joints.size());
   m_groupFirstBody = int(m_bodies.size());
@@ -871,7 +881,7 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
     const ExactJoint& e = joints[size_t(j)];
     if (e.state == ExactJoint::Axial::Fixed) applyAxial(j, e.fixedImpulse);
   }
-  if (m_groupHasJoints) buildGroups(m_groupFirstBody);
+  if (m_groupHasJoints || patches) buildGroups(m_groupFirstBody);
   return r;
 }
 
@@ -879,7 +889,7 @@ btScalar ExactSolver::solveSingleIteration(int iteration, btCollisionObject** bo
                                            btPersistentManifold** manifolds, int numManifolds,
                                            btTypedConstraint** constraints, int numConstraints,
                                            const btContactSolverInfo& info, btIDebugDraw* debugDrawer) {
-  if (!m_groupHasJoints)
+  if (!m_groupHasJoints && !patches)
     return btSequentialImpulseConstraintSolver::solveSingleIteration(iteration, bodies, numBodies, manifolds,
                                                                      numManifolds, constraints,
                                                                      numConstraints, info, debugDrawer);
@@ -893,7 +903,10 @@ btScalar ExactSolver::solveSingleIteration(int iteration, btCollisionObject** bo
                                                            m_tmpSolverBodyPool[c.m_solverBodyIdB], c);
     r = std::max(r, res * res);
   }
+  // Mass splitting in the first iteration only (see m_useSplit).
+  m_useSplit = iteration == 0;
   r = std::max(r, contactSweep());
+  if (!m_groupHasJoints) return r;
   const int last = std::max(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
   // An exact solve after every sweep (swept twice in a row, grouped bodies take the first sweep's
   // impulses as if free and the second overreacts: a snake diverged). Bounds apply at the last
@@ -938,6 +951,7 @@ void ExactSolver::finishJoints() {
       return c.island >= 0 && c.island < int(m_sweepIsland.size()) && m_sweepIsland[size_t(c.island)];
     };
     for (int k = 0; k < kResweeps; ++k) {
+      m_useSplit = true;
       contactSweep();
       exactIterationWhere(true, swept);
     }
@@ -996,6 +1010,7 @@ void ExactSolver::finishJoints() {
 btScalar ExactSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
                                                     const btContactSolverInfo& info) {
   if (m_groupHasJoints) finishJoints();
+  if (patches) finishPatches(), finishCaptures();
   return btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyFinish(bodies, numBodies, info);
 }
 

@@ -44,6 +44,7 @@
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -100,12 +101,55 @@ class ExactLink : public btTypedConstraint {
   int m_joint;
 };
 
+/// A capture joint (capture_joint.cpp): draws the dock frame on b towards the one on a (turned
+/// by `mate`) at a bounded speed, with a bounded force and torque. PhysicsWorld writes the inputs
+/// before every substep.
+struct CaptureJoint {
+  btRigidBody* a = nullptr;
+  btRigidBody* b = nullptr;
+  btTransform frameA, frameB;  ///< the dock frames in each body's centre-of-mass frame
+  Eigen::Quaterniond mate = Eigen::Quaterniond::Identity();  ///< b's dock frame wanted, relative to a's
+  double speed = 0.05;                                       ///< m/s: the faces close at most this fast
+  double angularSpeed = 1.0;                                 ///< rad/s: ... and turn at most this fast
+  double gain = 5.0;    ///< 1/s: the closing speed per metre (radian) still to close
+  double force = 20.0;  ///< N: the most force the joint exerts
+  double torque = 1.0;  ///< N m: the most torque
+  // Last substep's impulses on a (world frame; b takes the opposite), its warm start.
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero(), angular = Eigen::Vector3d::Zero();
+  struct Error {
+    Eigen::Vector3d gap, turn;       ///< b's face from a's (m), and the turn that would mate them (rad)
+    Eigen::Vector3d pointA, pointB;  ///< the face centres, world
+  };
+  Error error() const;  ///< at the bodies' present poses
+};
+
+/// A zero-row constraint for a capture joint: puts both bodies in one island and solver group.
+class CaptureLink : public btTypedConstraint {
+ public:
+  static constexpr int kType = 0x5259;  // user constraint type tag
+  CaptureLink(btRigidBody& a, btRigidBody& b, int capture);
+  int capture() const { return m_capture; }
+  void getInfo1(btConstraintInfo1* info) override;
+  void getInfo2(btConstraintInfo2* info) override;
+  void setParam(int, btScalar, int) override {}
+  btScalar getParam(int, int) const override { return 0; }
+
+ private:
+  int m_capture;
+};
+
 class ExactSolver : public btSequentialImpulseConstraintSolver {
  public:
   /// Indexed by joint id (the hinge index of PhysicsWorld); ExactLinks name them.
   std::vector<ExactJoint> joints;
+  /// Indexed by capture id (PhysicsWorld's); CaptureLinks name them.
+  std::vector<CaptureJoint> captures;
   /// Runs fn(i) for i in [0, n), in parallel if it can; null: in order on this thread.
   std::function<void(int, const std::function<void(int)>&)> forEach;
+
+  /// Friction per contact patch with anchors (contact_patches.cpp): on for the exact solver;
+  /// "pgs" keeps Bullet's friction rows per point.
+  bool patches = false;
 
   /// Forget the clusters of the previous substep (called before each one).
   void beginSubstep();
@@ -163,6 +207,52 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     bool axialActive = false;
   };
 
+  // Friction per contact patch (contact_patches.cpp). A patch is one manifold's contacts (one
+  // pair of bodies, one child shape). Its friction is three rows at the patch's centre (two
+  // tangent directions, bounded together by a circle of mu times the patch's normal impulse, and
+  // a twist about the normal), plus two rolling rows where the materials resist rolling. While
+  // it sticks it keeps the pair's relative pose from when it stuck (its anchor), and its rows
+  // aim to take the slip since then back out; it lets go when its friction saturates.
+  struct Patch {
+    const btPersistentManifold* manifold = nullptr;           // owner (slots are reused); null: free
+    Eigen::Quaterniond rot = Eigen::Quaterniond::Identity();  // body 0 in body 1's frame when it stuck
+    Eigen::Vector3d pos = Eigen::Vector3d::Zero();
+    bool anchored = false;
+    int seen = -1;  // substep count when it last had rows
+    // Last substep's impulses (warm start): tangential (world), twist and rolling (about the
+    // normal and the tangent axes, world).
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), roll = Eigen::Vector3d::Zero();
+    double twist = 0;
+  };
+  struct PatchRows {                       // one patch's rows in this solver group
+    int slot = -1;                         // into m_patches
+    int contactBegin = 0, contactEnd = 0;  // its contact rows
+    int row = 0;  // its first row in m_patchRows: tangent 1, tangent 2, twist, [roll 1, roll 2]
+    bool roll = false;
+    double mu = 0, spin = 0, rolling = 0;  // friction, and the lever arms (m) of spin and rolling
+  };
+  void setupPatches(btPersistentManifold** manifolds, int numManifolds);
+  void addOwnRow(int idA, int idB, const Eigen::Vector3d& pointA, const Eigen::Vector3d& pointB,
+                 const Eigen::Vector3d& linear, const Eigen::Vector3d& angular, double target,
+                 double friction, int owner);
+  void warmStartRow(btSolverConstraint& s, double impulse);
+  double sweepPatches(const std::function<bool(const btSolverConstraint&)>& wanted);
+  void finishPatches();
+  std::vector<Patch> m_patches;
+  std::vector<int> m_freePatches;
+  std::vector<PatchRows> m_groupPatches;  // this solver group's
+  btAlignedObjectArray<btSolverConstraint> m_patchRows;
+  std::vector<double> m_contactArm;  // by contact row: its distance from its patch's centre (m)
+  // Capture joints (capture_joint.cpp): six rows each in m_patchRows (force x, y, z; torque x, y, z).
+  struct GroupCapture {
+    int id, row;
+  };
+  std::vector<GroupCapture> m_groupCaptures;
+  void setupCaptures(btTypedConstraint** constraints, int numConstraints);
+  double sweepCaptures(const std::function<bool(const btSolverConstraint&)>& wanted);
+  void finishCaptures();
+  int m_substepCount = 0;
+
   void buildClusters(btTypedConstraint** constraints, int numConstraints);
   void setupJoint(int j, double h);
   struct JointFrame {
@@ -199,6 +289,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   RowSide rowSide(btSolverConstraint& c, int side);
   void buildGroups(int firstBody);
   double sweepRow(btSolverConstraint& c, double lo, double hi, const double* extra);
+  double rowVelocity(btSolverConstraint& c);
+  void applyRowImpulse(btSolverConstraint& c, double delta);
   btScalar contactSweep();
   void clusterIteration(Cluster& c, bool clamp);
   void stabiliseCluster(Cluster& c);
@@ -236,6 +328,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<int> m_groupParent;             // union-find
   std::vector<double> m_rowExtra;             // per contact then friction row: velocity error, cfm, 1 / mass
   int m_groupFirstBody = 0;
+  bool m_useSplit = true;
   std::vector<int> m_sidToBody;
   std::vector<int> m_bodyNode;
   std::vector<int> m_nodeOfBody;    // node of each body this substep (any group)

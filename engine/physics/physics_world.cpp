@@ -231,6 +231,13 @@ struct PhysicsWorld::Impl {
   OwnerFilter filter;
   std::vector<Part> parts;
   std::vector<Body> bodies;
+  struct Capture {
+    CaptureDesc d;
+    std::unique_ptr<CaptureLink> link;
+    bool live = false;
+  };
+  std::vector<Capture> captures;
+  std::vector<int> freeCaptures;
   std::vector<Hinge> hinges;
   std::vector<btCollisionShape*> extraShapes;  // ground plane
   std::vector<btRigidBody*> extraBodies;
@@ -255,6 +262,7 @@ struct PhysicsWorld::Impl {
     std::call_once(edgeHook, [] { gContactAddedCallback = adjustInternalEdges; });
     planeContacts.registerWith(dispatcher);
     world.setGravity(toBt(s.gravity));
+    solver.patches = s.solver == SolverKind::Exact;
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);
     // Two friction directions per contact point (Bullet adds only one by default): with one, a
@@ -269,6 +277,7 @@ struct PhysicsWorld::Impl {
 
   ~Impl() {
     cloth.reset();
+    for (Capture& c : captures) removeCaptureLink(c);
     for (Hinge& h : hinges) removeHinge(h);
     for (Body& b : bodies) destroyBody(b);
     for (btRigidBody* rb : extraBodies) {
@@ -437,6 +446,44 @@ struct PhysicsWorld::Impl {
     if (!h.feedback) h.feedback = std::make_unique<btJointFeedback>();
     h.c->setJointFeedback(h.feedback.get());
     world.addConstraint(h.c, true);
+  }
+
+  void removeCaptureLink(Capture& c) {
+    if (!c.link) return;
+    world.removeConstraint(c.link.get());
+    c.link.reset();
+  }
+
+  /// Removes the links of captures on any of these parts (their bodies are about to go).
+  void dropCaptureLinks(const std::vector<int>& ids) {
+    for (Capture& c : captures)
+      if (c.link &&
+          std::any_of(ids.begin(), ids.end(), [&](int p) { return p == c.d.partA || p == c.d.partB; }))
+        removeCaptureLink(c);
+  }
+
+  /// (Re)builds a capture's link and its solver entry for the bodies its parts are in now.
+  void makeCapture(int id) {
+    Capture& c = captures[size_t(id)];
+    removeCaptureLink(c);
+    const Part& a = parts[size_t(c.d.partA)];
+    const Part& b = parts[size_t(c.d.partB)];
+    if (a.body == b.body) return;  // one rigid body already: nothing to draw together
+    if (solver.captures.size() < captures.size()) solver.captures.resize(captures.size());
+    CaptureJoint& j = solver.captures[size_t(id)];
+    j.a = bodies[a.body].rb;
+    j.b = bodies[b.body].rb;
+    j.frameA = toBt(a.inBody * c.d.frameA);
+    j.frameB = toBt(b.inBody * c.d.frameB);
+    j.mate = c.d.mate;
+    j.speed = c.d.speed;
+    j.angularSpeed = c.d.angularSpeed;
+    j.gain = c.d.gain;
+    j.force = c.d.force;
+    j.torque = c.d.torque;
+    c.link = std::make_unique<CaptureLink>(*j.a, *j.b, id);
+    // The two dock links do not collide while they close (their faces meet at the end).
+    world.addConstraint(c.link.get(), true);
   }
 
   void removeHinge(Hinge& h) {
@@ -627,6 +674,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
   if (switched)
     for (Impl::Hinge& h : m->hinges) m->removeHinge(h);
   m->settings = s;
+  m->solver.patches = s.solver == SolverKind::Exact;
   if (switched)
     for (Impl::Hinge& h : m->hinges) {
       m->makeHinge(h);
@@ -774,6 +822,7 @@ void PhysicsWorld::lockParts(int a, int b) {
   }
   const std::vector<int> touched = m->hingesOf(ids);
   for (int h : touched) m->removeHinge(m->hinges[h]);
+  m->dropCaptureLinks(ids);  // made anew at the next step
   m->destroyBody(m->bodies[ba]);
   m->destroyBody(m->bodies[bb]);
   m->buildBody(ids, poses, lin, ang);
@@ -819,6 +868,7 @@ void PhysicsWorld::unlockParts(int a, int b) {
   for (int p : all) poses[size_t(p)] = m->partPose(p);
   const std::vector<int> touched = m->hingesOf(all);
   for (int h : touched) m->removeHinge(m->hinges[h]);
+  m->dropCaptureLinks(all);  // made anew at the next step
   m->destroyBody(m->bodies[body]);
   for (const std::vector<int>& g : groups) {
     std::vector<Pose> gp;
@@ -961,6 +1011,43 @@ int PhysicsWorld::activeBodyCount() const {
   return n;
 }
 
+double PhysicsWorld::partMass(int part) const {
+  return m->parts[size_t(part)].mass;
+}
+
+int PhysicsWorld::addCapture(const CaptureDesc& desc) {
+  int id;
+  if (!m->freeCaptures.empty()) {
+    id = m->freeCaptures.back();
+    m->freeCaptures.pop_back();
+  } else {
+    id = int(m->captures.size());
+    m->captures.emplace_back();
+  }
+  Impl::Capture& c = m->captures[size_t(id)];
+  c.d = desc;
+  c.live = true;
+  m->solver.captures.resize(std::max(m->solver.captures.size(), m->captures.size()));
+  m->solver.captures[size_t(id)] = CaptureJoint{};
+  m->makeCapture(id);
+  return id;
+}
+
+void PhysicsWorld::removeCapture(int id) {
+  Impl::Capture& c = m->captures[size_t(id)];
+  if (!c.live) return;
+  m->removeCaptureLink(c);
+  c.live = false;
+  m->freeCaptures.push_back(id);
+}
+
+std::pair<double, double> PhysicsWorld::captureError(int id) const {
+  const Impl::Capture& c = m->captures[size_t(id)];
+  const Pose a = m->partPose(c.d.partA) * c.d.frameA, b = m->partPose(c.d.partB) * c.d.frameB;
+  const Quat want = a.rot * c.d.mate;
+  return {(b.pos - a.pos).norm(), want.angularDistance(b.rot)};
+}
+
 void PhysicsWorld::setMotor(int hinge, MotorMode mode, double value) {
   Impl::Hinge& h = m->hinges[hinge];
   h.mode = mode;
@@ -980,6 +1067,15 @@ void PhysicsWorld::step(double dt, int substeps) {
   for (Impl::Hinge& hg : m->hinges) {
     hg.torque = 0;
     hg.saturated = false;
+  }
+  // Capture joints whose parts have been merged or split into other bodies since: built anew.
+  for (size_t id = 0; id < m->captures.size(); ++id) {
+    const Impl::Capture& c = m->captures[id];
+    if (!c.live) continue;
+    const btRigidBody* ra = m->bodies[size_t(m->parts[size_t(c.d.partA)].body)].rb;
+    const btRigidBody* rb = m->bodies[size_t(m->parts[size_t(c.d.partB)].body)].rb;
+    const CaptureJoint& j = m->solver.captures[id];
+    if (c.link ? (j.a != ra || j.b != rb) : ra != rb) m->makeCapture(int(id));
   }
   for (int s = 0; s < n; ++s) {
     for (Impl::Hinge& hg : m->hinges) m->applyMotor(hg, h);

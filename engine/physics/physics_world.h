@@ -63,6 +63,20 @@ struct HingeDesc {
 
 enum class MotorMode { Off, Servo, Velocity };
 
+/// A capture joint between two parts' dock frames (docking's capture by joint; exact solver
+/// only): draws B's dock frame onto A's, turned by `mate`, at a bounded speed with a bounded
+/// force and torque (engine/physics/capture_joint.cpp).
+struct CaptureDesc {
+  int partA = -1, partB = -1;
+  Pose frameA, frameB;           ///< the dock frames in each part's frame
+  Quat mate = Quat::Identity();  ///< B's dock frame wanted, relative to A's
+  double speed = 0.05;           ///< m/s
+  double angularSpeed = 1.0;     ///< rad/s
+  double gain = 5.0;             ///< 1/s
+  double force = 20.0;           ///< N
+  double torque = 1.0;           ///< N m
+};
+
 /// A force and a torque (about a stated point), world frame.
 struct Wrench {
   Vec3 force = Vec3::Zero();
@@ -133,6 +147,12 @@ class PhysicsWorld {
   /// False when some node's position or velocity is NaN or infinite (one pass, no allocation).
   bool clothFinite(int cloth) const;
 
+  /// Adds a capture joint; returns its id (ids of removed ones are reused).
+  int addCapture(const CaptureDesc& desc);
+  void removeCapture(int id);
+  /// A capture's face gap (m) and turn (rad) still to close, at the present poses.
+  std::pair<double, double> captureError(int id) const;
+
   void setMotor(int hinge, MotorMode mode, double value);
   /// Sets the linear velocity of the body holding the part (a thrown obstacle), waking it.
   void setPartVelocity(int part, const Vec3& v);
@@ -173,6 +193,7 @@ class PhysicsWorld {
   /// Every body's collision shapes at their poses now, for particle systems (arrays reused).
   void collectColliders(ColliderSet& out) const;
   int partCount() const;
+  double partMass(int part) const;  ///< kg (0: static)
   int bodyCount() const;
   const PhysicsSettings& settings() const;
 

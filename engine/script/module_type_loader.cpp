@@ -327,7 +327,7 @@ class TypeReader {
   // ---- module-type parts ----
 
   LinkDef readLink(const Value& v, const std::string& where) {
-    checkRecord(v, where, {"name", "mass", "color", "friction", "shapes", "collision"});
+    checkRecord(v, where, {"name", "mass", "color", "friction", "rolling_friction", "shapes", "collision"});
     LinkDef link;
     link.name = toName(require(v, where, "name"), childPath(where, "name"));
     link.mass = toPositive(require(v, where, "mass"), childPath(where, "mass"));
@@ -341,6 +341,12 @@ class TypeReader {
       }
     }
     if (const Value* f = find(v, "friction")) link.friction = toNonNegative(*f, childPath(where, "friction"));
+    if (const Value* f = find(v, "rolling_friction")) {
+      const std::string w = childPath(where, "rolling_friction");
+      link.rollingFriction = toNonNegative(*f, w);
+      if (link.rollingFriction > 0.1)
+        fail(w, "must be at most 0.1 m (a lever arm; got " + formatNumber(link.rollingFriction) + ")");
+    }
     const std::string ws = childPath(where, "shapes");
     const auto shapes = toList(require(v, where, "shapes"), ws);
     if (shapes.empty()) fail(ws, "a link needs at least one shape");
@@ -565,8 +571,11 @@ class TypeReader {
 
   DockDef readDock(const ModuleTypeDef& def, const Value& v, const std::string& where) const {
     checkRecord(v, where,
-                {"name", "link", "at", "normal", "up", "gender", "size", "symmetry", "capture_radius",
-                 "capture_angle", "latch_distance", "latch_angle", "pull", "strength", "strength_torque"});
+                {"name",           "link",           "at",           "normal",         "up",
+                 "gender",         "size",           "symmetry",     "capture_radius", "capture_angle",
+                 "latch_distance", "latch_angle",    "capture",      "capture_speed",  "capture_turn_speed",
+                 "capture_force",  "capture_torque", "capture_time", "pull",           "strength",
+                 "strength_torque"});
     DockDef d;
     d.name = toName(require(v, where, "name"), childPath(where, "name"));
     d.link = linkIndex(def, require(v, where, "link"), childPath(where, "link"));
@@ -609,13 +618,26 @@ class TypeReader {
     for (const Field& f :
          {Field{"capture_radius", &d.captureRadius, true}, Field{"capture_angle", &d.captureAngle, true},
           Field{"latch_distance", &d.latchDistance, true}, Field{"latch_angle", &d.latchAngle, true},
-          Field{"pull", &d.pull, false}, Field{"strength", &d.strength, true},
-          Field{"strength_torque", &d.strengthTorque, true}})
+          Field{"capture_speed", &d.captureSpeed, true},
+          Field{"capture_turn_speed", &d.captureTurnSpeed, true},
+          Field{"capture_force", &d.captureForce, true}, Field{"capture_torque", &d.captureTorque, true},
+          Field{"capture_time", &d.captureTime, true}, Field{"pull", &d.pull, false},
+          Field{"strength", &d.strength, true}, Field{"strength_torque", &d.strengthTorque, true}})
       if (const Value* x = find(v, f.key))
         *f.value =
             f.positive ? toPositive(*x, childPath(where, f.key)) : toNonNegative(*x, childPath(where, f.key));
     if (d.latchDistance > d.captureRadius)
       fail(childPath(where, "latch_distance"), "must not exceed capture_radius");
+    if (const Value* c = find(v, "capture")) {
+      const std::string w = childPath(where, "capture");
+      const std::string s = toString(*c, w);
+      if (s == "joint")
+        d.capture = DockDef::Capture::Joint;
+      else if (s == "magnet")
+        d.capture = DockDef::Capture::Magnet;
+      else
+        fail(w, "unknown capture '" + s + "' (expected one of: joint, magnet)");
+    }
     return d;
   }
 

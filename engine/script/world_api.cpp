@@ -301,6 +301,65 @@ std::vector<double> readJointAngles(lua_State* L, int index, const ModuleTypeDef
   return angles;
 }
 
+/// The dock settings in the table at idx (world.docks, world.spawn's docks): raises a Lua error
+/// naming `fn` and the key for a misspelled key or a bad value.
+DockSettings readDockSettings(lua_State* L, int idx, const char* fn) {
+  idx = lua_absindex(L, idx);
+  checkOptionKeys(L, idx, fn,
+                  {"capture", "capture_radius", "capture_angle", "latch_distance", "latch_angle",
+                   "capture_speed", "capture_turn_speed", "capture_force", "capture_torque", "capture_time",
+                   "pull", "strength", "strength_torque"});
+  DockSettings d;
+  if (const char* c = optStringField(L, idx, fn, "capture")) {
+    if (std::string_view(c) == "joint")
+      d.capture = DockDef::Capture::Joint;
+    else if (std::string_view(c) == "magnet")
+      d.capture = DockDef::Capture::Magnet;
+    else
+      luaL_error(L, "%s: capture must be \"joint\" or \"magnet\", got \"%s\"", fn, c);
+  }
+  struct Field {
+    const char* key;
+    std::optional<double>* value;
+    double lo, hi;  // allowed range
+    const char* unit;
+  };
+  const Field fields[] = {{"capture_radius", &d.captureRadius, 1e-6, 10, "m"},
+                          {"capture_angle", &d.captureAngle, 1e-6, kPi, "rad"},
+                          {"latch_distance", &d.latchDistance, 1e-6, 10, "m"},
+                          {"latch_angle", &d.latchAngle, 1e-6, kPi, "rad"},
+                          {"capture_speed", &d.captureSpeed, 1e-6, 100, "m/s"},
+                          {"capture_turn_speed", &d.captureTurnSpeed, 1e-6, 100, "rad/s"},
+                          {"capture_force", &d.captureForce, 1e-6, 1e6, "N"},
+                          {"capture_torque", &d.captureTorque, 1e-6, 1e6, "N m"},
+                          {"capture_time", &d.captureTime, 1e-6, 1e6, "s"},
+                          {"pull", &d.pull, 0, 1e6, "N"},
+                          {"strength", &d.strength, 1e-6, 1e9, "N"},
+                          {"strength_torque", &d.strengthTorque, 1e-6, 1e9, "N m"}};
+  for (const Field& f : fields) {
+    if (!hasField(L, idx, f.key)) continue;
+    const double v = optNumberField(L, idx, fn, f.key, 0);
+    if (!(v >= f.lo && v <= f.hi))
+      luaL_error(L, "%s: %s must be %s to %s %s, got %s", fn, f.key, numText(f.lo).s, numText(f.hi).s, f.unit,
+                 numText(v).s);
+    *f.value = v;
+  }
+  return d;
+}
+
+/// world.docks{capture=, capture_speed=, ...}: dock settings over the module types' for every
+/// module spawned after the call (a key left out keeps the type's value)
+int worldDocks(lua_State* L) {
+  const char* fn = "world.docks";
+  luaL_checktype(L, 1, LUA_TTABLE);
+  const DockSettings d = readDockSettings(L, 1, fn);
+  callWorld(L, fn, [&] {
+    editor(L).setDockSettings(d);
+    return 0;
+  });
+  return 0;
+}
+
 /// world.spawn(type, {at=, rot=, name=, behavior=, params=, fixed=, joints=}) -> Module; type is a
 /// name in assets/modules or a path to a module-type file; fixed = true holds the root link in
 /// place; joints = initial angles
@@ -311,9 +370,17 @@ int worldSpawn(lua_State* L) {
     lua_settop(L, 1);
     lua_newtable(L);
   }
-  checkOptionKeys(L, 2, fn,
-                  {"at", "rot", "quat", "name", "behavior", "behaviour", "params", "fixed", "joints"});
+  checkOptionKeys(
+      L, 2, fn, {"at", "rot", "quat", "name", "behavior", "behaviour", "params", "fixed", "joints", "docks"});
   const bool fixed = optBoolField(L, 2, fn, "fixed", false);
+  DockSettings docks;
+  {
+    const int t = lua_getfield(L, 2, "docks");
+    if (t != LUA_TNIL && t != LUA_TTABLE)
+      return luaL_error(L, "%s: option 'docks' must be a table of dock settings (as world.docks takes)", fn);
+    if (t == LUA_TTABLE) docks = readDockSettings(L, -1, "world.spawn: docks");
+    lua_pop(L, 1);
+  }
   const Pose pose = optPoseFields(L, 2, fn);
   checkInBounds(L, fn, pose.pos);
   const char* name = optStringField(L, 2, fn, "name");
@@ -334,6 +401,7 @@ int worldSpawn(lua_State* L) {
     if (jointsType == LUA_TTABLE) def.joints = readJointAngles(L, jointsIndex, editor(L).moduleType(type));
     def.pose = pose;
     def.fixed = fixed;
+    def.docks = docks;
     if (name) def.name = name;
     if (behaviour) def.behaviour = behaviour;
     std::string err;
@@ -359,6 +427,25 @@ int worldConnect(lua_State* L) {
   const int orientation = int(luaL_optinteger(L, 5, 0));
   return callWorld(L, fn, [&] {
     editor(L).connect(a, da, b, db, orientation);
+    return 0;
+  });
+}
+
+/// world.place_facing(a, dock_a, b, dock_b [, gap [, orientation]]): places b (and what is docked
+/// to it) so its dock faces a's squarely, `gap` metres (default 0.01) out along a's normal, turned
+/// orientation x 360/symmetry degrees about it; nothing is locked
+int worldPlaceFacing(lua_State* L) {
+  const char* fn = "world.place_facing";
+  const int a = checkModule(L, 1);
+  const int da = checkDockName(L, 2, a);
+  const int b = checkModule(L, 3);
+  const int db = checkDockName(L, 4, b);
+  const double gap = luaL_optnumber(L, 5, 0.01);
+  if (!(gap >= 0 && gap <= 10))
+    return luaL_error(L, "%s: the gap must be 0 to 10 metres, got %s", fn, numText(gap).s);
+  const int orientation = int(luaL_optinteger(L, 6, 0));
+  return callWorld(L, fn, [&] {
+    editor(L).placeFacing(a, da, b, db, gap, orientation);
     return 0;
   });
 }
@@ -438,8 +525,9 @@ int worldGraph(lua_State* L) {
 }
 
 /// world.events([since]) -> array of {time=, event=, module_a=, dock_a=, module_b=, dock_b=,
-/// force=, torque=} dock events (engaged, disengaged, broken; loads for broken), optionally only
-/// those at or after time `since`
+/// force=, torque=, distance=, angle=} dock events (engaged, disengaged, broken, captured,
+/// stalled; loads for broken, what is left to close for stalled), optionally only those at or
+/// after time `since`
 int worldEvents(lua_State* L) {
   const double since = luaL_optnumber(L, 1, -1.0);
   const World& w = world(L);
@@ -467,6 +555,12 @@ int worldEvents(lua_State* L) {
       lua_setfield(L, -2, "force");
       lua_pushnumber(L, e.torque);
       lua_setfield(L, -2, "torque");
+    }
+    if (e.gap >= 0) {  // a stalled capture: what it has left to close
+      lua_pushnumber(L, e.gap);
+      lua_setfield(L, -2, "distance");
+      lua_pushnumber(L, e.angle);
+      lua_setfield(L, -2, "angle");
     }
     lua_rawseti(L, -2, ++n);
   }
@@ -746,6 +840,8 @@ void openWorldApi(lua_State* L, WorldScript& s) {
                                  {"mesh", worldMesh},
                                  {"spawn", worldSpawn},
                                  {"place_on_ground", worldPlaceOnGround},
+                                 {"place_facing", worldPlaceFacing},
+                                 {"docks", worldDocks},
                                  {"connect", worldConnect},
                                  {"modules", worldModules},
                                  {"module", worldModule},

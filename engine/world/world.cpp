@@ -325,7 +325,28 @@ const ModuleTypeDef* World::loadedModuleType(const std::string& name) const {
 
 int World::spawn(const SpawnDef& def) {
   if (m_started) throw InputError("modules are spawned while the world script runs, before the first step");
-  const ModuleTypeDef& type = moduleType(def.type);
+  const ModuleTypeDef* typePtr = &moduleType(def.type);
+  DockSettings docks = m_dockSettings;
+  docks.overlay(def.docks);
+  if (!docks.empty()) {
+    // A copy of the type with these dock settings, shared by every module spawned with them.
+    const std::string key = typePtr->name + "|" + typePtr->file + "|" + docks.key();
+    std::unique_ptr<ModuleTypeDef>& variant = m_dockVariants[key];
+    if (!variant) {
+      auto t = std::make_unique<ModuleTypeDef>(*typePtr);
+      for (DockDef& d : t->docks) {
+        docks.applyTo(d);
+        if (d.latchDistance > d.captureRadius)
+          throw InputError("dock settings: latch_distance (" + std::to_string(d.latchDistance) +
+                           " m) must not exceed capture_radius (" + std::to_string(d.captureRadius) +
+                           " m) on dock '" + d.name + "'");
+      }
+      prepareType(*t);
+      variant = std::move(t);
+    }
+    typePtr = variant.get();
+  }
+  const ModuleTypeDef& type = *typePtr;
   chargeBudget(budget::kBody * double(type.links.size()), "a module");
   ensurePhysics();
   std::string behaviourPath;
@@ -358,6 +379,7 @@ int World::spawn(const SpawnDef& def) {
     d.mass = def.fixed && int(l) == type.rootLink ? 0.0 : link.mass;  // mass 0: static
     d.pose = linkPoses[l];
     d.friction = link.friction;
+    d.rollingFriction = link.rollingFriction;
     d.owner = index;
     m.parts.push_back(m_physics->addPart(d));
   }
@@ -418,8 +440,9 @@ void World::start() {
   m_started = true;
   m_router.seed(m_settings.seed);
   double capture = 0.03;
-  for (const auto& [name, type] : m_types)
-    for (const DockDef& d : type->docks) capture = std::max(capture, d.captureRadius);
+  for (const auto* types : {&m_types, &m_dockVariants})
+    for (const auto& [name, type] : *types)
+      for (const DockDef& d : type->docks) capture = std::max(capture, d.captureRadius);
   m_docking.setCaptureCell(capture);
   for (size_t i = 0; i < m_modules.size(); ++i) {
     ModuleProgram* b = m_behaviours[i].get();
@@ -580,6 +603,30 @@ double World::placeOnGround(int m, double z) {
   return lift;
 }
 
+void World::placeFacing(int a, int dockA, int b, int dockB, double gap, int orientation) {
+  if (m_started) throw InputError("modules are placed while the world script runs, before the first step");
+  ensurePhysics();
+  if (a == b) throw InputError("a module cannot face itself");
+  const std::vector<int> comp = componentOf(m_modules, b);
+  if (std::find(comp.begin(), comp.end(), a) != comp.end())
+    throw InputError(m_modules[size_t(a)].name + " and " + m_modules[size_t(b)].name +
+                     " are connected: place_facing moves b's side, which holds a");
+  const DockDef& defA = m_modules[size_t(a)].type->docks[size_t(dockA)];
+  const DockDef& defB = m_modules[size_t(b)].type->docks[size_t(dockB)];
+  const int sym = std::max(1, std::min(defA.symmetry, defB.symmetry));
+  if (orientation < 0 || orientation >= sym)
+    throw InputError("orientation must be 0.." + std::to_string(sym - 1) + ", got " +
+                     std::to_string(orientation));
+  const Pose pa = dockPose(a, dockA);
+  Pose want = matingFrame(pa, orientation, sym);
+  want.pos += gap * (pa.rot * Vec3::UnitX());
+  const Pose delta = want * dockPose(b, dockB).inverse();
+  std::vector<int> parts;
+  for (int m : comp)
+    for (int p : m_modules[size_t(m)].parts) parts.push_back(p);
+  m_physics->transformParts(parts, delta);
+}
+
 bool World::disconnect(int m, int dock) {
   const bool released = m_docking.disconnect(dockingScene(), m, dock);
   dropReleased();
@@ -615,8 +662,21 @@ void World::step() {
   m_router.route(m_mailboxes, m_modules, m_steps, m_options.mailboxLimit);
   // 4. Undock: connections where either dock is now disabled are released.
   m_docking.undock(dockingScene());
-  // 5. Dock: free compatible docks attract; aligned ones latch.
+  // 5. Dock: free compatible docks are drawn together (capture joints, or magnets); aligned ones
+  // latch.
+  const size_t eventsBefore = m_docking.events().size();
   m_docking.dock(dockingScene());
+  for (size_t i = eventsBefore; i < m_docking.events().size() && m_options.echoLog; ++i) {
+    const DockEvent& e = m_docking.events()[i];
+    if (e.kind != DockEventKind::Stalled) continue;
+    const Module& a = m_modules[size_t(e.moduleA)];
+    const Module& b = m_modules[size_t(e.moduleB)];
+    std::fprintf(
+        stderr,
+        "warning: t=%.3f: the capture of %s.%s and %s.%s has not latched: %.1f mm and %.1f deg left\n",
+        m_time, a.name.c_str(), a.type->docks[size_t(e.dockA)].name.c_str(), b.name.c_str(),
+        b.type->docks[size_t(e.dockB)].name.c_str(), e.gap * 1000, e.angle * kDegPerRad);
+  }
   dropReleased();
   // 6. Actuators, then physics.
   applyActuators();

@@ -236,13 +236,20 @@ class World {
     /// Initial joint angles by joint index (rad; empty: all zero). The root link is at `pose`
     /// and the other links follow, so the module starts in that posture and its servos hold it.
     std::vector<double> joints;
+    DockSettings docks;  ///< over the type's docks (and the world's, setDockSettings)
   };
+  /// Dock settings over the module types' for every module spawned after this (world.docks).
+  void setDockSettings(const DockSettings& s) { m_dockSettings = s; }
+  const DockSettings& dockSettings() const { return m_dockSettings; }
   /// Throws InputError (without location: the caller adds it).
   int spawn(const SpawnDef& def);
   void connect(int a, int dockA, int b, int dockB, int orientation);
   /// Moves module m's connected component straight up or down so that its lowest point is at
   /// height z (before the first step). Returns how far it moved (m, + up).
   double placeOnGround(int m, double z);
+  /// Moves b's connected component so its dock `dockB` faces a's `dockA` squarely, `gap` metres
+  /// out along a's normal (world.place_facing). Throws InputError.
+  void placeFacing(int a, int dockA, int b, int dockB, double gap, int orientation);
   /// Releases the connection at module m's dock (as if a dock were disabled). False if none.
   bool disconnect(int m, int dock);
   void setChannel(const ChannelDef& c) { m_router.setChannel(c); }
@@ -357,6 +364,9 @@ class World {
   std::string m_worldFile;
   std::unique_ptr<PhysicsWorld> m_physics;
   std::map<std::string, std::unique_ptr<ModuleTypeDef>> m_types;
+  /// Types with dock settings over them (world.docks, world.spawn's docks), by type name and settings.
+  std::map<std::string, std::unique_ptr<ModuleTypeDef>> m_dockVariants;
+  DockSettings m_dockSettings;
   std::vector<Module> m_modules;
   std::unique_ptr<ScriptHost> m_host;                        ///< outlives the programs (declared before them)
   std::vector<std::unique_ptr<ModuleProgram>> m_behaviours;  ///< one per module (null: none)

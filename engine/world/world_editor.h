@@ -35,6 +35,10 @@ class WorldEditor {
     m_world.connect(a, dockA, b, dockB, orientation);
   }
   double placeOnGround(int m, double z) { return m_world.placeOnGround(m, z); }
+  void placeFacing(int a, int dockA, int b, int dockB, double gap, int orientation) {
+    m_world.placeFacing(a, dockA, b, dockB, gap, orientation);
+  }
+  void setDockSettings(const DockSettings& s) { m_world.setDockSettings(s); }
   void setCamera(const World::CameraDef& c) { m_world.setCamera(c); }
   void setChannel(const ChannelDef& c) { m_world.setChannel(c); }
 

@@ -188,7 +188,7 @@ function act(a) end
 act_size = nil
 ---Called after a hot reload replaced the behaviour's definitions (`state` survives).
 function on_reload() end
----Called at the start of the module's next step for each dock event: `dock` is the Dock handle (compare `dock:name() == "front"`), `event` what happened.
+---Called at the start of the module's next step for each dock event: `dock` is the Dock handle (compare `dock:name() == "front"`), `event` what happened: "engaged", "disengaged" or "broken"; and, before a connection exists, "captured" (a capture joint has begun drawing this dock and another together) and "stalled" (that capture has not latched after `capture_time`).
 ---@param dock Dock
----@param event "engaged"|"disengaged"|"broken"
+---@param event "engaged"|"disengaged"|"broken"|"captured"|"stalled"
 function on_dock(dock, event) end

@@ -15,6 +15,21 @@
 ---@field rolling_friction? number m: rolling and spinning resistance (default 0.0005 for dynamic bodies)
 ---@field velocity? number[]
 
+---@class DockSettings
+---@field capture? "joint"|"magnet" how a captured dock is drawn in (default joint)
+---@field capture_radius? number m (0.03)
+---@field capture_angle? number rad (0.5236, 30 deg)
+---@field latch_distance? number m (0.004)
+---@field latch_angle? number rad (0.0873, 5 deg)
+---@field capture_speed? number m/s: the capture joint closes the faces at most this fast (0.05)
+---@field capture_turn_speed? number rad/s: ... and turns them at most this fast (1)
+---@field capture_force? number N: the most force the capture joint exerts (20)
+---@field capture_torque? number N m: the most torque it exerts (1)
+---@field capture_time? number s: a capture not latched after this is reported stalled (3)
+---@field pull? number N: the magnet's pull (2)
+---@field strength? number N: a connection breaks above this force (100)
+---@field strength_torque? number N m: ... or above this torque (10)
+
 ---@class world
 world = {}
 ---Settings, all optional (seed before the first spawn); `solver` is `"exact"` (default: 2 substeps x 10 iterations) or `"pgs"` (default: 4 x 30; substeps and iterations given are kept; see [Physics](../physics.md)); `max_speed`, `max_angular_speed` and `bounds` are the divergence limits; `expect_faults = true` (or a number: exactly that many faulted modules) declares that the world faults modules on purpose, which `rm3d test` otherwise fails.
@@ -61,9 +76,20 @@ function world.fluid(o) end
 function world.debris(o) end
 ---A module of `assets/modules/<type>.lua` (or of a module-type file given by path); `fixed = true` holds its root link in place (a base); `joints` is its initial posture, angles in radians by joint name (`{pitch = 0.5}`) or in joint order (`{0.5, 0, -0.3}`), within the joints' limits: the root link is at `at` and the other links follow, and the servos hold that posture until commanded; returns a Module.
 ---@param type string a module type name or a module-type file
----@param o? {at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?, joints: table<string|integer, number>?}
+---@param o? {at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?, joints: table<string|integer, number>?, docks: DockSettings?}
 ---@return Module
 function world.spawn(type, o) end
+---Dock settings over the module types' for every module spawned after the call (a key left out keeps the type's value; `world.spawn`'s `docks` does the same for one module, over these): `capture` `"joint"` (the default: a capture joint draws the faces together, see [Docking at run time](../physics.md#docking-at-run-time)) or `"magnet"` (a force `pull` at each face), and the dock keys of a module-type file: `capture_radius`, `capture_angle`, `latch_distance`, `latch_angle`, `capture_speed`, `capture_turn_speed`, `capture_force`, `capture_torque`, `capture_time`, `pull`, `strength`, `strength_torque`.
+---@param s DockSettings
+function world.docks(s) end
+---Before the first step: places b (and what is docked to it) so its dock `dock_b` faces a's `dock_a` squarely, `gap` metres (default 0.01) out along a's normal, turned `orientation` x 360/symmetry degrees about it (default 0); nothing is locked (the docks latch at run time if they are within capture; for modules on the ground, then `world.place_on_ground(b)`).
+---@param a Module
+---@param dock_a string
+---@param b Module
+---@param dock_b string
+---@param gap? number metres between the faces (default 0.01)
+---@param orientation? integer turns about the normal (default 0)
+function world.place_facing(a, dock_a, b, dock_b, gap, orientation) end
 ---Before the first step: moves m and everything connected to it straight down (or up) until the lowest point of their collision shapes is at height `z` (default 0, the ground plane); returns how far it moved (m).
 ---@param m Module
 ---@param z? number metres (default 0, the ground plane)
@@ -100,7 +126,7 @@ function world.graph(format) end
 ---@param name string
 ---@return ModuleTypeData
 function world.module_type(name) end
----Dock events so far (or since a time): `{time=, event=, module_a=, dock_a=, module_b=, dock_b=, force=, torque=}`, loads on "broken" ones.
+---Dock events so far (or since a time): `{time=, event=, module_a=, dock_a=, module_b=, dock_b=, force=, torque=, distance=, angle=}`; `event` is "engaged", "disengaged", "broken", "captured" (a capture joint began drawing the two docks together) or "stalled" (a capture not latched after the docks' `capture_time`); loads (N, N m) on "broken" ones, what is left to close (m, rad) on "stalled" ones.
 ---@param since? number
 ---@return {time: number, event: string, module_a: integer, dock_a: string, module_b: integer, dock_b: string, force: number?, torque: number?}[]
 function world.events(since) end

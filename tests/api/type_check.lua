@@ -65,6 +65,7 @@ local classes = {
   end,
   -- Option tables: their fields are checked by the world functions themselves.
   ShapeOptions = function(v) return type(v) == "table" end,
+  DockSettings = function(v) return type(v) == "table" end,
   ["linalg.matrix"] = function(v) return hasMethods(v, "rows", "cols", "solve") end,
   ["linalg.quat"] = function(v) return hasMethods(v, "rotate", "angle") end,
   ["linalg.transform"] = function(v) return hasMethods(v, "rotation", "translation") end,

@@ -2,6 +2,7 @@
 -- (the magnet pulls them in and latches; on_dock reports "engaged" to both behaviours), and do
 -- not dock when one is pitched 45 degrees (beyond the 30 degree capture angle). A pair 15
 -- degrees off in yaw is turned into line by the magnet and docks.
+world.docks{capture = "magnet"}  -- the force magnet (capture joints: tests/worlds/docking_ground.lua)
 world.set{gravity = {0, 0, 0}, duration = 3}
 local watcher = "../behaviors/dock_watcher.lua"
 local function pair(y, pitch, yaw)

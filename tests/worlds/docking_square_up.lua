@@ -2,6 +2,7 @@
 -- in yaw with its front dock 15 mm from another's back dock turns into line (the yaw between the
 -- two falls) and latches. Measured: yaw 20 -> 15.7 deg after 0.05 s, latched at 0.117 s; with the
 -- torque's sign the other way round (as it was before this test), 20 -> 19.3 deg and 0.150 s.
+world.docks{capture = "magnet"}  -- the force magnet (capture joints: tests/worlds/docking_ground.lua)
 world.set{gravity = {0, 0, 0}, duration = 0.5}
 local yaw = math.rad(20)
 local a = world.spawn("superbot", {at = {0, 0, 0}, name = "a"})

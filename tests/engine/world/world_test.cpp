@@ -117,8 +117,10 @@ world.at(0.5, function() c:push({20, 0, 0}) d:push({20, 0, 0}) end)
   CHECK(std::abs(rolledCoarse.pos.z() - rolledFine.pos.z()) < 0.0015);
   // Both roll as 24-gons on the equator and lose energy at every vertex; the fine mesh's next
   // ring (11 degrees up, 1 mm off the ground) widens its contact, so it rolls about 14% farther.
+  // With the ATRON's rolling resistance (rolling_friction 0.002 m) both roll 0.094 m (0.19 m
+  // without it).
   CHECK(std::abs(rolledCoarse.pos.x() - rolledFine.pos.x()) < 0.2 * rolledFine.pos.x());
-  CHECK(rolledCoarse.pos.x() > 0.15);
+  CHECK(rolledCoarse.pos.x() > 0.06);
   MESSAGE("ATRON rest height: 77 points " << coarse.pos.z() << " m, 193 points " << fine.pos.z()
                                           << " m; rolled on its side to x = " << rolledCoarse.pos.x()
                                           << " and " << rolledFine.pos.x() << " m");

@@ -1,0 +1,128 @@
+// Capture joints: two dock faces drawn together by a joint of bounded speed and force (see
+// CaptureJoint in exact_solver.h; docs/physics.md, "Docking").
+//
+// A force at a dock face (a magnet) acts above the contact patch: below mu m g it cannot slide a
+// resting module at all, and above it the module tips before it slides. A capture joint is an
+// internal constraint between the two dock links instead, solved with the contacts in every sweep:
+// its rows aim the faces' relative velocity at the one that closes the gap and the twist at a
+// bounded speed, with impulses bounded by the capture force and torque. Both sides take equal and
+// opposite impulses, so two equal modules close symmetrically (the pair's centre stays put), and
+// friction and normal forces shift with it in the same solve, so nothing tips.
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "physics/bullet_eigen.h"
+#include "physics/exact_solver.h"
+
+namespace rm3d {
+
+namespace {
+
+using Vec3d = Eigen::Vector3d;
+using bt::rotationVector;
+using bt::toBt;
+using bt::toEigen;
+
+}  // namespace
+
+CaptureLink::CaptureLink(btRigidBody& a, btRigidBody& b, int capture)
+    : btTypedConstraint(MAX_CONSTRAINT_TYPE, a, b), m_capture(capture) {
+  setUserConstraintType(kType);
+}
+
+void CaptureLink::getInfo1(btConstraintInfo1* info) {
+  info->m_numConstraintRows = 0;
+  info->nub = 0;
+}
+
+void CaptureLink::getInfo2(btConstraintInfo2*) {}
+
+CaptureJoint::Error CaptureJoint::error() const {
+  const btTransform ta = a->getCenterOfMassTransform() * frameA;
+  const btTransform tb = b->getCenterOfMassTransform() * frameB;
+  Error e;
+  e.gap = toEigen(tb.getOrigin()) - toEigen(ta.getOrigin());
+  e.turn = rotationVector(toEigen(ta.getRotation()) * mate * toEigen(tb.getRotation()).conjugate());
+  e.pointA = toEigen(ta.getOrigin());
+  e.pointB = toEigen(tb.getOrigin());
+  return e;
+}
+
+void ExactSolver::setupCaptures(btTypedConstraint** constraints, int numConstraints) {
+  m_groupCaptures.clear();
+  for (int i = 0; i < numConstraints; ++i) {
+    btTypedConstraint* c = constraints[i];
+    if (c->getUserConstraintType() != CaptureLink::kType || !c->isEnabled()) continue;
+    const int id = static_cast<CaptureLink*>(c)->capture();
+    CaptureJoint& cj = captures[size_t(id)];
+    const int idA = getOrInitSolverBody(*cj.a, btScalar(m_h)),
+              idB = getOrInitSolverBody(*cj.b, btScalar(m_h));
+    const CaptureJoint::Error e = cj.error();
+    // The relative velocity that closes the gap and the turn within time 1/gain, at most the
+    // closing speeds: the rows aim v_B - v_A at -gain x gap (at the faces' midpoint) and
+    // w_B - w_A at gain x turn.
+    Vec3d close = cj.gain * e.gap, turn = cj.gain * e.turn;
+    if (close.norm() > cj.speed) close *= cj.speed / close.norm();
+    if (turn.norm() > cj.angularSpeed) turn *= cj.angularSpeed / turn.norm();
+    const Vec3d mid = 0.5 * (e.pointA + e.pointB), zero = Vec3d::Zero();
+    const int row = m_patchRows.size();
+    for (int k = 0; k < 3; ++k)
+      addOwnRow(idA, idB, mid, mid, Vec3d::Unit(k), zero, close[k], cj.force * m_h, id);
+    for (int k = 0; k < 3; ++k)
+      addOwnRow(idA, idB, mid, mid, zero, Vec3d::Unit(k), -turn[k], cj.torque * m_h, id);
+    // Warm start from the last substep's impulses, within this substep's bounds.
+    Vec3d lin = cj.linear, ang = cj.angular;
+    if (lin.norm() > cj.force * m_h) lin *= cj.force * m_h / lin.norm();
+    if (ang.norm() > cj.torque * m_h) ang *= cj.torque * m_h / ang.norm();
+    for (int k = 0; k < 3; ++k) warmStartRow(m_patchRows[row + k], lin[k]);
+    for (int k = 0; k < 3; ++k) warmStartRow(m_patchRows[row + 3 + k], ang[k]);
+    m_groupCaptures.push_back({id, row});
+  }
+}
+
+double ExactSolver::sweepCaptures(const std::function<bool(const btSolverConstraint&)>& wanted) {
+  double residual = 0;
+  const int nc = m_tmpSolverContactConstraintPool.size();
+  // Three rows solved one after the other, then clamped together to a ball of radius `bound`.
+  auto triple = [&](int row, double bound) {
+    double before[3], after[3];
+    for (int k = 0; k < 3; ++k) {
+      btSolverConstraint& s = m_patchRows[row + k];
+      const double* x = &m_rowExtra[size_t(4 * (nc + row + k))];
+      before[k] = s.m_appliedImpulse;
+      after[k] = x[2] == 0
+                     ? before[k]
+                     : before[k] + (m_useSplit ? x[2] : x[3]) * (x[0] - x[1] * before[k] - rowVelocity(s));
+      applyRowImpulse(s, after[k] - before[k]);
+    }
+    const double len = std::sqrt(after[0] * after[0] + after[1] * after[1] + after[2] * after[2]);
+    const double scale = len > bound ? bound / len : 1.0;
+    for (int k = 0; k < 3; ++k) {
+      btSolverConstraint& s = m_patchRows[row + k];
+      applyRowImpulse(s, after[k] * scale - after[k]);
+      s.m_appliedImpulse = btScalar(after[k] * scale);
+      residual = std::max(residual, (after[k] * scale - before[k]) * (after[k] * scale - before[k]));
+    }
+  };
+  for (const GroupCapture& gc : m_groupCaptures) {
+    if (!wanted(m_patchRows[gc.row])) continue;
+    const CaptureJoint& cj = captures[size_t(gc.id)];
+    triple(gc.row, cj.force * m_h);
+    triple(gc.row + 3, cj.torque * m_h);
+  }
+  return residual;
+}
+
+void ExactSolver::finishCaptures() {
+  for (const GroupCapture& gc : m_groupCaptures) {
+    CaptureJoint& cj = captures[size_t(gc.id)];
+    for (int k = 0; k < 3; ++k) {
+      cj.linear[k] = double(m_patchRows[gc.row + k].m_appliedImpulse);
+      cj.angular[k] = double(m_patchRows[gc.row + 3 + k].m_appliedImpulse);
+    }
+  }
+}
+
+}  // namespace rm3d

@@ -107,7 +107,8 @@ class ExactLink : public btTypedConstraint {
 struct CaptureJoint {
   btRigidBody* a = nullptr;
   btRigidBody* b = nullptr;
-  btTransform frameA, frameB;  ///< the dock frames in each body's centre-of-mass frame
+  btTransform frameA = btTransform::getIdentity(),
+              frameB = btTransform::getIdentity();  ///< the dock frames in each body's centre-of-mass frame
   Eigen::Quaterniond mate = Eigen::Quaterniond::Identity();  ///< b's dock frame wanted, relative to a's
   double speed = 0.05;                                       ///< m/s: the faces close at most this fast
   double angularSpeed = 1.0;                                 ///< rad/s: ... and turn at most this fast

@@ -48,64 +48,41 @@ const char* genderName(Gender g) {
 
 namespace rm3d {
 
-namespace {
-
-// The settings' fields, in one list: name, member.
-template <typename F>
-void forEachSetting(DockSettings& s, F&& f) {
-  f("capture_radius", s.captureRadius);
-  f("capture_angle", s.captureAngle);
-  f("latch_distance", s.latchDistance);
-  f("latch_angle", s.latchAngle);
-  f("capture_speed", s.captureSpeed);
-  f("capture_turn_speed", s.captureTurnSpeed);
-  f("capture_force", s.captureForce);
-  f("capture_torque", s.captureTorque);
-  f("capture_time", s.captureTime);
-  f("pull", s.pull);
-  f("strength", s.strength);
-  f("strength_torque", s.strengthTorque);
-}
-
-}  // namespace
+const DockSettings::Field DockSettings::kFields[12] = {
+    {"capture_radius", &DockSettings::captureRadius, &DockDef::captureRadius, 1e-6, 10, "m"},
+    {"capture_angle", &DockSettings::captureAngle, &DockDef::captureAngle, 1e-6, kPi, "rad"},
+    {"latch_distance", &DockSettings::latchDistance, &DockDef::latchDistance, 1e-6, 10, "m"},
+    {"latch_angle", &DockSettings::latchAngle, &DockDef::latchAngle, 1e-6, kPi, "rad"},
+    {"capture_speed", &DockSettings::captureSpeed, &DockDef::captureSpeed, 1e-6, 100, "m/s"},
+    {"capture_turn_speed", &DockSettings::captureTurnSpeed, &DockDef::captureTurnSpeed, 1e-6, 100, "rad/s"},
+    {"capture_force", &DockSettings::captureForce, &DockDef::captureForce, 1e-6, 1e6, "N"},
+    {"capture_torque", &DockSettings::captureTorque, &DockDef::captureTorque, 1e-6, 1e6, "N m"},
+    {"capture_time", &DockSettings::captureTime, &DockDef::captureTime, 1e-6, 1e6, "s"},
+    {"pull", &DockSettings::pull, &DockDef::pull, 0, 1e6, "N"},
+    {"strength", &DockSettings::strength, &DockDef::strength, 1e-6, 1e9, "N"},
+    {"strength_torque", &DockSettings::strengthTorque, &DockDef::strengthTorque, 1e-6, 1e9, "N m"}};
 
 void DockSettings::applyTo(DockDef& d) const {
   if (capture) d.capture = *capture;
-  if (captureRadius) d.captureRadius = *captureRadius;
-  if (captureAngle) d.captureAngle = *captureAngle;
-  if (latchDistance) d.latchDistance = *latchDistance;
-  if (latchAngle) d.latchAngle = *latchAngle;
-  if (captureSpeed) d.captureSpeed = *captureSpeed;
-  if (captureTurnSpeed) d.captureTurnSpeed = *captureTurnSpeed;
-  if (captureForce) d.captureForce = *captureForce;
-  if (captureTorque) d.captureTorque = *captureTorque;
-  if (captureTime) d.captureTime = *captureTime;
-  if (pull) d.pull = *pull;
-  if (strength) d.strength = *strength;
-  if (strengthTorque) d.strengthTorque = *strengthTorque;
+  for (const Field& f : kFields)
+    if (this->*f.setting) d.*f.value = *(this->*f.setting);
 }
 
 void DockSettings::overlay(const DockSettings& o) {
   if (o.capture) capture = o.capture;
-  DockSettings& self = *this;
-  DockSettings other = o;
-  std::vector<std::optional<double>*> mine, theirs;
-  forEachSetting(self, [&](const char*, std::optional<double>& v) { mine.push_back(&v); });
-  forEachSetting(other, [&](const char*, std::optional<double>& v) { theirs.push_back(&v); });
-  for (size_t i = 0; i < mine.size(); ++i)
-    if (*theirs[i]) *mine[i] = *theirs[i];
+  for (const Field& f : kFields)
+    if (o.*f.setting) this->*f.setting = o.*f.setting;
 }
 
 std::string DockSettings::key() const {
   std::string k;
   if (capture) k += *capture == DockDef::Capture::Joint ? "capture=joint;" : "capture=magnet;";
-  DockSettings copy = *this;
-  forEachSetting(copy, [&](const char* name, std::optional<double>& v) {
-    if (!v) return;
+  for (const Field& f : kFields) {
+    if (!(this->*f.setting)) continue;
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%s=%.17g;", name, *v);
+    std::snprintf(buf, sizeof buf, "%s=%.17g;", f.key, *(this->*f.setting));
     k += buf;
-  });
+  }
   return k;
 }
 

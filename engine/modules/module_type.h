@@ -90,6 +90,17 @@ struct DockSettings {
   void overlay(const DockSettings& o);
   /// A text naming exactly the fields set and their values ("" when none).
   std::string key() const;
+
+  /// The numeric settings: their key in Lua, where each lives here and in a DockDef, and the
+  /// range world.docks accepts.
+  struct Field {
+    const char* key;
+    std::optional<double> DockSettings::*setting;
+    double DockDef::*value;
+    double lo, hi;
+    const char* unit;
+  };
+  static const Field kFields[12];
 };
 
 enum class SensorKind { Accelerometer, Gyro, Orientation, Position, Range, Contact };

@@ -22,22 +22,9 @@ namespace {
 
 using Vec3d = Eigen::Vector3d;
 using bt::rotationVector;
-using bt::toBt;
 using bt::toEigen;
 
 }  // namespace
-
-CaptureLink::CaptureLink(btRigidBody& a, btRigidBody& b, int capture)
-    : btTypedConstraint(MAX_CONSTRAINT_TYPE, a, b), m_capture(capture) {
-  setUserConstraintType(kType);
-}
-
-void CaptureLink::getInfo1(btConstraintInfo1* info) {
-  info->m_numConstraintRows = 0;
-  info->nub = 0;
-}
-
-void CaptureLink::getInfo2(btConstraintInfo2*) {}
 
 CaptureJoint::Error CaptureJoint::error() const {
   const btTransform ta = a->getCenterOfMassTransform() * frameA;
@@ -55,7 +42,7 @@ void ExactSolver::setupCaptures(btTypedConstraint** constraints, int numConstrai
   for (int i = 0; i < numConstraints; ++i) {
     btTypedConstraint* c = constraints[i];
     if (c->getUserConstraintType() != CaptureLink::kType || !c->isEnabled()) continue;
-    const int id = static_cast<CaptureLink*>(c)->capture();
+    const int id = static_cast<CaptureLink*>(c)->index();
     CaptureJoint& cj = captures[size_t(id)];
     const int idA = getOrInitSolverBody(*cj.a, btScalar(m_h)),
               idB = getOrInitSolverBody(*cj.b, btScalar(m_h));
@@ -84,33 +71,11 @@ void ExactSolver::setupCaptures(btTypedConstraint** constraints, int numConstrai
 
 double ExactSolver::sweepCaptures(const std::function<bool(const btSolverConstraint&)>& wanted) {
   double residual = 0;
-  const int nc = m_tmpSolverContactConstraintPool.size();
-  // Three rows solved one after the other, then clamped together to a ball of radius `bound`.
-  auto triple = [&](int row, double bound) {
-    double before[3], after[3];
-    for (int k = 0; k < 3; ++k) {
-      btSolverConstraint& s = m_patchRows[row + k];
-      const double* x = &m_rowExtra[size_t(4 * (nc + row + k))];
-      before[k] = s.m_appliedImpulse;
-      after[k] = x[2] == 0
-                     ? before[k]
-                     : before[k] + (m_useSplit ? x[2] : x[3]) * (x[0] - x[1] * before[k] - rowVelocity(s));
-      applyRowImpulse(s, after[k] - before[k]);
-    }
-    const double len = std::sqrt(after[0] * after[0] + after[1] * after[1] + after[2] * after[2]);
-    const double scale = len > bound ? bound / len : 1.0;
-    for (int k = 0; k < 3; ++k) {
-      btSolverConstraint& s = m_patchRows[row + k];
-      applyRowImpulse(s, after[k] * scale - after[k]);
-      s.m_appliedImpulse = btScalar(after[k] * scale);
-      residual = std::max(residual, (after[k] * scale - before[k]) * (after[k] * scale - before[k]));
-    }
-  };
   for (const GroupCapture& gc : m_groupCaptures) {
     if (!wanted(m_patchRows[gc.row])) continue;
     const CaptureJoint& cj = captures[size_t(gc.id)];
-    triple(gc.row, cj.force * m_h);
-    triple(gc.row + 3, cj.torque * m_h);
+    residual = std::max(residual, sweepBall(gc.row, 3, cj.force * m_h));
+    residual = std::max(residual, sweepBall(gc.row + 3, 3, cj.torque * m_h));
   }
   return residual;
 }

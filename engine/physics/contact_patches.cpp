@@ -114,6 +114,46 @@ void ExactSolver::warmStartRow(btSolverConstraint& s, double impulse) {
                             s.m_appliedImpulse);
 }
 
+/// A patch's normal impulse now, and the sum of its points' normal impulses times their distance
+/// from its centre (the twist's lever).
+std::pair<double, double> ExactSolver::patchLoad(const PatchRows& pr) const {
+  double normalSum = 0, twistArm = 0;
+  for (int r = pr.contactBegin; r < pr.contactEnd; ++r) {
+    const double n = std::max(0.0, double(m_tmpSolverContactConstraintPool[r].m_appliedImpulse));
+    normalSum += n;
+    twistArm += m_contactArm[size_t(r)] * n;
+  }
+  return {normalSum, twistArm};
+}
+
+/// `count` (2 or 3) of the solver's own rows from `row` on, solved one after the other, then
+/// clamped together to a circle or ball of radius `bound` (a patch's tangent or rolling pair, a
+/// capture joint's force or torque); returns the squared change of their impulses.
+double ExactSolver::sweepBall(int row, int count, double bound) {
+  const int nc = m_tmpSolverContactConstraintPool.size();
+  double before[3], after[3];
+  for (int k = 0; k < count; ++k) {
+    btSolverConstraint& s = m_patchRows[row + k];
+    const double* x = &m_rowExtra[size_t(4 * (nc + row + k))];
+    before[k] = s.m_appliedImpulse;
+    after[k] = x[2] == 0
+                   ? before[k]
+                   : before[k] + (m_useSplit ? x[2] : x[3]) * (x[0] - x[1] * before[k] - rowVelocity(s));
+    applyRowImpulse(s, after[k] - before[k]);
+  }
+  const double len = count == 2 ? std::hypot(after[0], after[1])
+                                : std::sqrt(after[0] * after[0] + after[1] * after[1] + after[2] * after[2]);
+  const double scale = len > bound ? bound / len : 1.0;
+  double change = 0;
+  for (int k = 0; k < count; ++k) {
+    btSolverConstraint& s = m_patchRows[row + k];
+    applyRowImpulse(s, after[k] * scale - after[k]);
+    s.m_appliedImpulse = btScalar(after[k] * scale);
+    change += (after[k] * scale - before[k]) * (after[k] * scale - before[k]);
+  }
+  return change;
+}
+
 void ExactSolver::setupPatches(btPersistentManifold** manifolds, int numManifolds) {
   m_groupPatches.clear();
   m_patchRows.resizeNoInitialize(0);
@@ -182,6 +222,9 @@ void ExactSolver::setupPatches(btPersistentManifold** manifolds, int numManifold
     const Vec3d t1 = toEigen(t1b).normalized(), t2 = normal.cross(t1);
 
     PatchRows pr;
+    pr.centre = centre;
+    pr.t1 = toEigen(toBt(t1));  // as the rows hold them (floats)
+    pr.t2 = toEigen(toBt(t2));
     pr.slot = slot;
     pr.contactBegin = row;
     pr.contactEnd = end;
@@ -231,12 +274,7 @@ void ExactSolver::setupPatches(btPersistentManifold** manifolds, int numManifold
 
     // Warm start: last substep's impulses in this substep's frame, within this substep's bounds
     // at the normal impulses Bullet warm-started (the sweep clamps them again).
-    double normalSum = 0, twistArm = 0;
-    for (int r = row; r < end; ++r) {
-      const double n = std::max(0.0, double(m_tmpSolverContactConstraintPool[r].m_appliedImpulse));
-      normalSum += n;
-      twistArm += m_contactArm[size_t(r)] * n;
-    }
+    const auto [normalSum, twistArm] = patchLoad(pr);
     double f1 = t1.dot(p.force), f2 = t2.dot(p.force);
     const double fb = pr.mu * normalSum, f = std::hypot(f1, f2);
     if (f > fb) f1 *= fb / f, f2 *= fb / f;
@@ -256,40 +294,14 @@ double ExactSolver::sweepPatches(const std::function<bool(const btSolverConstrai
   const int nc = m_tmpSolverContactConstraintPool.size();
   for (const PatchRows& pr : m_groupPatches) {
     if (!wanted(m_patchRows[pr.row])) continue;
-    double normalSum = 0, twistArm = 0;
-    for (int r = pr.contactBegin; r < pr.contactEnd; ++r) {
-      const double n = std::max(0.0, double(m_tmpSolverContactConstraintPool[r].m_appliedImpulse));
-      normalSum += n;
-      twistArm += m_contactArm[size_t(r)] * n;
-    }
-    // A pair of rows solved one after the other, then clamped together to a circle.
-    auto pair = [&](int k, double bound) {
-      btSolverConstraint& a = m_patchRows[pr.row + k];
-      btSolverConstraint& b = m_patchRows[pr.row + k + 1];
-      const double* xa = &m_rowExtra[size_t(4 * (nc + pr.row + k))];
-      const double* xb = &m_rowExtra[size_t(4 * (nc + pr.row + k + 1))];
-      const double la = a.m_appliedImpulse, lb = b.m_appliedImpulse;
-      const double na =
-          xa[2] == 0 ? la : la + (m_useSplit ? xa[2] : xa[3]) * (xa[0] - xa[1] * la - rowVelocity(a));
-      applyRowImpulse(a, na - la);
-      const double nb =
-          xb[2] == 0 ? lb : lb + (m_useSplit ? xb[2] : xb[3]) * (xb[0] - xb[1] * lb - rowVelocity(b));
-      applyRowImpulse(b, nb - lb);
-      const double len = std::hypot(na, nb);
-      const double s = len > bound ? bound / len : 1.0;
-      applyRowImpulse(a, na * s - na);
-      applyRowImpulse(b, nb * s - nb);
-      a.m_appliedImpulse = btScalar(na * s);
-      b.m_appliedImpulse = btScalar(nb * s);
-      residual = std::max(residual, (na * s - la) * (na * s - la) + (nb * s - lb) * (nb * s - lb));
-    };
-    pair(0, pr.mu * normalSum);
+    const auto [normalSum, twistArm] = patchLoad(pr);
+    residual = std::max(residual, sweepBall(pr.row, 2, pr.mu * normalSum));
     {
       btSolverConstraint& t = m_patchRows[pr.row + 2];
       const double bound = pr.mu * twistArm + pr.spin * normalSum;
       residual = std::max(residual, sweepRow(t, -bound, bound, &m_rowExtra[size_t(4 * (nc + pr.row + 2))]));
     }
-    if (pr.roll) pair(3, pr.rolling * normalSum);
+    if (pr.roll) residual = std::max(residual, sweepBall(pr.row + 3, 2, pr.rolling * normalSum));
   }
   return residual;
 }
@@ -301,18 +313,9 @@ double ExactSolver::sweepPatches(const std::function<bool(const btSolverConstrai
 void ExactSolver::finishPatches() {
   for (const PatchRows& pr : m_groupPatches) {
     Patch& p = m_patches[size_t(pr.slot)];
-    double normalSum = 0, twistArm = 0;
-    for (int r = pr.contactBegin; r < pr.contactEnd; ++r) {
-      const double n = std::max(0.0, double(m_tmpSolverContactConstraintPool[r].m_appliedImpulse));
-      normalSum += n;
-      twistArm += m_contactArm[size_t(r)] * n;
-    }
+    const auto [normalSum, twistArm] = patchLoad(pr);
     const btSolverConstraint* rows = &m_patchRows[pr.row];
-    const Vec3d t1 =
-        toEigen(rows[0].m_contactNormal1.isZero() ? -rows[0].m_contactNormal2 : rows[0].m_contactNormal1);
-    const Vec3d t2 =
-        toEigen(rows[1].m_contactNormal1.isZero() ? -rows[1].m_contactNormal2 : rows[1].m_contactNormal1);
-    const Vec3d normal = t1.cross(t2);
+    const Vec3d &t1 = pr.t1, &t2 = pr.t2, normal = t1.cross(t2);
     const double f1 = rows[0].m_appliedImpulse, f2 = rows[1].m_appliedImpulse, tw = rows[2].m_appliedImpulse;
     p.force = f1 * t1 + f2 * t2;
     p.twist = tw;
@@ -326,19 +329,13 @@ void ExactSolver::finishPatches() {
     // Each point's share: the force equally (the centre is the points' mean), the twist in
     // proportion to the distance from the centre.
     const int n = pr.contactEnd - pr.contactBegin;
-    Vec3d centre = Vec3d::Zero();
     double arm2 = 0;
-    for (int r = pr.contactBegin; r < pr.contactEnd; ++r) {
-      const auto* cp =
-          static_cast<const btManifoldPoint*>(m_tmpSolverContactConstraintPool[r].m_originalContactPoint);
-      centre += 0.5 * (toEigen(cp->getPositionWorldOnA()) + toEigen(cp->getPositionWorldOnB()));
+    for (int r = pr.contactBegin; r < pr.contactEnd; ++r)
       arm2 += m_contactArm[size_t(r)] * m_contactArm[size_t(r)];
-    }
-    centre /= double(n);
     for (int r = pr.contactBegin; r < pr.contactEnd; ++r) {
       const btSolverConstraint& c = m_tmpSolverContactConstraintPool[r];
       const auto* cp = static_cast<const btManifoldPoint*>(c.m_originalContactPoint);
-      Vec3d d = 0.5 * (toEigen(cp->getPositionWorldOnA()) + toEigen(cp->getPositionWorldOnB())) - centre;
+      Vec3d d = 0.5 * (toEigen(cp->getPositionWorldOnA()) + toEigen(cp->getPositionWorldOnB())) - pr.centre;
       d -= normal * normal.dot(d);
       Vec3d f = p.force / double(n);
       if (arm2 > 0) f += tw * normal.cross(d) / arm2;

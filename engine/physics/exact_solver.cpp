@@ -87,18 +87,6 @@ Mat6 symmetricInverse(const Mat6& a) {
 
 }  // namespace
 
-ExactLink::ExactLink(btRigidBody& a, btRigidBody& b, int joint)
-    : btTypedConstraint(MAX_CONSTRAINT_TYPE, a, b), m_joint(joint) {
-  setUserConstraintType(kType);
-}
-
-void ExactLink::getInfo1(btConstraintInfo1* info) {
-  info->m_numConstraintRows = 0;
-  info->nub = 0;
-}
-
-void ExactLink::getInfo2(btConstraintInfo2*) {}
-
 void ExactSolver::beginSubstep() {
   // Patches whose manifold had no rows in the last substep: the pair parted (or sleeps).
   for (size_t i = 0; i < m_patches.size(); ++i) {
@@ -277,7 +265,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
   for (int i = 0; i < numConstraints; ++i) {
     btTypedConstraint* c = constraints[i];
     if (c->getUserConstraintType() != ExactLink::kType || !c->isEnabled()) continue;
-    const int j = static_cast<ExactLink*>(c)->joint();
+    const int j = static_cast<ExactLink*>(c)->index();
     Row& r = m_rows[size_t(j)];
     r.na = bodyOf(joints[size_t(j)].a);
     r.nb = bodyOf(joints[size_t(j)].b);

@@ -22,10 +22,12 @@
 // Every iteration is one block Gauss-Seidel pass: Bullet's sweep over the contact rows, then the exact solve
 // of all hinge rows, so the last iteration always leaves the hinges exact and the motors within their torque.
 //
-// Contacts and friction stay Bullet's rows, swept by this solver: a body joined to others by
-// hinges whose motors hold them moves, within the sweep, with its rigid group (the group's mass
-// and inertia take the impulse), and after the sweep each impulse goes to the body it hit for the
-// exact solve to pass on through the hinges.
+// Contact normals stay Bullet's rows, swept by this solver; friction is the solver's own, per
+// contact patch with anchors (contact_patches.cpp), and capture joints add rows of their own
+// (capture_joint.cpp). A body joined to others by hinges whose motors hold them moves, within the
+// sweep, with its rigid group (the group's mass and inertia take the impulse; in the first
+// iteration of a substep split among the group's contacts), and after the sweep each impulse goes
+// to the body it hit for the exact solve to pass on through the hinges.
 //
 // The structural rows aim at J v = -(h/2) dJ/dt v (dJ/dt v at the velocities of the last exact
 // solve), not 0: with J v = 0 each substep's projection, at a pose turned by h w from the last,
@@ -47,6 +49,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 namespace rm3d {
@@ -85,21 +88,30 @@ struct ExactJoint {
   bool nearLower = false, nearUpper = false;
 };
 
-/// A zero-row constraint: puts both bodies in one island and solver group and keeps them from
-/// colliding, while the exact solver does the work.
-class ExactLink : public btTypedConstraint {
+/// A zero-row constraint: puts both bodies in one island and solver group while the exact solver
+/// does the work; `Tag` (its user constraint type) says whose, `index` which one.
+template <int Tag>
+class SolverLink : public btTypedConstraint {
  public:
-  static constexpr int kType = 0x5258;  // user constraint type tag
-  ExactLink(btRigidBody& a, btRigidBody& b, int joint);
-  int joint() const { return m_joint; }
-  void getInfo1(btConstraintInfo1* info) override;
-  void getInfo2(btConstraintInfo2* info) override;
+  static constexpr int kType = Tag;
+  SolverLink(btRigidBody& a, btRigidBody& b, int index)
+      : btTypedConstraint(MAX_CONSTRAINT_TYPE, a, b), m_index(index) {
+    setUserConstraintType(kType);
+  }
+  int index() const { return m_index; }
+  void getInfo1(btConstraintInfo1* info) override {
+    info->m_numConstraintRows = 0;
+    info->nub = 0;
+  }
+  void getInfo2(btConstraintInfo2*) override {}
   void setParam(int, btScalar, int) override {}
   btScalar getParam(int, int) const override { return 0; }
 
  private:
-  int m_joint;
+  int m_index;
 };
+/// A hinge of ExactSolver::joints (it also keeps its bodies from colliding).
+using ExactLink = SolverLink<0x5258>;
 
 /// A capture joint (capture_joint.cpp): draws the dock frame on b towards the one on a (turned
 /// by `mate`) at a bounded speed, with a bounded force and torque. PhysicsWorld writes the inputs
@@ -124,20 +136,8 @@ struct CaptureJoint {
   Error error() const;  ///< at the bodies' present poses
 };
 
-/// A zero-row constraint for a capture joint: puts both bodies in one island and solver group.
-class CaptureLink : public btTypedConstraint {
- public:
-  static constexpr int kType = 0x5259;  // user constraint type tag
-  CaptureLink(btRigidBody& a, btRigidBody& b, int capture);
-  int capture() const { return m_capture; }
-  void getInfo1(btConstraintInfo1* info) override;
-  void getInfo2(btConstraintInfo2* info) override;
-  void setParam(int, btScalar, int) override {}
-  btScalar getParam(int, int) const override { return 0; }
-
- private:
-  int m_capture;
-};
+/// A capture joint of ExactSolver::captures.
+using CaptureLink = SolverLink<0x5259>;
 
 class ExactSolver : public btSequentialImpulseConstraintSolver {
  public:
@@ -231,7 +231,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     int row = 0;  // its first row in m_patchRows: tangent 1, tangent 2, twist, [roll 1, roll 2]
     bool roll = false;
     double mu = 0, spin = 0, rolling = 0;  // friction, and the lever arms (m) of spin and rolling
+    Eigen::Vector3d centre, t1, t2;        // where its rows act, and their tangent directions
   };
+  std::pair<double, double> patchLoad(const PatchRows& pr) const;
+  double sweepBall(int row, int count, double bound);
   void setupPatches(btPersistentManifold** manifolds, int numManifolds);
   void addOwnRow(int idA, int idB, const Eigen::Vector3d& pointA, const Eigen::Vector3d& pointB,
                  const Eigen::Vector3d& linear, const Eigen::Vector3d& angular, double target,
@@ -327,7 +330,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<Eigen::Vector3d> m_bodyOffset;  // body centre of mass minus its group's
   std::vector<Vec6> m_bodyImpulse;            // contact impulse on a grouped body this sweep
   std::vector<int> m_groupParent;             // union-find
-  std::vector<double> m_rowExtra;             // per contact then friction row: velocity error, cfm, 1 / mass
+  // Per contact row, then per row of the solver's own (m_patchRows): velocity error, cfm, 1 / mass
+  // with the group's weight split among its contacts (first iteration), and without.
+  std::vector<double> m_rowExtra;
   int m_groupFirstBody = 0;
   bool m_useSplit = true;
   std::vector<int> m_sidToBody;

@@ -1041,13 +1041,6 @@ void PhysicsWorld::removeCapture(int id) {
   m->freeCaptures.push_back(id);
 }
 
-std::pair<double, double> PhysicsWorld::captureError(int id) const {
-  const Impl::Capture& c = m->captures[size_t(id)];
-  const Pose a = m->partPose(c.d.partA) * c.d.frameA, b = m->partPose(c.d.partB) * c.d.frameB;
-  const Quat want = a.rot * c.d.mate;
-  return {(b.pos - a.pos).norm(), want.angularDistance(b.rot)};
-}
-
 void PhysicsWorld::setMotor(int hinge, MotorMode mode, double value) {
   Impl::Hinge& h = m->hinges[hinge];
   h.mode = mode;

@@ -150,8 +150,6 @@ class PhysicsWorld {
   /// Adds a capture joint; returns its id (ids of removed ones are reused).
   int addCapture(const CaptureDesc& desc);
   void removeCapture(int id);
-  /// A capture's face gap (m) and turn (rad) still to close, at the present poses.
-  std::pair<double, double> captureError(int id) const;
 
   void setMotor(int hinge, MotorMode mode, double value);
   /// Sets the linear velocity of the body holding the part (a thrown obstacle), waking it.

@@ -610,22 +610,11 @@ class TypeReader {
         fail(w, "expected a whole number from 1 to 360, got " + formatNumber(n));
       d.symmetry = int(n);
     }
-    struct Field {
-      const char* key;
-      double* value;
-      bool positive;
-    };
-    for (const Field& f :
-         {Field{"capture_radius", &d.captureRadius, true}, Field{"capture_angle", &d.captureAngle, true},
-          Field{"latch_distance", &d.latchDistance, true}, Field{"latch_angle", &d.latchAngle, true},
-          Field{"capture_speed", &d.captureSpeed, true},
-          Field{"capture_turn_speed", &d.captureTurnSpeed, true},
-          Field{"capture_force", &d.captureForce, true}, Field{"capture_torque", &d.captureTorque, true},
-          Field{"capture_time", &d.captureTime, true}, Field{"pull", &d.pull, false},
-          Field{"strength", &d.strength, true}, Field{"strength_torque", &d.strengthTorque, true}})
+    // The numeric keys: those world.docks takes (DockSettings::kFields); pull may be 0.
+    for (const DockSettings::Field& f : DockSettings::kFields)
       if (const Value* x = find(v, f.key))
-        *f.value =
-            f.positive ? toPositive(*x, childPath(where, f.key)) : toNonNegative(*x, childPath(where, f.key));
+        d.*f.value =
+            f.lo > 0 ? toPositive(*x, childPath(where, f.key)) : toNonNegative(*x, childPath(where, f.key));
     if (d.latchDistance > d.captureRadius)
       fail(childPath(where, "latch_distance"), "must not exceed capture_radius");
     if (const Value* c = find(v, "capture")) {

@@ -318,31 +318,13 @@ DockSettings readDockSettings(lua_State* L, int idx, const char* fn) {
     else
       luaL_error(L, "%s: capture must be \"joint\" or \"magnet\", got \"%s\"", fn, c);
   }
-  struct Field {
-    const char* key;
-    std::optional<double>* value;
-    double lo, hi;  // allowed range
-    const char* unit;
-  };
-  const Field fields[] = {{"capture_radius", &d.captureRadius, 1e-6, 10, "m"},
-                          {"capture_angle", &d.captureAngle, 1e-6, kPi, "rad"},
-                          {"latch_distance", &d.latchDistance, 1e-6, 10, "m"},
-                          {"latch_angle", &d.latchAngle, 1e-6, kPi, "rad"},
-                          {"capture_speed", &d.captureSpeed, 1e-6, 100, "m/s"},
-                          {"capture_turn_speed", &d.captureTurnSpeed, 1e-6, 100, "rad/s"},
-                          {"capture_force", &d.captureForce, 1e-6, 1e6, "N"},
-                          {"capture_torque", &d.captureTorque, 1e-6, 1e6, "N m"},
-                          {"capture_time", &d.captureTime, 1e-6, 1e6, "s"},
-                          {"pull", &d.pull, 0, 1e6, "N"},
-                          {"strength", &d.strength, 1e-6, 1e9, "N"},
-                          {"strength_torque", &d.strengthTorque, 1e-6, 1e9, "N m"}};
-  for (const Field& f : fields) {
+  for (const DockSettings::Field& f : DockSettings::kFields) {
     if (!hasField(L, idx, f.key)) continue;
     const double v = optNumberField(L, idx, fn, f.key, 0);
     if (!(v >= f.lo && v <= f.hi))
       luaL_error(L, "%s: %s must be %s to %s %s, got %s", fn, f.key, numText(f.lo).s, numText(f.hi).s, f.unit,
                  numText(v).s);
-    *f.value = v;
+    d.*f.setting = v;
   }
   return d;
 }

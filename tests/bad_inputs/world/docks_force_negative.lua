@@ -1,0 +1,2 @@
+world.set{duration = 0.2}
+world.docks{capture_force = -1}

@@ -23,11 +23,12 @@
 --
 -- Speed. A module also measures how fast its own angle advances (over the last `window`
 -- seconds, from the same percept) and sets lean = gain * (rate - measured rate), within
--- +-max_lean: about 20 deg from rest (a hexagon needs some 15 deg to start rolling, backwards
--- more than forwards), less as the loop speeds up, a backward lean (a brake) when too fast.
--- Without it the loop accelerates until the 3 rad/s joints cannot reshape it fast enough
--- (0.8 to 0.9 m/s). Below about 2 rad/s the loop rolls face by face, surging and stalling.
---
+-- +-max_lean: the full 30 deg from rest (a hexagon of 0.084 m square modules lies on a whole
+-- module's flat side and needs some 25 deg to tip over its corner), less once the loop turns
+-- near its rate, a backward lean (a brake) when too fast. Without it the loop accelerates until
+-- the 3 rad/s joints cannot reshape it fast enough (0.8 to 0.9 m/s). It rolls face by face,
+-- surging and now and then stalling on a face until the lean tips it again.
+
 -- Forming. Until both its front and back docks are engaged (the world closes the loop), a module
 -- holds pitch at -60 deg (front bracket turned towards its own +z) and roll and yaw at 0, with
 -- an integral trim so that the six joint angles are right to a few hundredths of a degree and
@@ -38,8 +39,8 @@
 --   direction  1 (default): roll towards where the bottom modules' front docks point; -1: back
 --   rate       loop turning rate to hold, rad/s (default 2.5: about 0.45 m/s for six modules,
 --              whose loop is 1.14 m round)
---   max_lean   deg (default 20; bends stay within 40..80 deg, inside the +-90 deg limits)
---   gain       lean in rad per rad/s of rate error (default 0.15)
+--   max_lean   deg (default 30; bends stay within 30..90 deg, the joints' limits)
+--   gain       lean in rad per rad/s of rate error (default 1)
 --   window     seconds over which the rate is measured (default 1)
 --   settle     seconds between closing the loop and rolling (default 0.5)
 --   verbose    log the percept, rate and lean twice a second

@@ -23,8 +23,8 @@ function M.new(params)
 
   local direction = params.direction or 1
   local rate = params.rate or 2.5
-  local max_lean = math.rad(params.max_lean or 20)
-  local gain = params.gain or 0.15
+  local max_lean = math.rad(params.max_lean or 30)
+  local gain = params.gain or 1.0
   local window = params.window or 1
   local settle = params.settle or 0.5
 

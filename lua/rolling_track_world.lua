@@ -48,7 +48,7 @@ function M.build(opts)
   local loop = {modules = {}, direction = opts.direction or 1, name = prefix}
   for i = 1, M.size do
     loop.modules[i] = world.spawn("superbot", {
-      at = {at[1], at[2] + (i - 1) * 0.4, 0.053},
+      at = {at[1], at[2] + (i - 1) * 0.4, 0.043},
       name = prefix .. "_" .. i,
       behavior = opts.behavior or "behaviors/rolling_track.lua",
       params = params,

@@ -11,7 +11,7 @@
 --     n = 150, type = "superbot", joint = "pitch",     -- the joint the wave drives
 --     amplitude = 0.6, period = 1.5, lag = 2 * math.pi / 5,  -- as behaviors/snake.lua
 --     at = {0, 0}, spacing = 0.19, ground = 0,         -- head at (x, y); chain along -x
---     bottom = 0.0526,                                 -- flat: module frame height above the ground
+--     bottom = 0.0430,                                 -- flat: module frame height above the ground
 --     behavior = "behaviors/snake.lua", params = {...},  -- each module also gets index, joint,
 --                                                      -- amplitude, period, lag and ramp = 0
 --     name = "snake_",                                 -- names snake_1 .. snake_n
@@ -48,7 +48,7 @@ function M.build(o)
   check(type(at) == "table" and finite(at[1]) and finite(at[2]), "at= must be {x, y} in metres")
   local spacing, ground = o.spacing or 0.19, o.ground or 0
   check(finite(spacing) and finite(ground), "spacing= and ground= must be finite numbers")
-  local bottom = o.bottom or 0.0526
+  local bottom = o.bottom or 0.0430
   local prefix = o.name or "snake_"
   check(o.pose == nil or o.pose == "gait" or o.pose == "flat", "pose= must be \"gait\" or \"flat\"")
   local gait = (o.pose or "gait") == "gait"

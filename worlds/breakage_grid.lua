@@ -2,16 +2,16 @@
 -- are hit by five heavy spheres. Docks carry at most 100 N and 10 N m (the SuperBot type's
 -- strength); where an impact loads a connection beyond that, it breaks ("broken" events with
 -- the measured load in the JSON summary). The connections that hold keep their modules exactly
--- together, and nothing explodes. On the exact solver (the default) 22 of the 76 connections hold:
+-- together, and nothing explodes. On the exact solver (the default) 11 of the 76 connections hold:
 -- its rigid hinges pass each impact's shear on to the neighbours at once, whose docks then carry
--- it (56 hold on "pgs", whose softer joints spread it over several steps; 35 at 8 substeps).
+-- it (60 hold on "pgs", whose softer joints spread it over several steps; 21 at 8 substeps).
 world.set{gravity = {0, 0, 0}, duration = 3}
 local rows, cols = 5, 9
 local grid = {}
 for r = 1, rows do
   grid[r] = {}
   for c = 1, cols do
-    grid[r][c] = world.spawn("superbot", {at = {-(c - 1) * 0.19, (r - 1) * 0.104, 1}, name = string.format("m%d_%d", r, c)})
+    grid[r][c] = world.spawn("superbot", {at = {-(c - 1) * 0.19, (r - 1) * 0.086, 1}, name = string.format("m%d_%d", r, c)})
     if c > 1 then world.connect(grid[r][c - 1], "back", grid[r][c], "front") end
   end
   if r > 1 then

@@ -6,7 +6,7 @@ world.set{duration = 10}
 world.ground{friction = 0.8}
 local chain = {}
 for i = 1, 10 do
-  chain[i] = world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "behaviors/caterpillar.lua"})
+  chain[i] = world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "behaviors/caterpillar.lua"})
   if i > 1 then world.connect(chain[i - 1], "back", chain[i], "front") end
 end
 local x0 = chain[1]:position().x

@@ -12,7 +12,7 @@ world.camera{eye = {0.9, -1.25, 0.8}, target = {0.15, 0, 0.05}}
 local snake = {}
 for i = 1, 4 do
   snake[i] = world.spawn("superbot", {
-    at = {-0.25, -0.3 + (i - 1) * 0.19, 0.053},
+    at = {-0.25, -0.3 + (i - 1) * 0.19, 0.043},
     rot = {0, 0, -math.pi / 2},
     name = "snake_" .. i,
     behavior = "behaviors/snake.lua",

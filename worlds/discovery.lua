@@ -23,7 +23,7 @@ local function spawn(name, params)
 end
 
 -- The spine s1..s4 runs along -x; branches stick out sideways and carry further modules.
-local s1 = world.spawn("superbot", {at = {0, 0, 0.053}, name = "s1", behavior = "behaviors/discovery.lua"})
+local s1 = world.spawn("superbot", {at = {0, 0, 0.043}, name = "s1", behavior = "behaviors/discovery.lua"})
 local s2, s3, s4 = spawn("s2"), spawn("s3"), spawn("s4")
 world.connect(s1, "back", s2, "front")
 world.connect(s2, "back", s3, "front")

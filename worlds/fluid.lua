@@ -22,8 +22,8 @@ local spacing = (bx * W * bz / n) ^ (1 / 3)
 local water = world.fluid{min = {-L / 2, -W / 2, 0}, max = {-L / 2 + bx, W / 2, bz}, spacing = spacing}
 local count = water:count()
 
-local head = world.spawn("superbot", {at = {0.35, 0, 0.053}, behavior = "behaviors/snake.lua", params = {index = 0}})
-local tail = world.spawn("superbot", {at = {0.16, 0, 0.053}, behavior = "behaviors/snake.lua", params = {index = 1}})
+local head = world.spawn("superbot", {at = {0.35, 0, 0.043}, behavior = "behaviors/snake.lua", params = {index = 0}})
+local tail = world.spawn("superbot", {at = {0.16, 0, 0.043}, behavior = "behaviors/snake.lua", params = {index = 1}})
 world.connect(tail, "back", head, "front")
 local float = world.box{size = {0.12, 0.12, 0.12}, at = {-0.4, 0.1, 0.5}, mass = 500 * 0.12 ^ 3}
 world.camera{eye = {0.5, -1.1, 3.2}, target = {0, 0, 0}}

@@ -4,7 +4,7 @@
 
 world.set{dt = 1 / 60, duration = 6}
 world.ground{}
-local m = world.spawn("superbot", {at = {0, 0, 0.053}, name = "sweeper", behavior = "behaviors/sweep.lua",
+local m = world.spawn("superbot", {at = {0, 0, 0.043}, name = "sweeper", behavior = "behaviors/sweep.lua",
                                    params = {amplitude = math.rad(60), period = 2}})
 
 world.every(0.5, function(t)

@@ -7,7 +7,7 @@
 --                            a half disc of radius 0.042 about the origin for x < 0 (16 segments),
 --                            so the origin is the hinge pivot (38 points)
 --   superbot_bracket_hull.obj the convex hull of a whole bracket (end plate and both side
---                            plates): the same D profile, 0.104 wide in y (38 points); the
+--                            plates): the same D profile, 0.084 wide in y (38 points); the
 --                            bracket's collision geometry, one hull instead of three
 -- Run from the project root with the plain interpreter, then commit the OBJ files:
 --   lua5.4 assets/meshes/make_superbot_meshes.lua
@@ -98,5 +98,5 @@ writeObj("superbot_end_plate.obj", endPlate(0.006, 0.042, 0.042, 0.004),
          "SuperBot bracket end plate, 0.012 x 0.084 x 0.084, chamfer 0.004, centred")
 writeObj("superbot_side_plate.obj", sidePlate(0.052, 0.042, 0.006, 16),
          "SuperBot bracket side plate, D-shaped, 0.012 thick in y, hinge pivot at the origin")
-writeObj("superbot_bracket_hull.obj", sidePlate(0.052, 0.042, 0.052, 16),
-         "SuperBot bracket convex hull (collision), D-shaped, 0.104 wide in y, hinge pivot at the origin")
+writeObj("superbot_bracket_hull.obj", sidePlate(0.052, 0.042, 0.042, 16),
+         "SuperBot bracket convex hull (collision), D-shaped, 0.084 wide in y, hinge pivot at the origin")

@@ -149,11 +149,11 @@ local function turned(shapes, q)
 end
 
 -- Front bracket: end plate outer face at x = 0.095; side plates pivot at x = 0.043 with their
--- outer faces at y = +-0.052.
+-- outer faces at y = +-0.042, flush with the end plate, so the module is 0.084 m square.
 local frontBracket = {
   { mesh = kEndPlate, at = { 0.089, 0, 0 } },
-  { mesh = kSidePlate, at = { 0.043, 0.046, 0 } },
-  { mesh = kSidePlate, at = { 0.043, -0.046, 0 } },
+  { mesh = kSidePlate, at = { 0.043, 0.036, 0 } },
+  { mesh = kSidePlate, at = { 0.043, -0.036, 0 } },
 }
 local frontBracketCollision = { { mesh = kBracketHull, at = { 0.043, 0, 0 } } }
 local kBackTurn = quatMul(quatAxisAngle({ 1, 0, 0 }, math.pi / 2), quatAxisAngle({ 0, 0, 1 }, math.pi))
@@ -176,9 +176,9 @@ return {
     { name = "front_outer", mass = 0.13, color = kOuterColor, friction = 1.0, shapes = frontBracket,
       collision = frontBracketCollision },
     { name = "front_inner", mass = 0.23, color = kInnerColor, friction = 1.0,
-      shapes = { { box = { 0.053, 0.063, 0.064 }, at = { 0.0265, 0, 0 } } } },
+      shapes = { { box = { 0.053, 0.060, 0.060 }, at = { 0.0265, 0, 0 } } } },
     { name = "back_inner", mass = 0.23, color = kInnerColor, friction = 1.0,
-      shapes = { { box = { 0.053, 0.063, 0.064 }, at = { -0.0265, 0, 0 } } } },
+      shapes = { { box = { 0.053, 0.060, 0.060 }, at = { -0.0265, 0, 0 } } } },
     { name = "back_outer", mass = 0.13, color = kOuterColor, friction = 1.0,
       shapes = turned(frontBracket, kBackTurn), collision = turned(frontBracketCollision, kBackTurn) },
   },
@@ -190,10 +190,10 @@ return {
   docks = {
     dock("front", "front_outer", { 0.095, 0, 0 }, { 1, 0, 0 }, { 0, 0, 1 }),
     dock("back", "back_outer", { -0.095, 0, 0 }, { -1, 0, 0 }, { 0, 0, 1 }),
-    dock("left", "front_outer", { 0.058, 0.052, 0 }, { 0, 1, 0 }, { 0, 0, 1 }),
-    dock("right", "front_outer", { 0.058, -0.052, 0 }, { 0, -1, 0 }, { 0, 0, 1 }),
-    dock("up", "back_outer", { -0.058, 0, 0.052 }, { 0, 0, 1 }, { -1, 0, 0 }),
-    dock("down", "back_outer", { -0.058, 0, -0.052 }, { 0, 0, -1 }, { -1, 0, 0 }),
+    dock("left", "front_outer", { 0.058, 0.043, 0 }, { 0, 1, 0 }, { 0, 0, 1 }),
+    dock("right", "front_outer", { 0.058, -0.043, 0 }, { 0, -1, 0 }, { 0, 0, 1 }),
+    dock("up", "back_outer", { -0.058, 0, 0.043 }, { 0, 0, 1 }, { -1, 0, 0 }),
+    dock("down", "back_outer", { -0.058, 0, -0.043 }, { 0, 0, -1 }, { -1, 0, 0 }),
   },
   -- joint:<name> and dock:<name> sensors exist for every joint and dock without being listed.
   sensors = {

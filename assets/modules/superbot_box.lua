@@ -3,7 +3,7 @@
 -- where contact detail matters less than speed, and for comparing with bare-Bullet references.
 local t = require("superbot")
 t.name = "superbot_box"
-t.links[1].shapes = { { box = { 0.062, 0.104, 0.084 }, at = { 0.064, 0, 0 } } }
-t.links[4].shapes = { { box = { 0.062, 0.084, 0.104 }, at = { -0.064, 0, 0 } } }
+t.links[1].shapes = { { box = { 0.062, 0.084, 0.084 }, at = { 0.064, 0, 0 } } }
+t.links[4].shapes = { { box = { 0.062, 0.084, 0.084 }, at = { -0.064, 0, 0 } } }
 t.links[1].collision, t.links[4].collision = nil, nil  -- the boxes collide themselves
 return t

@@ -50,7 +50,7 @@ const char* const kSuperbots = RM3D_BENCH_SETTINGS R"(}
 world.ground{}
 local side = math.ceil(math.sqrt(args.n))
 for i = 0, args.n - 1 do
-  world.spawn(args.type, {at = {(i % side) * 0.35, (i // side) * 0.30, 0.053}, behavior = "behaviors/alternate.lua"})
+  world.spawn(args.type, {at = {(i % side) * 0.35, (i // side) * 0.30, 0.043}, behavior = "behaviors/alternate.lua"})
 end)";
 
 const char* const kAtrons = RM3D_BENCH_SETTINGS R"(}
@@ -86,7 +86,7 @@ end)"},
 world.ground{}
 local prev
 for i = 1, args.n do
-  local m = world.spawn(args.type, {at = {-(i - 1) * 0.19, 0, 0.053}, behavior = "behaviors/relay.lua"})
+  local m = world.spawn(args.type, {at = {-(i - 1) * 0.19, 0, 0.043}, behavior = "behaviors/relay.lua"})
   if prev then world.connect(prev, "back", m, "front") end
   prev = m
 end)"},

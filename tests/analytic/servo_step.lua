@@ -10,7 +10,7 @@ local target = math.rad(45)
 local cases = {}
 for k, j in ipairs({"pitch", "roll", "yaw"}) do
   for _, fixed in ipairs({true, false}) do
-    local at = fixed and {k * 0.5, 1, 1} or {k * 0.5, 0, 0.053}
+    local at = fixed and {k * 0.5, 1, 1} or {k * 0.5, 0, 0.043}
     cases[#cases + 1] = {
       joint = j, fixed = fixed, within = nil, over = 0,
       m = world.spawn("superbot", {at = at, fixed = fixed, behavior = "behaviors/hold.lua",

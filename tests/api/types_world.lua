@@ -40,11 +40,11 @@ check("world.connect", {a, "left", b, "right"}, world.connect(a, "left", b, "rig
 check("world.place_on_ground", {a, 0}, world.place_on_ground(a, 0))
 local w = world.spawn("wheelbot", {name = "w", at = {0, -1, 0.045}, behavior = probe})
 -- A module for the supervisor's writes (push, set_dock, inject_fault).
-local victim = world.spawn("superbot", {name = "victim", at = {0, 1, 0.053}})
+local victim = world.spawn("superbot", {name = "victim", at = {0, 1, 0.043}})
 -- Dock settings and placement: a magnet-docked pair placed 20 mm apart, face to face.
 check("world.docks", {{capture = "magnet", capture_time = 5}}, world.docks{capture = "magnet", capture_time = 5})
-local p1 = world.spawn("superbot", {name = "p1", at = {2, 2, 0.053}, docks = {capture = "joint", capture_force = 10}})
-local p2 = world.spawn("superbot", {name = "p2", at = {2.5, 2, 0.053}})
+local p1 = world.spawn("superbot", {name = "p1", at = {2, 2, 0.043}, docks = {capture = "joint", capture_force = 10}})
+local p2 = world.spawn("superbot", {name = "p2", at = {2.5, 2, 0.043}})
 check("world.place_facing", {p1, "back", p2, "front", 0.02, 0}, world.place_facing(p1, "back", p2, "front", 0.02, 0))
 world.docks{}
 

@@ -56,8 +56,10 @@ if(NOT same_steps EQUAL 120 OR NOT same_ref_sub EQUAL 20 OR NOT same_ok STREQUAL
   message(SEND_ERROR "converged JSON: ${same_steps} steps, reference at ${same_ref_sub} substeps, ok ${same_ok}")
 endif()
 
-# 0.90 degrees and 5.3 mm measured (2 x 10: 5.6 degrees), RMS 0.051 degrees and 1.9 mm (2 x 10:
-# 0.61 degrees, 12.7 mm).
+# 2.46 degrees and 4.9 mm measured (2 x 10: 5.0 degrees), RMS 0.13 degrees and 0.95 mm (2 x 10:
+# 0.71 degrees, 6.7 mm). The largest angle is one module's pitch as its flat bracket lands (t =
+# 0.6 s): the reference itself is 1.05 degrees from 40 x 200 there. With the narrower brackets of
+# before (a SuperBot that rested on one rim) it was 0.90 degrees and 5.3 mm.
 execute_process(COMMAND ${RM3D} bench --converged --substeps 10 --iterations 100 --json ${OUT}/fine.json
                 OUTPUT_QUIET ERROR_VARIABLE err RESULT_VARIABLE rc TIMEOUT 300)
 if(rc GREATER 1)
@@ -66,8 +68,8 @@ else()
   file(READ ${OUT}/fine.json fine)
   number("${fine}" fine_joint differences joint_deg max)
   number("${fine}" fine_mm differences position_mm max)
-  if(NOT fine_joint LESS_EQUAL 1.0 OR NOT fine_mm LESS_EQUAL 6.0)
-    message(SEND_ERROR "10 x 100 is ${fine_joint} deg and ${fine_mm} mm from the reference (at most 1 deg, 6 mm)")
+  if(NOT fine_joint LESS_EQUAL 3.0 OR NOT fine_mm LESS_EQUAL 6.0)
+    message(SEND_ERROR "10 x 100 is ${fine_joint} deg and ${fine_mm} mm from the reference (at most 3 deg, 6 mm)")
   else()
     message(STATUS "ok: 10 x 100 within ${fine_joint} deg and ${fine_mm} mm")
   endif()

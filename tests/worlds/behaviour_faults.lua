@@ -2,9 +2,9 @@
 -- module, with file:line in the message; the healthy module beside them keeps moving.
 world.set{duration = 2, expect_faults = 2}  -- the syntax error and the runtime error
 world.ground{}
-local syntax = world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "../behaviors/syntax_error.lua"})
-local runtime = world.spawn("superbot", {at = {0, 0.5, 0.053}, behavior = "../behaviors/runtime_error.lua"})
-local healthy = world.spawn("superbot", {at = {0, 1.0, 0.053}, behavior = "behaviors/sweep.lua"})
+local syntax = world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "../behaviors/syntax_error.lua"})
+local runtime = world.spawn("superbot", {at = {0, 0.5, 0.043}, behavior = "../behaviors/runtime_error.lua"})
+local healthy = world.spawn("superbot", {at = {0, 1.0, 0.043}, behavior = "behaviors/sweep.lua"})
 world.at(0.1, function()
   local e = syntax:error()
   expect(e ~= nil and e:find("tests/behaviors/syntax_error.lua:4:", 1, true) ~= nil,

@@ -6,7 +6,7 @@ world.ground{friction = 0.8}
 local n, period, lag = 8, 1.5, 2 * math.pi / 5
 local chain = {}
 for i = 1, n do
-  chain[i] = world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "behaviors/caterpillar.lua"})
+  chain[i] = world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "behaviors/caterpillar.lua"})
   if i > 1 then world.connect(chain[i - 1], "back", chain[i], "front") end
 end
 local x0 = chain[1]:position().x

@@ -3,7 +3,7 @@
 -- still holds its angle under the sheet's weight.
 world.set{duration = 3, solver = "exact"}
 world.ground{friction = 0.8}
-local m = world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "behaviors/hold.lua",
+local m = world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "behaviors/hold.lua",
                                    params = {targets = {pitch = 0.5}}})
 local c = world.cloth{corners = {{-0.3, -0.3, 0.4}, {0.3, -0.3, 0.4}, {0.3, 0.3, 0.4}, {-0.3, 0.3, 0.4}},
                       resolution = {20, 20}, mass = 0.05}

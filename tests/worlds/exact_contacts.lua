@@ -5,7 +5,7 @@
 -- chains on the ground still overload their docks: see README, Joint solvers.)
 world.set{duration = 10, solver = "exact", substeps = 1, solver_iterations = 10}
 world.ground{friction = 0.8}
-local rest = world.spawn("superbot", {at = {0, 0, 0.053}})
+local rest = world.spawn("superbot", {at = {0, 0, 0.043}})
 local p0 = rest:position()
 local spin = 0
 world.on_step(function(t)

@@ -2,7 +2,7 @@
 -- so every label is one well-formed quoted string (world.graph("dot"), run --graph FILE.dot).
 world.set{duration = 0.05}
 world.ground{}
-local a = world.spawn("superbot", {at = {0, 0, 0.053}, name = 'say "hi"'})
+local a = world.spawn("superbot", {at = {0, 0, 0.043}, name = 'say "hi"'})
 local b = world.spawn("superbot", {name = "back\\slash\nand a line"})
 world.connect(a, "back", b, "front")
 

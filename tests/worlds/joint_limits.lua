@@ -2,9 +2,9 @@
 -- drive pushing into the limit for 2 s does not pass it by more than 2 degrees.
 world.set{duration = 3}
 world.ground{}
-local servo = world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "behaviors/hold.lua",
+local servo = world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "behaviors/hold.lua",
                                        params = {targets = {roll = 3.0, pitch = -3.0}}})
-local drive = world.spawn("superbot", {at = {0, 0.5, 0.053}, behavior = "behaviors/hold.lua",
+local drive = world.spawn("superbot", {at = {0, 0.5, 0.043}, behavior = "behaviors/hold.lua",
                                        params = {velocities = {yaw = 3.0, roll = -3.0}}})
 local worst = 0
 world.on_step(function()

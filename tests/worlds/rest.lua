@@ -1,8 +1,8 @@
 -- Bodies at rest stay at rest (docs/physics.md, "Contacts at rest"). Every shipped module type,
 -- servos holding, put down with world.place_on_ground: from 0.5 s (settled on its contacts) to
--- 10.5 s it moves less than 0.5 mm and turns less than 0.1 deg. A SuperBot pushed along its
--- length with 1 N and 3 N for 3 s (mu m g = 5.6 N at mu 0.8) moves less than 0.5 mm; pushed
--- sideways with 12 N it slides. Default mu 0.8; `--param mu=0.3` (ctest rest_mu03) runs it on
+-- 10.5 s it moves less than 0.5 mm and turns less than 0.1 deg. A SuperBot pushed sideways and
+-- along its length with 1 N and 3 N for 3 s (mu m g = 5.6 N at mu 0.8) moves less than 0.5 mm;
+-- pushed sideways with 12 N it slides. Default mu 0.8; `--param mu=0.3` (ctest rest_mu03) runs it on
 -- slippery ground, where 12 N still slides and the pushes are left out (3 N is above mu m g).
 local mu = args.mu or 0.8
 world.set{duration = 10.5}
@@ -28,6 +28,8 @@ end
 if mu >= 0.8 then
   add("superbot", {0, 2}, {name = "pushed_1N", push = {1, 0, 0}, to = 3.5})
   add("superbot", {1, 2}, {name = "pushed_3N", push = {3, 0, 0}, to = 3.5})
+  add("superbot", {0, 4}, {name = "pushed_sideways_1N", push = {0, 1, 0}, to = 3.5})
+  add("superbot", {1, 4}, {name = "pushed_sideways_3N", push = {0, 3, 0}, to = 3.5})
 end
 add("superbot", {2, 2}, {name = "pushed_12N", push = {0, 12, 0}, to = 3.5, slide = true})
 

@@ -4,14 +4,14 @@
 -- injected faults kill a sensor, stall a joint and stop a dock latching.
 world.set{duration = 2}
 world.ground{}
-local rest = world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "behaviors/hold.lua"})
+local rest = world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "behaviors/hold.lua"})
 -- Two pairs in the air, docks facing: 5 cm apart (seen, beyond the 3 cm capture) and 15 cm.
 local a1 = world.spawn("superbot", {at = {2, 0, 1}, fixed = true})
 local b1 = world.spawn("superbot", {at = {2 - 0.19 - 0.05, 0, 1}, fixed = true})
 local a2 = world.spawn("superbot", {at = {2, 1, 1}, fixed = true})
 local b2 = world.spawn("superbot", {at = {2 - 0.19 - 0.15, 1, 1}, fixed = true})
-local stall = world.spawn("superbot", {at = {0, 1, 0.053}, behavior = "behaviors/sweep.lua"})
-local reader = world.spawn("superbot", {at = {0, -1, 0.053}, behavior = "../behaviors/sensor_reader.lua"})
+local stall = world.spawn("superbot", {at = {0, 1, 0.043}, behavior = "behaviors/sweep.lua"})
+local reader = world.spawn("superbot", {at = {0, -1, 0.043}, behavior = "../behaviors/sensor_reader.lua"})
 
 world.at(1, function()
   local acc = rest:sensor("accelerometer")

@@ -3,7 +3,7 @@ world.set{duration = 1.2}
 world.ground{}
 local mods = {}
 for k, j in ipairs({"pitch", "roll", "yaw"}) do
-  mods[j] = world.spawn("superbot", {at = {0, k * 0.5, 0.053}, behavior = "behaviors/hold.lua",
+  mods[j] = world.spawn("superbot", {at = {0, k * 0.5, 0.043}, behavior = "behaviors/hold.lua",
                                      params = {targets = {[j] = math.rad(45)}}})
 end
 world.at(1.0, function()

@@ -13,7 +13,7 @@ local function chain(y, prefix, params)
   for i = 1, n do
     local p = {index = i - 1}
     for k, v in pairs(params) do p[k] = v end
-    c[i] = world.spawn("superbot", {at = {-(i - 1) * 0.19, y, 0.053}, name = prefix .. i,
+    c[i] = world.spawn("superbot", {at = {-(i - 1) * 0.19, y, 0.043}, name = prefix .. i,
                                     behavior = "behaviors/snake.lua", params = p})
     if i > 1 then world.connect(c[i - 1], "back", c[i], "front") end
   end

@@ -9,11 +9,11 @@ local a = world.spawn("superbot", {at = {0, 1, 0.3}, fixed = true, joints = {pit
 local b = world.spawn("superbot", {at = {1, 1, 0.3}, fixed = true, joints = {0.2, 0.4, 0.6}})
 local front0 = a:dock_position("front")
 
--- Placement: a module spawned high is lowered to rest on the ground (its frame 0.0526 m up).
+-- Placement: a module spawned high is lowered to rest on the ground (its frame 0.0430 m up).
 local c = world.spawn("superbot", {at = {0, -1, 0.5}})
 local moved = world.place_on_ground(c)
-expect(math.abs(moved + (0.5 - 0.0526)) < 0.002, string.format("place_on_ground moved %.4f m", moved))
-expect(math.abs(c:position().z - 0.0526) < 0.002, string.format("placed at z=%.4f", c:position().z))
+expect(math.abs(moved + (0.5 - 0.0430)) < 0.002, string.format("place_on_ground moved %.4f m", moved))
+expect(math.abs(c:position().z - 0.0430) < 0.002, string.format("placed at z=%.4f", c:position().z))
 
 -- A 12-module chain in its gait pose, held still (a wave of 4 modules: its humps are within the
 -- servos' rating), put down on the ground as one piece.
@@ -21,7 +21,7 @@ local chain = require("snake_chain").build{n = 12, at = {0, -2}, amplitude = 0.4
                                            period = 1e6, behavior = "behaviors/snake.lua", name = "s"}
 local low0 = math.huge
 for _, m in ipairs(chain) do low0 = math.min(low0, m:position().z) end
-expect(math.abs(low0 - 0.0526) < 0.01, string.format("the chain is put down on the ground (lowest frame %.4f m)", low0))
+expect(math.abs(low0 - 0.0430) < 0.01, string.format("the chain is put down on the ground (lowest frame %.4f m)", low0))
 
 -- Errors name what was expected.
 local function fails(text, f, ...)
@@ -49,7 +49,7 @@ world.at(1.0, function()
   expect(math.abs(f.x - want.x) < 0.001 and math.abs(f.z - want.z) < 0.001,
          string.format("front dock at (%.4f, %.4f), expected (%.4f, %.4f)", f.x, f.z, want.x, want.z))
   expect(math.abs(front0.x - want.x) < 0.001, "the posture is there before the first step")
-  expect(math.abs(c:position().z - 0.0526) < 0.002, string.format("placed module rests at z=%.4f", c:position().z))
+  expect(math.abs(c:position().z - 0.0430) < 0.002, string.format("placed module rests at z=%.4f", c:position().z))
   -- the chain holds its pose on the ground in one piece (its middle joints within 0.05 rad)
   expect(#world.components() == 4, "the chain holds together: " .. #world.components() .. " components")
   for i = 3, 10 do

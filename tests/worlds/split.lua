@@ -4,7 +4,7 @@ world.set{duration = 2}
 world.ground{}
 local m = {}
 for i = 1, 3 do
-  m[i] = world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "../behaviors/splitter.lua",
+  m[i] = world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "../behaviors/splitter.lua",
                                   params = {split_at = i == 2 and 1.0 or nil}})
   if i > 1 then world.connect(m[i - 1], "back", m[i], "front") end
 end

@@ -18,7 +18,7 @@ local terraces = {
   {x = xOf(25.5), z = kBase + kHeight},
 }
 
-local kRest = 0.053  -- a SuperBot's height lying flat, roughly (the twin gives it exactly)
+local kRest = 0.043  -- a SuperBot's height lying flat, roughly (the twin gives it exactly)
 local twin = world.spawn("superbot", {name = "twin", at = {0, 3, kRest}})
 for i, t in ipairs(terraces) do
   t.m = world.spawn("superbot", {name = "terrace_" .. i, at = {t.x, -0.6, t.z + kRest + 0.002}})

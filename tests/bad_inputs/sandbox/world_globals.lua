@@ -3,5 +3,5 @@
 world.set{duration = 0.1}
 rm3d_bi_world_leak = "world global visible in a behaviour"
 getmetatable("").__index.rm3d_bi_mark = true
-world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "globals.lua"})
-world.spawn("superbot", {at = {0, 1, 0.053}, behavior = "globals.lua"})
+world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "globals.lua"})
+world.spawn("superbot", {at = {0, 1, 0.043}, behavior = "globals.lua"})

@@ -1,4 +1,4 @@
 -- A valid, tiny world: the command-line cases use it.
 world.set{duration = 0.2}
 world.ground{}
-world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "behaviors/hold.lua"})
+world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "behaviors/hold.lua"})

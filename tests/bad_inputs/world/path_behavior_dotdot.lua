@@ -1,2 +1,2 @@
 world.set{duration = 0.2}
-world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "../../../../../../../../../../tmp/rm3d_bi_evil/evil.lua"}) --!
+world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "../../../../../../../../../../tmp/rm3d_bi_evil/evil.lua"}) --!

@@ -1,2 +1,2 @@
 world.set{duration = 0.2}
-world.spawn("superbot", {at = {0, 0, 0.053}, behavior = "evil_link.lua"}) --!
+world.spawn("superbot", {at = {0, 0, 0.043}, behavior = "evil_link.lua"}) --!

@@ -3,8 +3,8 @@
 -- two must differ by the engaged docks' marks (tests/cli/dock_marks_test.sh).
 world.set{dt = 1 / 60, duration = 0.25}
 world.ground{friction = 0.8}
-local a = world.spawn("superbot", {at = {0, 0, 0.053}, name = "left"})
-local b = world.spawn("superbot", {at = {-0.19, 0, 0.053}, name = "right"})
+local a = world.spawn("superbot", {at = {0, 0, 0.043}, name = "left"})
+local b = world.spawn("superbot", {at = {-0.19, 0, 0.043}, name = "right"})
 if tonumber(args.docked) == 1 then
   world.connect(a, "back", b, "front")
 else

@@ -5,5 +5,5 @@ world.set{dt = 1 / 60, duration = 2}
 world.ground{}
 world.box{size = {0.1, 0.1, 0.1}, at = {0.4, 0.3, 0.05}}
 for i = 1, 2 do
-  world.spawn("superbot", {at = {0, (i - 1) * 0.2, 0.053}, name = "bot" .. i, behavior = "target.lua"})
+  world.spawn("superbot", {at = {0, (i - 1) * 0.2, 0.043}, name = "bot" .. i, behavior = "target.lua"})
 end

@@ -15,7 +15,7 @@ const char* kWorld = R"(
 world.set{seed = 3}
 world.ground{}
 for i = 0, 3 do
-  world.spawn("superbot", {at = {-0.3 + i * 0.2, 0, 0.053}, behavior = "behaviors/snake.lua",
+  world.spawn("superbot", {at = {-0.3 + i * 0.2, 0, 0.043}, behavior = "behaviors/snake.lua",
                            params = {index = i, ramp = 0}})
 end
 world.box{size = {0.1, 0.1, 0.1}, at = {0.3, 0.3, 0.2}, mass = 0.2}

@@ -117,7 +117,7 @@ TEST_CASE("SuperBot loads with its links, joints, docks and mass") {
     CHECK(s.points.size() >= 24);
   }
   CHECK(t.links[fi].shapes.at(0).kind == rm3d::ShapeKind::Box);
-  CHECK(t.links[fi].shapes.at(0).size.isApprox(Vec3(0.053, 0.063, 0.064)));
+  CHECK(t.links[fi].shapes.at(0).size.isApprox(Vec3(0.053, 0.060, 0.060)));
   CHECK(t.links[bi].shapes.at(0).pose.pos.isApprox(Vec3(-0.0265, 0, 0)));
   CHECK(t.links[fo].color == t.links[bo].color);
   CHECK(t.links[fo].color != t.links[fi].color);
@@ -154,10 +154,10 @@ TEST_CASE("SuperBot loads with its links, joints, docks and mass") {
   };
   const Dock docks[] = {{"front", fo, Vec3(0.095, 0, 0), Vec3::UnitX()},
                         {"back", bo, Vec3(-0.095, 0, 0), -Vec3::UnitX()},
-                        {"left", fo, Vec3(0.058, 0.052, 0), Vec3::UnitY()},
-                        {"right", fo, Vec3(0.058, -0.052, 0), -Vec3::UnitY()},
-                        {"up", bo, Vec3(-0.058, 0, 0.052), Vec3::UnitZ()},
-                        {"down", bo, Vec3(-0.058, 0, -0.052), -Vec3::UnitZ()}};
+                        {"left", fo, Vec3(0.058, 0.043, 0), Vec3::UnitY()},
+                        {"right", fo, Vec3(0.058, -0.043, 0), -Vec3::UnitY()},
+                        {"up", bo, Vec3(-0.058, 0, 0.043), Vec3::UnitZ()},
+                        {"down", bo, Vec3(-0.058, 0, -0.043), -Vec3::UnitZ()}};
   for (const Dock& e : docks) {
     CAPTURE(e.name);
     const int d = t.findDock(e.name);

@@ -37,7 +37,7 @@ TEST_CASE(
     "gravity 1e4 and a 1e9 N push: the run stops at the step after the push, naming the module and link") {
   auto w = makeWorld(R"(world.set{gravity = {0, 0, -1e4}, duration = 2}
 world.ground{}
-local m = world.spawn("superbot", {at = {0, 0, 0.053}, name = "bot"})
+local m = world.spawn("superbot", {at = {0, 0, 0.043}, name = "bot"})
 world.at(0.5, function() m:push({1e9, 0, 0}) end)
 )");
   runToEnd(*w);
@@ -118,7 +118,7 @@ world.spawn("superbot", {at = {0, 0, 1}, name = "lost"})
 
 TEST_CASE("a healthy world does not diverge") {
   auto w = makeWorld(R"(world.ground{}
-world.spawn("superbot", {at = {0, 0, 0.053}})
+world.spawn("superbot", {at = {0, 0, 0.043}})
 world.box{size = {0.2, 0.2, 0.2}, at = {1, 0, 0.1}, mass = 2}
 )");
   for (int i = 0; i < 120; ++i) w->step();

@@ -15,7 +15,7 @@ using rm3d::test::stepFor;
 namespace {
 const char* kSingle = R"(
 world.ground{}
-world.spawn("superbot", {at = {0, 0, 0.053}})
+world.spawn("superbot", {at = {0, 0, 0.043}})
 )";
 }
 
@@ -66,26 +66,24 @@ TEST_CASE("a module rests on the ground at its dock height") {
   auto w = makeWorld(kSingle);
   stepFor(*w, 1.0);
   const Pose p = w->modulePose(0);
-  CHECK(p.pos.z() == doctest::Approx(0.052).epsilon(0.05));
+  CHECK(p.pos.z() == doctest::Approx(0.043).epsilon(0.05));
   CHECK(std::abs(p.pos.x()) < 0.01);
 }
 
 TEST_CASE("a SuperBot colliding with its bracket hulls rests where one with the plates does") {
   const char* kBoth = R"(
 world.ground{}
-world.spawn("superbot", {at = {0, 0, 0.053}})
-world.spawn("tests/modules/superbot_plates.lua", {at = {0.5, 0, 0.053}})
+world.spawn("superbot", {at = {0, 0, 0.043}})
+world.spawn("tests/modules/superbot_plates.lua", {at = {0.5, 0, 0.043}})
 )";
   auto w = makeWorld(kBoth);
   stepFor(*w, 1.0);
   const Pose hull = w->modulePose(0), plates = w->modulePose(1);
-  // On the back bracket's side plate (outer face z = -0.052, plus the 1 mm hull margin), tipped
-  // forward onto the front bracket (its centre of mass is at the plate's edge).
-  // Measured: 0.5 mm and 0.32 deg apart at the defaults (exact, 2 x 10), 0.0002 mm and 0.03 deg
-  // on pgs at 4 x 30.
+  // Flat on both brackets: the front one's D profile and the back one's side plate (outer faces
+  // z = -0.042, plus the 1 mm hull margin).
   CHECK(std::abs(hull.pos.z() - plates.pos.z()) < 0.001);
   CHECK(hull.rot.angularDistance(plates.rot) < 0.01);
-  CHECK(std::abs(hull.pos.z() - 0.052) < 0.003);
+  CHECK(std::abs(hull.pos.z() - 0.043) < 0.002);
   MESSAGE("rest height: hulls " << hull.pos.z() << " m, plates " << plates.pos.z() << " m; tilt "
                                 << hull.rot.angularDistance(plates.rot) << " rad apart");
 }

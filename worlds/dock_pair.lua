@@ -1,13 +1,13 @@
 -- worlds/dock_pair.lua: docking on the ground. Two pairs of SuperBots rest on the ground with
 -- their docks facing: front to back 15 mm apart, and front to front 20 mm apart and 10 deg off in
--- yaw. Docks start enabled: a capture joint draws each pair's faces together (equal and opposite,
+-- yaw; a pair of ATRONs lies on their sides, a male dock facing a female one 15 mm apart. Docks start enabled: a capture joint draws each pair's faces together (equal and opposite,
 -- at up to 5 cm/s and 20 N, solved with the contacts, so the pair's centre stays put and nothing
 -- tips) and they latch. Each pair then undocks (one module disables its dock), waits and docks
 -- again (behaviors/dock_cycle.lua).
 --
 --   rm3d run worlds/dock_pair.lua
 --
--- Checks at the end: both pairs latched twice, each time within 3 s; the pairs' centres moved
+-- Checks at the end: every pair latched twice, each time within 3 s; the pairs' centres moved
 -- less than 5 mm. Metrics: first_latch_s, second_latch_s (the later pair's), centre_moved_mm.
 world.set{duration = 6}
 world.ground{friction = 0.8}
@@ -23,13 +23,20 @@ local yaw = math.rad(10)
 local b2 = world.spawn("superbot", {name = "b2", at = {0.115 + 0.095 * math.cos(yaw), 0.5 + 0.095 * math.sin(yaw), 0.1},
                                     rot = {0, 0, math.pi + yaw}, behavior = cycle, params = {dock = "front"}})
 for _, m in ipairs({a1, b1, a2, b2}) do world.place_on_ground(m) end
+-- Two ATRONs lying on their sides (polar axis level), so a male dock of each hemisphere points
+-- level: b's female s1 faces a's male n0 15 mm away (gendered docks mate male to female).
+local a3 = world.spawn("atron", {name = "a3", at = {0, 1, 0.2}, rot = {math.pi / 2, 0, 0}})
+world.place_on_ground(a3)
+local b3 = world.spawn("atron", {name = "b3", behavior = cycle, params = {dock = "s1"}})
+world.place_facing(a3, "n0", b3, "s1", 0.015)
+world.place_on_ground(b3)
 
-local pairs_ = {{a = a1, b = b1, dock = "back"}, {a = a2, b = b2, dock = "front"}}
+local pairs_ = {{a = a1, b = b1, dock = "back"}, {a = a2, b = b2, dock = "front"}, {a = a3, b = b3, dock = "n0"}}
 local function centre(p)
   local x, y = p.a:position(), p.b:position()
   return {(x.x + y.x) / 2, (x.y + y.y) / 2}
 end
-world.at(0.25, function()  -- both settled on their brackets
+world.at(0.25, function()  -- all settled on their brackets and hulls
   for _, p in ipairs(pairs_) do p.c0 = centre(p) end
 end)
 world.on_step(function(t)

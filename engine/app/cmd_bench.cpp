@@ -1,10 +1,11 @@
-// `rm3d bench`: named scale scenes (the paper's scale table, section IV.G, and two of our own),
+// `rm3d bench`: named scale scenes (the paper's scale table, section IV.G, and three of our own),
 // each stepped for a fixed number of steps at the world's default settings unless given; reports
 // speed and real-time factor beside the paper's, the split between behaviours, physics and the
 // rest, and joint/dock fidelity.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -62,7 +63,7 @@ for i = 0, args.n - 1 do
 end)";
 
 // The paper's scalability scenes (section IV.G), with one VM per module running a behaviour,
-// and two of our own (run-time docking, message relay).
+// and three of our own (ten times the largest scale, run-time docking, message relay).
 const Scene kScenes[] = {
     {"snake_150", "N SuperBots docked in one chain, each VM running the travelling-wave gait", 150, 30,
      kSnake},
@@ -74,6 +75,8 @@ const Scene kScenes[] = {
     {"superbots_1000", "N separate SuperBots, every motor alternating between two targets", 1000, 4,
      kSuperbots},
     {"atrons_1500", "N separate ATRONs, each spinning its equator with a velocity drive", 1500, 3, kAtrons},
+    {"superbots_10000", "N separate SuperBots, every motor alternating between two targets", 10000, 0,
+     kSuperbots},
     {"docking_1000",
      "N SuperBots in zero gravity packed 1 cm apart, every dock enabled, latching at run time", 1000, 0,
      RM3D_BENCH_SETTINGS R"(, gravity = {0, 0, 0}}
@@ -149,6 +152,7 @@ struct Result {
   double paperFps = 0, paperRealtime = 0;
   long long steps = 0;
   double stepsPerSecond = 0, realtime = 0;
+  double msWall = 0, msCpu = 0;  ///< per step: wall clock, and CPU time of every thread together
   double msBehaviours = 0, msPhysics = 0, msOther = 0;
   double msParticles = 0;  ///< part of msOther
   int particles = 0;
@@ -157,6 +161,14 @@ struct Result {
   int connections = 0;
   size_t messages = 0;
 };
+
+/// CPU time of the whole process (every thread), s: beside the wall clock it shows how much of
+/// the machine a step used, and it is what a busy machine's neighbours do not inflate.
+double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Result& out) {
   RunOptions o;
@@ -189,6 +201,7 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
   ParticleSystem::Times pt;
   Quality worst;
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = processCpuSeconds();
   for (long long i = 0; i < a.steps; ++i) {
     w.step();
     const World::StepTimes& t = w.lastStepTimes();
@@ -212,6 +225,7 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double cpu = processCpuSeconds() - cpu0;
   worst.trackingRmsDeg = w.quality().trackingRmsDeg;
   out.name = s.name;
   out.modules = int(w.modules().size());
@@ -222,6 +236,8 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
   out.steps = a.steps;
   out.stepsPerSecond = double(a.steps) / wall;
   out.realtime = out.stepsPerSecond * out.dt;
+  out.msWall = 1000 * wall / double(a.steps);
+  out.msCpu = 1000 * cpu / double(a.steps);
   out.msBehaviours = beh / double(a.steps);
   out.msPhysics = phys / double(a.steps);
   out.msOther = other / double(a.steps);
@@ -282,10 +298,13 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       "paper: ReMod3D (section IV.G), dt 1/30, one step per frame, a 2013 quad-core laptop (particle scenes: "
       "dt "
       "1/60, PhysX on a GeForce GT 650M); RTF = simulated s per wall s\n");
-  std::printf("%-15s %7s %9s %7s %9s %7s %8s %8s %8s | %8s %9s %8s %8s %9s | %6s %9s\n", "scene", "modules",
-              "steps/s", "RTF", "paper fps", "paper RTF", "ms beh", "ms phys", "ms other", "hinge mm",
-              "hinge deg", "dock mm", "dock deg", "track deg", "conns", "messages");
-  std::printf("%s\n", "  (last two columns: connections at the end, messages sent)");
+  std::printf("%-15s %7s %9s %7s %9s %7s %8s %8s %8s %8s %8s | %8s %9s %8s %8s %9s | %6s %9s\n", "scene",
+              "modules", "steps/s", "RTF", "paper fps", "paper RTF", "ms wall", "ms cpu", "ms beh", "ms phys",
+              "ms other", "hinge mm", "hinge deg", "dock mm", "dock deg", "track deg", "conns", "messages");
+  std::printf(
+      "%s\n",
+      "  (ms a step: wall clock, CPU time of all threads, and the wall clock's behaviours, physics and "
+      "the rest; last two columns: connections at the end, messages sent)");
   nlohmann::json out = {
       {"threads", a.threads},
       {"solver", solverName(solver)},
@@ -310,10 +329,11 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       std::snprintf(paperRtf, sizeof paperRtf, "%.2f", r.paperRealtime);
     }
     std::printf(
-        "%-15s %7d %9.1f %7.2f %9s %9s %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f | %6d %9zu\n",
-        r.name.c_str(), r.modules, r.stepsPerSecond, r.realtime, paperFps, paperRtf, r.msBehaviours,
-        r.msPhysics, r.msOther, r.quality.hingeGapMm, r.quality.hingeAngleDeg, r.quality.dockGapMm,
-        r.quality.dockAngleDeg, r.quality.trackingRmsDeg, r.connections, r.messages);
+        "%-15s %7d %9.1f %7.2f %9s %9s %8.3f %8.3f %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f | %6d "
+        "%9zu\n",
+        r.name.c_str(), r.modules, r.stepsPerSecond, r.realtime, paperFps, paperRtf, r.msWall, r.msCpu,
+        r.msBehaviours, r.msPhysics, r.msOther, r.quality.hingeGapMm, r.quality.hingeAngleDeg,
+        r.quality.dockGapMm, r.quality.dockAngleDeg, r.quality.trackingRmsDeg, r.connections, r.messages);
     if (r.particles > 0)
       std::printf(
           "  %d particles: %.3f ms a step (sort %.3f, neighbours %.3f, solve %.3f, velocities and push "
@@ -338,7 +358,9 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
                              {"realtime_factor", r.realtime},
                              {"paper", paper},
                              {"ms",
-                              {{"behaviours", r.msBehaviours},
+                              {{"wall", r.msWall},
+                               {"cpu", r.msCpu},
+                               {"behaviours", r.msBehaviours},
                                {"physics", r.msPhysics},
                                {"other", r.msOther},
                                {"particles", r.msParticles},

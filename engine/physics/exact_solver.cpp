@@ -424,9 +424,14 @@ void ExactSolver::buildGroups(int firstBody) {
     size[size_t(std::min(a, b))] += size[size_t(std::max(a, b))];
   }
   m_groups.clear();
-  m_bodyGroup.assign(m_bodies.size(), -1);
+  // Only this solver group's range [firstBody, end): rows reach no body of an earlier group
+  // (m_sidToBody is made per group), and resetting every body of the substep for each of a few
+  // hundred groups made this O(n^2) at 10,000 modules.
+  m_bodyGroup.resize(m_bodies.size());
   m_bodyOffset.resize(m_bodies.size());
-  m_bodyImpulse.assign(m_bodies.size(), Vec6::Zero());
+  m_bodyImpulse.resize(m_bodies.size());
+  std::fill(m_bodyGroup.begin() + firstBody, m_bodyGroup.end(), -1);
+  std::fill(m_bodyImpulse.begin() + firstBody, m_bodyImpulse.end(), Vec6(Vec6::Zero()));
   // A group's root is its smallest body: groups are numbered in body order.
   std::vector<int>& rootGroup = m_queue;
   rootGroup.assign(size_t(nb), -1);

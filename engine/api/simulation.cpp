@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/path_rule.h"
 #include "core/source_files.h"
 #include "io/run_capture.h"
 #include "io/summary.h"
@@ -274,6 +275,13 @@ struct Simulation::Impl {
 
   void startRecording() {
     if (options.record.empty()) return;
+    // The output rule of docs/limits.md: the recording may not overwrite the world script or any
+    // file the world has read (its behaviours, module types, required files), through a link either.
+    std::vector<NamedPath> inputs;
+    if (!path.empty()) inputs.push_back({"the world script", path});
+    for (const auto& [p, text] : sources->taken()) inputs.push_back({"a file the world read,", p});
+    std::string clash;
+    if (!checkOutputsApart(inputs, {{"record=", options.record}}, clash)) throw Error(clash);
     std::error_code ec;
     const fs::path folder = fs::path(options.record).parent_path();
     if (!folder.empty() && !fs::is_directory(folder, ec) && !fs::create_directories(folder, ec))

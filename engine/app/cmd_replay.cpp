@@ -53,7 +53,8 @@ nlohmann::json stateJson(const SceneLayout& lay, const SceneState& st) {
 int replayCommand(const ReplayArgs& a) {
   std::string err;
   if (!checkOutputsApart({{"the recording", a.file}},
-                         {{"--png", a.png}, {"--video", a.video}, {"--json", a.json}}, err)) {
+                         {{"--png", a.png}, {"--video", a.video}, {"--json", a.json}, {"--html", a.html}},
+                         err)) {
     std::fprintf(stderr, "rm3d replay: %s\n", err.c_str());
     return 2;
   }

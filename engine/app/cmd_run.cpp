@@ -213,7 +213,8 @@ int runCommand(const RunArgs& a, const std::string& root) {
                           {"--graph", a.graph},
                           {"--video", a.video},
                           {"--trace", a.trace},
-                          {"--record", a.record}},
+                          {"--record", a.record},
+                          {"--html", a.html}},
                          err)) {
     std::fprintf(stderr, "rm3d run: %s\n", err.c_str());
     return 2;

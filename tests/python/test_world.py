@@ -257,3 +257,22 @@ def test_a_second_thread_gets_busy_not_a_crash():
     t.join()
     assert busy > 0
     assert b.time[0] == b.time[1] and b.time[0] >= 300 / 60
+
+
+def test_record_never_overwrites_an_input(tmp_path):
+    # The output rule (docs/limits.md): record= may not be the world script, a file the world read
+    # (a behaviour), or a link to either; the file is left as it was.
+    world = tmp_path / "w.lua"
+    behaviour = tmp_path / "b.lua"
+    behaviour.write_text("function step(dt) end\n")
+    world.write_text('world.set{duration = 0.1}\nworld.spawn("superbot", {behavior = "b.lua"})\n')
+    link = tmp_path / "link.rec"
+    link.symlink_to(world)
+    before = {p: p.read_bytes() for p in (world, behaviour)}
+    with pytest.raises(rm3d.Error, match=r"record= .*w\.lua: is also the world script"):
+        rm3d.World(str(world), record=str(world), root=str(ROOT))
+    with pytest.raises(rm3d.Error, match=r"record= .*b\.lua: is also a file the world read"):
+        rm3d.World(str(world), record=str(behaviour), root=str(ROOT))
+    with pytest.raises(rm3d.Error, match=r"record= .*link\.rec: is also the world script"):
+        rm3d.World(str(world), record=str(link), root=str(ROOT))
+    assert {p: p.read_bytes() for p in (world, behaviour)} == before

@@ -43,7 +43,7 @@ void ExactSolver::setupCaptures(btTypedConstraint** constraints, int numConstrai
     btTypedConstraint* c = constraints[i];
     if (c->getUserConstraintType() != CaptureLink::kType || !c->isEnabled()) continue;
     const int id = static_cast<CaptureLink*>(c)->index();
-    CaptureJoint& cj = captures[size_t(id)];
+    CaptureJoint& cj = m_shared->captures[size_t(id)];
     const int idA = getOrInitSolverBody(*cj.a, btScalar(m_h)),
               idB = getOrInitSolverBody(*cj.b, btScalar(m_h));
     const CaptureJoint::Error e = cj.error();
@@ -73,7 +73,7 @@ double ExactSolver::sweepCaptures(const std::function<bool(const btSolverConstra
   double residual = 0;
   for (const GroupCapture& gc : m_groupCaptures) {
     if (!wanted(m_patchRows[gc.row])) continue;
-    const CaptureJoint& cj = captures[size_t(gc.id)];
+    const CaptureJoint& cj = m_shared->captures[size_t(gc.id)];
     residual = std::max(residual, sweepBall(gc.row, 3, cj.force * m_h));
     residual = std::max(residual, sweepBall(gc.row + 3, 3, cj.torque * m_h));
   }
@@ -82,7 +82,7 @@ double ExactSolver::sweepCaptures(const std::function<bool(const btSolverConstra
 
 void ExactSolver::finishCaptures() {
   for (const GroupCapture& gc : m_groupCaptures) {
-    CaptureJoint& cj = captures[size_t(gc.id)];
+    CaptureJoint& cj = m_shared->captures[size_t(gc.id)];
     for (int k = 0; k < 3; ++k) {
       cj.linear[k] = double(m_patchRows[gc.row + k].m_appliedImpulse);
       cj.angular[k] = double(m_patchRows[gc.row + 3 + k].m_appliedImpulse);

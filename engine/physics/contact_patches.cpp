@@ -154,6 +154,36 @@ double ExactSolver::sweepBall(int row, int count, double bound) {
   return change;
 }
 
+/// The manifold's slot in the patch table, or -1 (m_companionIdA is unused by Bullet: it is for
+/// serialisation only).
+int ExactSolver::patchSlot(const btPersistentManifold* man) const {
+  const std::vector<Patch>& table = m_shared->m_patches;
+  const int slot = man->m_companionIdA - 1;
+  return slot >= 0 && slot < int(table.size()) && table[size_t(slot)].manifold == man ? slot : -1;
+}
+
+int ExactSolver::claimPatchSlot(btPersistentManifold* man) {
+  std::vector<Patch>& table = m_shared->m_patches;
+  std::vector<int>& free = m_shared->m_freePatches;
+  int slot;
+  if (!free.empty()) {
+    slot = free.back();
+    free.pop_back();
+  } else {
+    slot = int(table.size());
+    table.emplace_back();
+  }
+  table[size_t(slot)] = Patch{man};
+  man->m_companionIdA = slot + 1;
+  return slot;
+}
+
+void ExactSolver::claimPatchSlots(btPersistentManifold* const* manifolds, int numManifolds) {
+  if (!patches) return;
+  for (int i = 0; i < numManifolds; ++i)
+    if (manifolds[i]->getNumContacts() > 0 && patchSlot(manifolds[i]) < 0) claimPatchSlot(manifolds[i]);
+}
+
 void ExactSolver::setupPatches(btPersistentManifold** manifolds, int numManifolds) {
   m_groupPatches.clear();
   m_patchRows.resizeNoInitialize(0);
@@ -177,25 +207,15 @@ void ExactSolver::setupPatches(btPersistentManifold** manifolds, int numManifold
         ++end;
       }
     }
-    // The manifold's slot: m_companionIdA is unused by Bullet (serialisation only).
-    int slot = man->m_companionIdA - 1;
-    if (slot < 0 || slot >= int(m_patches.size()) || m_patches[size_t(slot)].manifold != man) slot = -1;
+    std::vector<Patch>& table = m_shared->m_patches;
+    int slot = patchSlot(man);
     if (end == row) {  // no rows: the contact ended (or has not begun)
-      if (slot >= 0) m_patches[size_t(slot)] = Patch{man};
+      if (slot >= 0) table[size_t(slot)] = Patch{man};
       continue;
     }
-    if (slot < 0) {
-      if (!m_freePatches.empty()) {
-        slot = m_freePatches.back();
-        m_freePatches.pop_back();
-      } else {
-        slot = int(m_patches.size());
-        m_patches.emplace_back();
-      }
-      m_patches[size_t(slot)] = Patch{man};
-      man->m_companionIdA = slot + 1;
-    }
-    Patch& p = m_patches[size_t(slot)];
+    // A batch solver finds every slot claimed (claimPatchSlots): the table never grows under it.
+    if (slot < 0) slot = claimPatchSlot(man);
+    Patch& p = table[size_t(slot)];
     p.seen = m_substepCount;
     const btSolverConstraint& first = m_tmpSolverContactConstraintPool[row];
     const auto* cp0 = static_cast<const btManifoldPoint*>(first.m_originalContactPoint);
@@ -312,7 +332,7 @@ double ExactSolver::sweepPatches(const std::function<bool(const btSolverConstrai
 /// shared so that they make the same force and twist about the centre.
 void ExactSolver::finishPatches() {
   for (const PatchRows& pr : m_groupPatches) {
-    Patch& p = m_patches[size_t(pr.slot)];
+    Patch& p = m_shared->m_patches[size_t(pr.slot)];
     const auto [normalSum, twistArm] = patchLoad(pr);
     const btSolverConstraint* rows = &m_patchRows[pr.row];
     const Vec3d &t1 = pr.t1, &t2 = pr.t2, normal = t1.cross(t2);

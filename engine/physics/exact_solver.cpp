@@ -26,7 +26,6 @@ constexpr double kLimitRecovery = 0.2;  // share of a limit overshoot removed pe
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kCentripetalTurn = 0.5;  // rad a substep: the centripetal target fades out beyond
 constexpr int kClaimed = -2;              // a body whose joint node is placed, the body not yet
-constexpr int kParallelNodes = 256;       // bodies and joints a batch needs to be shared among threads
 // Contact sweeps after motors saturate (finishJoints): one costs about 10% on a crawling 150-module
 // snake; a second cost 5% more and did not bring the 10-module snake closer to its converged
 // reference.
@@ -88,12 +87,15 @@ Mat6 symmetricInverse(const Mat6& a) {
 }  // namespace
 
 void ExactSolver::beginSubstep() {
-  // Patches whose manifold had no rows in the last substep: the pair parted (or sleeps).
-  for (size_t i = 0; i < m_patches.size(); ++i) {
-    Patch& p = m_patches[i];
-    if (p.manifold && p.seen < m_substepCount) {
-      p = Patch{};
-      m_freePatches.push_back(int(i));
+  // Patches whose manifold had no rows in the last substep: the pair parted (or sleeps). The
+  // table is the primary's; a batch solver only counts the substep with it.
+  if (m_shared == this) {
+    for (size_t i = 0; i < m_patches.size(); ++i) {
+      Patch& p = m_patches[i];
+      if (p.manifold && p.seen < m_substepCount) {
+        p = Patch{};
+        m_freePatches.push_back(int(i));
+      }
     }
   }
   ++m_substepCount;
@@ -103,7 +105,7 @@ void ExactSolver::beginSubstep() {
   m_loopJoints.clear();
   m_nodeOfBody.clear();
   m_bodyCluster.clear();
-  if (m_rows.size() < joints.size()) m_rows.resize(joints.size());
+  if (m_rows.size() < m_shared->joints.size()) m_rows.resize(m_shared->joints.size());
 }
 
 Vec6 ExactSolver::bodyVelocity(int b) const {
@@ -145,7 +147,7 @@ ExactSolver::Cluster& ExactSolver::jointCluster(int j) {
 
 /// A joint's pivot arms and frame at its bodies' current poses.
 ExactSolver::JointFrame ExactSolver::jointFrame(int j) const {
-  const ExactJoint& e = joints[size_t(j)];
+  const ExactJoint& e = m_shared->joints[size_t(j)];
   const btTransform ta = e.a->getCenterOfMassTransform() * e.frameA;
   const btTransform tb = e.b->getCenterOfMassTransform() * e.frameB;
   return {toEigen(ta.getOrigin()) - toEigen(e.a->getCenterOfMassPosition()),
@@ -217,7 +219,7 @@ void ExactSolver::updateCentripetal(int j) {
 
 /// Rows, targets and the axial row's state for one joint at the start of a substep.
 void ExactSolver::setupJoint(int j, double h) {
-  ExactJoint& e = joints[size_t(j)];
+  ExactJoint& e = m_shared->joints[size_t(j)];
   Row& r = m_rows[size_t(j)];
   jointRows(j);
   r.lambda.setZero();
@@ -267,8 +269,8 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     if (c->getUserConstraintType() != ExactLink::kType || !c->isEnabled()) continue;
     const int j = static_cast<ExactLink*>(c)->index();
     Row& r = m_rows[size_t(j)];
-    r.na = bodyOf(joints[size_t(j)].a);
-    r.nb = bodyOf(joints[size_t(j)].b);
+    r.na = bodyOf(m_shared->joints[size_t(j)].a);
+    r.nb = bodyOf(m_shared->joints[size_t(j)].b);
     if (r.na < 0 && r.nb < 0) continue;
     m_groupJoints.push_back(j);
   }
@@ -294,7 +296,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
   m_bodyNode.assign(size_t(nb), -1);
   m_nodeOfBody.resize(m_bodies.size(), -1);
   m_bodyCluster.resize(m_bodies.size(), -1);
-  if (m_seenJoint.size() < joints.size()) m_seenJoint.resize(joints.size());
+  if (m_seenJoint.size() < m_shared->joints.size()) m_seenJoint.resize(m_shared->joints.size());
   for (int j : m_groupJoints) {
     m_seenJoint[size_t(j)] = 0;
     m_rows[size_t(j)].node = -1;
@@ -415,7 +417,7 @@ void ExactSolver::buildGroups(int firstBody) {
     return i;
   };
   for (int j : m_groupJoints) {
-    const ExactJoint& e = joints[size_t(j)];
+    const ExactJoint& e = m_shared->joints[size_t(j)];
     const Row& r = m_rows[size_t(j)];
     if (r.na < 0 || r.nb < 0 || !e.motorOn || e.state == A::Fixed) continue;
     const int a = find(r.na - firstBody), b = find(r.nb - firstBody);
@@ -601,7 +603,7 @@ void ExactSolver::factor(Cluster& c) {
       const Row& r = m_rows[size_t(n.joint)];
       n.d = -kRegularisation * Mat6::Identity();
       if (!r.axialActive) n.d(5, 5) = -1;
-      const ExactJoint& ej = joints[size_t(n.joint)];
+      const ExactJoint& ej = m_shared->joints[size_t(n.joint)];
       if (r.axialActive && ej.state == ExactJoint::Axial::Motor) n.d(5, 5) -= ej.compliance;
       if (n.parent >= 0) {
         n.hp = n.parentIsA ? r.ja : r.jb;  // H(joint, body) = J
@@ -676,7 +678,7 @@ void ExactSolver::factorLoops(Cluster& c) {
   }
   for (int l = 0; l < loops; ++l) {
     const Row& r = loopRow(l);
-    const ExactJoint& e = joints[size_t(m_loopJoints[size_t(c.loopBegin + l)])];
+    const ExactJoint& e = m_shared->joints[size_t(m_loopJoints[size_t(c.loopBegin + l)])];
     for (int i = 0; i < 6; ++i) c.schur(6 * l + i, 6 * l + i) += kRegularisation;
     const int a = 6 * l + 5;
     if (!r.axialActive) {  // held at its bound: not an unknown
@@ -713,7 +715,7 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
   for (int l = 0; l < loops; ++l) {
     const int j = m_loopJoints[size_t(c.loopBegin + l)];
     const Row& r = m_rows[size_t(j)];
-    const ExactJoint& e = joints[size_t(j)];
+    const ExactJoint& e = m_shared->joints[size_t(j)];
     Vec6 y = structuralResidual(j);
     y[5] = r.axialActive ? e.rowTarget + y[5] - (e.state == A::Motor ? e.compliance * r.lambda[5] : 0) : 0;
     err.segment<6>(6 * l) = y;
@@ -727,7 +729,7 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
     const int j = m_loopJoints[size_t(c.loopBegin + l)];
     Row& r = m_rows[size_t(j)];
     if (!r.axialActive) continue;
-    ExactJoint& e = joints[size_t(j)];
+    ExactJoint& e = m_shared->joints[size_t(j)];
     const double v = r.lambda[5], tau = e.motorOn ? e.maxImpulse : 0;
     double fixAt = v;
     if (e.state == A::Motor && std::abs(v) > tau) fixAt = std::copysign(tau, v);
@@ -762,14 +764,7 @@ void ExactSolver::solve(Cluster& c) {
 }
 
 void ExactSolver::forEachCluster(int begin, const std::function<void(int)>& fn) {
-  const int n = int(m_clusters.size()) - begin;
-  // Waking the workers costs tens of microseconds: only for a batch with work to share.
-  const int nodes = n > 0 ? m_clusters.back().end - m_clusters[size_t(begin)].begin : 0;
-  if (forEach && n > 1 && nodes >= kParallelNodes) {
-    forEach(n, [&](int i) { fn(begin + i); });
-  } else {
-    for (int i = 0; i < n; ++i) fn(begin + i);
-  }
+  for (int i = begin; i < int(m_clusters.size()); ++i) fn(i);
 }
 
 void ExactSolver::exactIteration(bool clamp) {
@@ -796,7 +791,7 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
     }
     const Row& r = m_rows[size_t(n.joint)];
     n.y = structuralResidual(n.joint);
-    const ExactJoint& e = joints[size_t(n.joint)];
+    const ExactJoint& e = m_shared->joints[size_t(n.joint)];
     n.y[5] = r.axialActive ? e.rowTarget + n.y[5] -
                                  (e.state == ExactJoint::Axial::Motor ? e.compliance * r.lambda[5] : 0)
                            : 0;
@@ -819,7 +814,7 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
     Row& r = m_rows[size_t(n.joint)];
     if (!r.axialActive || !clamp) continue;
     // A bounded axial row that left its bounds is fixed at the bound from now on.
-    ExactJoint& e = joints[size_t(n.joint)];
+    ExactJoint& e = m_shared->joints[size_t(n.joint)];
     const double l = r.lambda[5];
     const double tau = e.motorOn ? e.maxImpulse : 0;
     double fixAt = l;
@@ -853,7 +848,7 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   else
     m_groupCaptures.clear();
   m_groupBegin = int(m_clusters.size());
-  if (m_rows.size() < joints.size()) m_rows.resize(joints.size());
+  if (m_rows.size() < m_shared->joints.size()) m_rows.resize(m_shared->joints.size());
   m_groupFirstBody = int(m_bodies.size());
   buildClusters(constraints, numConstraints);
   m_groupHasJoints = !m_groupJoints.empty();
@@ -871,7 +866,7 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   }
   for (int j : m_groupJoints) setupJoint(j, m_h);  // all at the velocities before any impulse
   for (int j : m_groupJoints) {
-    const ExactJoint& e = joints[size_t(j)];
+    const ExactJoint& e = m_shared->joints[size_t(j)];
     if (e.state == ExactJoint::Axial::Fixed) applyAxial(j, e.fixedImpulse);
   }
   if (m_groupHasJoints || patches) buildGroups(m_groupFirstBody);
@@ -960,7 +955,7 @@ void ExactSolver::finishJoints() {
   settle();
   bool reentered = false;
   for (int j : m_groupJoints) {
-    ExactJoint& e = joints[size_t(j)];
+    ExactJoint& e = m_shared->joints[size_t(j)];
     Row& r = m_rows[size_t(j)];
     if (e.state != A::Fixed || e.fixedImpulse == 0) continue;
     double w = 0;
@@ -981,7 +976,7 @@ void ExactSolver::finishJoints() {
     settle();
   }
   for (int j : m_groupJoints) {
-    ExactJoint& e = joints[size_t(j)];
+    ExactJoint& e = m_shared->joints[size_t(j)];
     Row& r = m_rows[size_t(j)];
     e.axialImpulse = r.lambda[5];
     e.saturated = e.motorOn && e.state == A::Fixed && e.fixedImpulse != 0;
@@ -1063,7 +1058,7 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
 /// A joint's position error beyond what float poses can resolve: Bullet keeps poses in float, so
 /// a pivot 20 m from the origin is known to 2e-6 m, and one 400 m away to 3e-5 m.
 double ExactSolver::stabiliseExcess(int j) const {
-  const ExactJoint& e = joints[size_t(j)];
+  const ExactJoint& e = m_shared->joints[size_t(j)];
   const Vec6 err = positionError(j);
   const double reach = double((e.a->getCenterOfMassTransform() * e.frameA.getOrigin()).length());
   const double resolution = 8 * double(std::numeric_limits<float>::epsilon()) * std::max(1.0, reach);
@@ -1072,7 +1067,7 @@ double ExactSolver::stabiliseExcess(int j) const {
 
 /// A joint's position error as its rows measure it: pivot gap, axis tilt (and 0 about the axis).
 Vec6 ExactSolver::positionError(int j) const {
-  const ExactJoint& e = joints[size_t(j)];
+  const ExactJoint& e = m_shared->joints[size_t(j)];
   const btTransform ta = e.a->getCenterOfMassTransform() * e.frameA;
   const btTransform tb = e.b->getCenterOfMassTransform() * e.frameB;
   const Mat3d fa = toEigen(ta.getBasis());

@@ -145,12 +145,25 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<ExactJoint> joints;
   /// Indexed by capture id (PhysicsWorld's); CaptureLinks name them.
   std::vector<CaptureJoint> captures;
-  /// Runs fn(i) for i in [0, n), in parallel if it can; null: in order on this thread.
-  std::function<void(int, const std::function<void(int)>&)> forEach;
+  /// Clusters made this substep (none: it solved no batch).
+  bool hasClusters() const { return !m_clusters.empty(); }
 
   /// Friction per contact patch with anchors (contact_patches.cpp): on for the exact solver;
   /// "pgs" keeps Bullet's friction rows per point.
   bool patches = false;
+
+  /// Makes this a batch solver of `primary` (PhysicsWorld's, on a worker thread): it reads and
+  /// writes the primary's joints, capture joints and contact-patch table instead of its own. Each
+  /// joint, capture joint and contact manifold belongs to one island, so solvers working on
+  /// different batches of islands never touch the same entry; the table must not grow while they
+  /// work (claimPatchSlots first).
+  void shareStateOf(ExactSolver& primary) {
+    m_shared = &primary;
+    patches = primary.patches;
+  }
+  /// Gives every manifold with contacts a slot in the patch table before batches are solved in
+  /// parallel (a serial solve claims them as it goes; which slot a patch has changes nothing).
+  void claimPatchSlots(btPersistentManifold* const* manifolds, int numManifolds);
 
   /// Forget the clusters of the previous substep (called before each one).
   void beginSubstep();
@@ -242,7 +255,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void warmStartRow(btSolverConstraint& s, double impulse);
   double sweepPatches(const std::function<bool(const btSolverConstraint&)>& wanted);
   void finishPatches();
-  std::vector<Patch> m_patches;
+  int patchSlot(const btPersistentManifold* man) const;  ///< its slot in the table, or -1
+  int claimPatchSlot(btPersistentManifold* man);
+  ExactSolver* m_shared = this;  ///< whose joints, capture joints and patch table (shareStateOf)
+  std::vector<Patch> m_patches;  ///< the primary's table, by slot
   std::vector<int> m_freePatches;
   std::vector<PatchRows> m_groupPatches;  // this solver group's
   btAlignedObjectArray<btSolverConstraint> m_patchRows;

@@ -49,7 +49,6 @@ Pose fromBt(const btTransform& t) {
 }
 
 constexpr int kBulletBatch = 128;         // Bullet's default solver batch (rows of islands)
-constexpr int kParallelBatch = 16384;     // with worker threads (PhysicsWorld::setParallel)
 constexpr btScalar kHullMargin = 0.001f;  // Bullet's 0.04 m default would lift small links off the ground
 // Below these an obstacle counts as still (Bullet's defaults, 0.8 m/s and 1 rad/s, would put a
 // slowly rolling ball to sleep).
@@ -224,7 +223,9 @@ struct PhysicsWorld::Impl {
   btCollisionDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
   ExactSolver solver;
-  int stepSubsteps = 1;  // substeps of the step being taken
+  std::vector<std::unique_ptr<ExactSolver>> helpers;  // batch solvers on worker threads (setParallel)
+  PhysicsWorld::ForEach tasks;                        // runs one task per thread
+  int stepSubsteps = 1;                               // substeps of the step being taken
   SolverWorld world{&dispatcher, &broadphase, &solver, &config};
   std::unique_ptr<ClothSystem> cloth;    // made by the first cloth
   std::optional<double> groundFriction;  // set by addGroundPlane: the ground is there (cloth, particles)
@@ -682,6 +683,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
     for (Impl::Hinge& h : m->hinges) m->removeHinge(h);
   m->settings = s;
   m->solver.patches = s.solver == SolverKind::Exact;
+  for (auto& h : m->helpers) h->patches = m->solver.patches;
   if (switched)
     for (Impl::Hinge& h : m->hinges) {
       m->makeHinge(h);
@@ -900,15 +902,28 @@ void PhysicsWorld::addTorque(int part, const Vec3& torque) {
   m->forces.push_back({part, Vec3::Zero(), Vec3::Zero(), torque});
 }
 
-void PhysicsWorld::setParallel(ForEach forEach) {
-  m->solver.forEach = std::move(forEach);
-  // Bullet hands the solver batches of islands of at least 128 rows: with 1000 separate
-  // SuperBots, about 40 a substep, each too small to share among threads (kParallelNodes).
-  // Batches of 16384 rows give the threads work: superbots_1000 on two threads 0.61 times real
-  // time against 0.56. The exact solver's results do not depend on the batching (its steps after
-  // the iterations touch only the clusters and islands they concern), so one thread and many
-  // give the same bits; pgs's islands are independent too.
-  m->world.getSolverInfo().m_minimumSolverBatchSize = m->solver.forEach ? kParallelBatch : kBulletBatch;
+void PhysicsWorld::setParallel(int threads, ForEach forEach) {
+  // Bullet hands the solver batches of islands of at least 128 rows (with 1000 separate
+  // SuperBots, about 300 a substep). With worker threads each thread's solver takes the next
+  // batch (SolverWorld::solveBatches); the exact solver's results do not depend on the batching
+  // or on which solver solves a batch (its steps after the iterations touch only the clusters
+  // and islands they concern), so one thread and many give the same bits; pgs's islands are
+  // independent too. (Spreading one batch's clusters over the threads instead, with batches of
+  // 16384 rows to give them work, made superbots_1000 0.81 times as fast on 2 threads as on 1:
+  // the sweeps then ran over megabytes instead of batches that fit the caches.)
+  m->helpers.clear();
+  m->tasks = nullptr;
+  std::vector<ExactSolver*> helpers;
+  if (forEach && threads > 1) {
+    m->tasks = forEach;
+    for (int t = 1; t < threads; ++t) {
+      m->helpers.push_back(std::make_unique<ExactSolver>());
+      m->helpers.back()->shareStateOf(m->solver);
+      helpers.push_back(m->helpers.back().get());
+    }
+  }
+  m->world.setBatchSolvers(&m->solver, std::move(helpers), m->tasks);
+  m->world.getSolverInfo().m_minimumSolverBatchSize = kBulletBatch;
 }
 
 void PhysicsWorld::setLoadTracking(bool on) {
@@ -1079,7 +1094,10 @@ void PhysicsWorld::step(double dt, int substeps) {
   }
   for (int s = 0; s < n; ++s) {
     for (Impl::Hinge& hg : m->hinges) m->applyMotor(hg, h);
-    if (exact) m->solver.beginSubstep();
+    if (exact) {
+      m->solver.beginSubstep();
+      for (auto& hs : m->helpers) hs->beginSubstep();
+    }
     for (const Impl::Force& f : m->forces) {
       btRigidBody* rb = m->bodies[size_t(m->parts[size_t(f.part)].body)].rb;
       rb->applyForce(toBt(f.force), toBt(f.point) - rb->getCenterOfMassPosition());
@@ -1088,7 +1106,12 @@ void PhysicsWorld::step(double dt, int substeps) {
     if (m->tracking && s == 0) m->snapshotVelocities();
     m->world.stepSimulation(btScalar(h), 0, btScalar(h));
     if (exact) {
-      m->solver.postStabilise();
+      if (std::none_of(m->helpers.begin(), m->helpers.end(), [](auto& s) { return s->hasClusters(); })) {
+        m->solver.postStabilise();  // everything was solved on the primary
+      } else {                      // each solver's own clusters, which no other solver touches
+        m->tasks(1 + int(m->helpers.size()),
+                 [&](int t) { (t == 0 ? m->solver : *m->helpers[size_t(t - 1)]).postStabilise(); });
+      }
       for (Impl::Hinge& hg : m->hinges) {
         if (!hg.link) continue;
         const ExactJoint& e = m->solver.joints[size_t(&hg - m->hinges.data())];

@@ -123,10 +123,12 @@ class PhysicsWorld {
   void addTorque(int part, const Vec3& torque);
   /// Turns on what internalLoad needs: hinge reaction feedback and per-part contact forces.
   void setLoadTracking(bool on);
-  /// Runs fn(i) for i in [0, n), possibly in parallel; the exact solver spreads independent
-  /// clusters over it (each touches only its own bodies, so results do not depend on it).
+  /// Runs fn(i) for i in [0, n), possibly in parallel (each i on its own thread where it can).
+  /// With `threads` > 1 the batches of islands are solved on `threads` solvers at once, one per
+  /// task (SolverWorld::setBatchSolvers); each batch touches only its own bodies, joints and
+  /// contacts, so the results do not depend on the thread count.
   using ForEach = std::function<void(int n, const std::function<void(int)>& fn)>;
-  void setParallel(ForEach forEach);
+  void setParallel(int threads, ForEach forEach);
   /// The force and torque (about `point`) that the rest of their rigid body exerted on the given
   /// parts, averaged over the last step(), from Newton-Euler on those parts: their change of
   /// momentum over the step minus the impulses of gravity, contacts and hinge reactions on them.

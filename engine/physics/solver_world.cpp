@@ -5,6 +5,11 @@
 #include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
 
+#include <algorithm>
+#include <atomic>
+
+#include "physics/exact_solver.h"
+
 namespace rm3d {
 
 namespace {
@@ -24,9 +29,13 @@ struct IslandOrder {
 /// Bullet's InplaceSolverIslandCallback, with each island's joints looked up instead of searched.
 class Batches : public btSimulationIslandManager::IslandCallback {
  public:
+  /// `out`: batches are collected there (from `*outCount` on) instead of solved at once.
   Batches(btConstraintSolver& solver, btContactSolverInfo& info, btIDebugDraw* draw, btDispatcher* dispatcher,
-          btTypedConstraint** sorted, int count, const std::vector<int>& start, const std::vector<int>& runs)
-      : m_solver(solver),
+          btTypedConstraint** sorted, int count, const std::vector<int>& start, const std::vector<int>& runs,
+          std::vector<SolverWorld::Batch>* out = nullptr, int* outCount = nullptr)
+      : m_out(out),
+        m_outCount(outCount),
+        m_solver(solver),
         m_info(info),
         m_draw(draw),
         m_dispatcher(dispatcher),
@@ -45,7 +54,7 @@ class Batches : public btSimulationIslandManager::IslandCallback {
     const bool known = island < int(m_start.size()) && m_start[size_t(island)] >= 0;
     btTypedConstraint** first = known ? m_sorted + m_start[size_t(island)] : nullptr;
     const int n = known ? m_runs[size_t(island)] : 0;
-    if (m_info.m_minimumSolverBatchSize <= 1) {
+    if (m_info.m_minimumSolverBatchSize <= 1 && !m_out) {
       m_solver.solveGroup(bodies, numBodies, manifolds, numManifolds, first, n, m_info, m_draw, m_dispatcher);
       return;
     }
@@ -56,6 +65,18 @@ class Batches : public btSimulationIslandManager::IslandCallback {
   }
 
   void flush() {
+    if (m_out) {
+      if (m_bodies.size() + m_manifolds.size() + m_constraints.size() == 0) return;
+      if (int(m_out->size()) <= *m_outCount) m_out->emplace_back();
+      SolverWorld::Batch& b = (*m_out)[size_t((*m_outCount)++)];
+      b.bodies.copyFromArray(m_bodies);  // into the storage of the last substep's batch
+      b.manifolds.copyFromArray(m_manifolds);
+      b.constraints.copyFromArray(m_constraints);
+      m_bodies.resize(0);
+      m_manifolds.resize(0);
+      m_constraints.resize(0);
+      return;
+    }
     m_solver.solveGroup(m_bodies.size() ? &m_bodies[0] : nullptr, m_bodies.size(),
                         m_manifolds.size() ? &m_manifolds[0] : nullptr, m_manifolds.size(),
                         m_constraints.size() ? &m_constraints[0] : nullptr, m_constraints.size(), m_info,
@@ -66,6 +87,8 @@ class Batches : public btSimulationIslandManager::IslandCallback {
   }
 
  private:
+  std::vector<SolverWorld::Batch>* m_out;
+  int* m_outCount;
   btConstraintSolver& m_solver;
   btContactSolverInfo& m_info;
   btIDebugDraw* m_draw;
@@ -99,12 +122,50 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
     ++m_islandCount[size_t(island)];
   }
   btTypedConstraint** sorted = n ? &m_sortedConstraints[0] : nullptr;
+  const bool parallel = !m_helpers.empty() && m_tasks;
+  int count = 0;
   Batches batches(*m_constraintSolver, info, getDebugDrawer(), getDispatcher(), sorted, n, m_islandStart,
-                  m_islandCount);
+                  m_islandCount, parallel ? &m_batches : nullptr, &count);
   m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
   m_islandManager->buildAndProcessIslands(getDispatcher(), this, &batches);
   batches.flush();
+  if (parallel && count > 0) solveBatches(info, count);
   m_constraintSolver->allSolved(info, m_debugDrawer);
+}
+
+void SolverWorld::setBatchSolvers(ExactSolver* primary, std::vector<ExactSolver*> helpers, Tasks tasks) {
+  m_primary = primary;
+  m_helpers = std::move(helpers);
+  m_tasks = std::move(tasks);
+}
+
+void SolverWorld::solveBatches(btContactSolverInfo& info, int count) {
+  // The patch table must not grow while solvers on other threads hold its entries.
+  for (int i = 0; i < count; ++i) {
+    const Batch& b = m_batches[size_t(i)];
+    if (b.manifolds.size()) m_primary->claimPatchSlots(&b.manifolds[0], b.manifolds.size());
+  }
+  // Each thread's solver takes the next batch until none is left. Which solver solves a batch
+  // changes nothing: each keeps only its own batches' scratch, and shares the primary's state.
+  btIDebugDraw* draw = getDebugDrawer();
+  btDispatcher* dispatcher = getDispatcher();
+  auto solve = [&](ExactSolver* s, int i) {
+    Batch& b = m_batches[size_t(i)];
+    s->solveGroup(b.bodies.size() ? &b.bodies[0] : nullptr, b.bodies.size(),
+                  b.manifolds.size() ? &b.manifolds[0] : nullptr, b.manifolds.size(),
+                  b.constraints.size() ? &b.constraints[0] : nullptr, b.constraints.size(), info, draw,
+                  dispatcher);
+  };
+  if (count == 1) {  // one batch (one island holds most of the world): nothing to share
+    solve(m_primary, 0);
+    return;
+  }
+  const int tasks = std::min(count, 1 + int(m_helpers.size()));
+  std::atomic<int> next{0};
+  m_tasks(tasks, [&](int t) {
+    ExactSolver* s = t == 0 ? m_primary : m_helpers[size_t(t - 1)];
+    for (int i = next++; i < count; i = next++) solve(s, i);
+  });
 }
 
 }  // namespace rm3d

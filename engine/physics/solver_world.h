@@ -4,19 +4,34 @@
 // start for every island, so a world of n separate modules spends O(n^2) a substep there: 19% of
 // `superbots_1000`'s time. This world sorts the joints the same way, notes where each island's run
 // starts once, and batches islands into solver groups exactly as Bullet does (the same groups in
-// the same order, so results are bit-identical). It also skips the predictive-contact pass that
-// only continuous collision detection needs.
+// the same order, so results are bit-identical). With worker threads it solves the batches on
+// several solvers at once (setBatchSolvers). It also skips the predictive-contact pass that only
+// continuous collision detection needs.
 #pragma once
 
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
 
+#include <functional>
 #include <vector>
 
 namespace rm3d {
 
+class ExactSolver;
+
 class SolverWorld : public btSoftRigidDynamicsWorld {
  public:
   using btSoftRigidDynamicsWorld::btSoftRigidDynamicsWorld;
+  /// Runs fn(t) for t in [0, n), each on its own thread where it can.
+  using Tasks = std::function<void(int n, const std::function<void(int)>& fn)>;
+  /// With helpers, the batches of islands are collected and then solved on `primary` (the
+  /// world's constraint solver) and the helpers (its batch solvers, ExactSolver::shareStateOf) at
+  /// once, one per task; no helpers: each batch is solved as it is made, on this thread.
+  void setBatchSolvers(ExactSolver* primary, std::vector<ExactSolver*> helpers, Tasks tasks);
+  struct Batch {
+    btAlignedObjectArray<btCollisionObject*> bodies;
+    btAlignedObjectArray<btPersistentManifold*> manifolds;
+    btAlignedObjectArray<btTypedConstraint*> constraints;
+  };
 
  protected:
   void solveConstraints(btContactSolverInfo& info) override;
@@ -26,7 +41,13 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   void createPredictiveContacts(btScalar) override { releasePredictiveContacts(); }
 
  private:
+  void solveBatches(btContactSolverInfo& info, int count);
+
   std::vector<int> m_islandStart, m_islandCount;  ///< by island id: its run in m_sortedConstraints
+  ExactSolver* m_primary = nullptr;
+  std::vector<ExactSolver*> m_helpers;
+  Tasks m_tasks;
+  std::vector<Batch> m_batches;  ///< this substep's, reused
 };
 
 }  // namespace rm3d

@@ -149,8 +149,10 @@ void World::ensurePhysics() {
   ps.erp = m_settings.erp;
   m_physics = std::make_unique<PhysicsWorld>(ps);
   if (m_pool->threads() > 1)
-    m_physics->setParallel(
-        [pool = m_pool.get()](int n, const std::function<void(int)>& fn) { pool->run(n, fn); });
+    m_physics->setParallel(m_pool->threads(),
+                           [pool = m_pool.get()](int n, const std::function<void(int)>& fn) {
+                             pool->run(n, fn, 1);  // n coarse tasks, one per thread
+                           });
 }
 
 void World::addGround(double friction, double restitution) {

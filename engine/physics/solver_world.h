@@ -20,7 +20,8 @@ class ExactSolver;
 
 class SolverWorld : public btSoftRigidDynamicsWorld {
  public:
-  using btSoftRigidDynamicsWorld::btSoftRigidDynamicsWorld;
+  SolverWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadphase, btConstraintSolver* solver,
+              btCollisionConfiguration* config);
   /// Runs fn(t) for t in [0, n), each on its own thread where it can.
   using Tasks = std::function<void(int n, const std::function<void(int)>& fn)>;
   /// With helpers, the batches of islands are collected and then solved on `primary` (the

@@ -150,7 +150,8 @@ struct Result {
   double dt = 0;
   WorldSettings settings;  ///< what the world ran at
   double paperFps = 0, paperRealtime = 0;
-  long long steps = 0;
+  long long steps = 0;  ///< measured (fewer than asked when the world stopped)
+  std::string stopped;  ///< why the world stopped (a divergence, a script error), or empty
   double stepsPerSecond = 0, realtime = 0;
   double msWall = 0, msCpu = 0;  ///< per step: wall clock, and CPU time of every thread together
   double msBehaviours = 0, msPhysics = 0, msOther = 0;
@@ -196,13 +197,14 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
     return false;
   }
   const int warm = 30;
-  for (int i = 0; i < warm; ++i) w.step();
+  for (int i = 0; i < warm && !w.stopped(); ++i) w.step();
   double beh = 0, phys = 0, other = 0, part = 0;
   ParticleSystem::Times pt;
   Quality worst;
   const auto t0 = std::chrono::steady_clock::now();
   const double cpu0 = processCpuSeconds();
-  for (long long i = 0; i < a.steps; ++i) {
+  long long taken = 0;
+  for (long long i = 0; i < a.steps && !w.stopped(); ++i, ++taken) {
     w.step();
     const World::StepTimes& t = w.lastStepTimes();
     beh += t.behaviours;
@@ -233,16 +235,21 @@ bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Resul
   out.dt = w.settings().dt;
   out.paperFps = s.paperFps;
   out.paperRealtime = s.paperFps * (s.particles ? kPaperParticleDt : kPaperDt);
-  out.steps = a.steps;
-  out.stepsPerSecond = double(a.steps) / wall;
+  // A world that stopped (a divergence) is not timed on: its steps would cost nothing.
+  if (w.stopped())
+    out.stopped = !w.divergence().empty()    ? w.divergence()
+                  : !w.scriptError().empty() ? w.scriptError()
+                                             : std::string("the world stopped");
+  out.steps = taken;
+  const double k = 1.0 / double(std::max(1LL, taken));
+  out.stepsPerSecond = taken > 0 ? double(taken) / wall : 0;
   out.realtime = out.stepsPerSecond * out.dt;
-  out.msWall = 1000 * wall / double(a.steps);
-  out.msCpu = 1000 * cpu / double(a.steps);
-  out.msBehaviours = beh / double(a.steps);
-  out.msPhysics = phys / double(a.steps);
-  out.msOther = other / double(a.steps);
-  out.msParticles = part / double(a.steps);
-  const double k = 1.0 / double(a.steps);
+  out.msWall = 1000 * wall * k;
+  out.msCpu = 1000 * cpu * k;
+  out.msBehaviours = beh * k;
+  out.msPhysics = phys * k;
+  out.msOther = other * k;
+  out.msParticles = part * k;
   out.particleTimes = {pt.sort * k, pt.neighbours * k, pt.solve * k, pt.finish * k};
   for (const auto& ps : w.particleSystems()) out.particles += ps->count();
   out.quality = worst;
@@ -320,6 +327,7 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       {"module_type", a.type},
       {"paper", {{"dt", kPaperDt}, {"machine", "2013 quad-core laptop (ReMod3D, section IV.G)"}}},
       {"scenes", nlohmann::json::array()}};
+  bool anyStopped = false;
   for (const Scene* s : scenes) {
     Result r;
     if (!runScene(*s, a, root, r)) return 2;
@@ -340,44 +348,50 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
           "%.3f)\n",
           r.particles, r.msParticles, r.particleTimes.sort, r.particleTimes.neighbours, r.particleTimes.solve,
           r.particleTimes.finish);
+    if (!r.stopped.empty()) {
+      anyStopped = true;
+      std::printf("  stopped after %lld measured steps: %s\n", r.steps, r.stopped.c_str());
+    }
     std::fflush(stdout);
     nlohmann::json paper = nullptr;
     if (r.paperFps > 0)
       paper = {{"frames_per_second", r.paperFps}, {"dt", kPaperDt}, {"realtime_factor", r.paperRealtime}};
-    out["scenes"].push_back({{"name", r.name},
-                             {"modules", r.modules},
-                             {"dt", r.dt},
-                             {"settings",
-                              {{"dt", r.settings.dt},
-                               {"substeps", r.settings.substeps},
-                               {"solver_iterations", r.settings.solverIterations},
-                               {"joint_iterations", r.settings.jointIterations},
-                               {"erp", r.settings.erp}}},
-                             {"steps", r.steps},
-                             {"steps_per_second", r.stepsPerSecond},
-                             {"realtime_factor", r.realtime},
-                             {"paper", paper},
-                             {"ms",
-                              {{"wall", r.msWall},
-                               {"cpu", r.msCpu},
-                               {"behaviours", r.msBehaviours},
-                               {"physics", r.msPhysics},
-                               {"other", r.msOther},
-                               {"particles", r.msParticles},
-                               {"particle_phases",
-                                {{"sort", r.particleTimes.sort},
-                                 {"neighbours", r.particleTimes.neighbours},
-                                 {"solve", r.particleTimes.solve},
-                                 {"finish", r.particleTimes.finish}}}}},
-                             {"particles", r.particles},
-                             {"quality",
-                              {{"hinge_gap_mm", r.quality.hingeGapMm},
-                               {"hinge_angle_deg", r.quality.hingeAngleDeg},
-                               {"dock_gap_mm", r.quality.dockGapMm},
-                               {"dock_angle_deg", r.quality.dockAngleDeg},
-                               {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
-                             {"connections", r.connections},
-                             {"messages_sent", r.messages}});
+    out["scenes"].push_back(
+        {{"name", r.name},
+         {"modules", r.modules},
+         {"dt", r.dt},
+         {"settings",
+          {{"dt", r.settings.dt},
+           {"substeps", r.settings.substeps},
+           {"solver_iterations", r.settings.solverIterations},
+           {"joint_iterations", r.settings.jointIterations},
+           {"erp", r.settings.erp}}},
+         {"steps", r.steps},
+         {"steps_per_second", r.stepsPerSecond},
+         {"realtime_factor", r.realtime},
+         {"paper", paper},
+         {"ms",
+          {{"wall", r.msWall},
+           {"cpu", r.msCpu},
+           {"behaviours", r.msBehaviours},
+           {"physics", r.msPhysics},
+           {"other", r.msOther},
+           {"particles", r.msParticles},
+           {"particle_phases",
+            {{"sort", r.particleTimes.sort},
+             {"neighbours", r.particleTimes.neighbours},
+             {"solve", r.particleTimes.solve},
+             {"finish", r.particleTimes.finish}}}}},
+         {"particles", r.particles},
+         {"quality",
+          {{"hinge_gap_mm", r.quality.hingeGapMm},
+           {"hinge_angle_deg", r.quality.hingeAngleDeg},
+           {"dock_gap_mm", r.quality.dockGapMm},
+           {"dock_angle_deg", r.quality.dockAngleDeg},
+           {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
+         {"connections", r.connections},
+         {"messages_sent", r.messages},
+         {"stopped", r.stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.stopped)}});
   }
   if (!a.json.empty()) {
     std::ofstream f(a.json);
@@ -388,7 +402,7 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       return 2;
     }
   }
-  return 0;
+  return anyStopped ? 1 : 0;
 }
 
 std::string benchSceneHelp() {

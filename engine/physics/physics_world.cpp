@@ -48,7 +48,6 @@ Pose fromBt(const btTransform& t) {
   return {fromBt(t.getOrigin()), Quat(q.w(), q.x(), q.y(), q.z()).normalized()};
 }
 
-constexpr int kBulletBatch = 128;         // Bullet's default solver batch (rows of islands)
 constexpr btScalar kHullMargin = 0.001f;  // Bullet's 0.04 m default would lift small links off the ground
 // Below these an obstacle counts as still (Bullet's defaults, 0.8 m/s and 1 rad/s, would put a
 // slowly rolling ball to sleep).
@@ -904,13 +903,13 @@ void PhysicsWorld::addTorque(int part, const Vec3& torque) {
 
 void PhysicsWorld::setParallel(int threads, ForEach forEach) {
   // Bullet hands the solver batches of islands of at least 128 rows (with 1000 separate
-  // SuperBots, about 300 a substep). With worker threads each thread's solver takes the next
-  // batch (SolverWorld::solveBatches); the exact solver's results do not depend on the batching
-  // or on which solver solves a batch (its steps after the iterations touch only the clusters
-  // and islands they concern), so one thread and many give the same bits; pgs's islands are
-  // independent too. (Spreading one batch's clusters over the threads instead, with batches of
-  // 16384 rows to give them work, made superbots_1000 0.81 times as fast on 2 threads as on 1:
-  // the sweeps then ran over megabytes instead of batches that fit the caches.)
+  // SuperBots, about 50 a substep). With worker threads each thread's solver takes the next
+  // batch (SolverWorld::solveBatches). The batches are made the same way at any thread count,
+  // and a batch comes out the same whichever solver solves it (its steps after the iterations
+  // touch only the clusters and islands they concern), so one thread and many give the same
+  // bits. (Spreading one batch's clusters over the threads instead, with batches of 16384 rows
+  // to give them work, made superbots_1000 0.81 times as fast on 2 threads as on 1: the sweeps
+  // then ran over megabytes instead of batches that fit the caches.)
   m->helpers.clear();
   m->tasks = nullptr;
   std::vector<ExactSolver*> helpers;
@@ -923,7 +922,6 @@ void PhysicsWorld::setParallel(int threads, ForEach forEach) {
     }
   }
   m->world.setBatchSolvers(&m->solver, std::move(helpers), m->tasks);
-  m->world.getSolverInfo().m_minimumSolverBatchSize = kBulletBatch;
 }
 
 void PhysicsWorld::setLoadTracking(bool on) {

@@ -54,10 +54,6 @@ class Batches : public btSimulationIslandManager::IslandCallback {
     const bool known = island < int(m_start.size()) && m_start[size_t(island)] >= 0;
     btTypedConstraint** first = known ? m_sorted + m_start[size_t(island)] : nullptr;
     const int n = known ? m_runs[size_t(island)] : 0;
-    if (m_info.m_minimumSolverBatchSize <= 1 && !m_out) {
-      m_solver.solveGroup(bodies, numBodies, manifolds, numManifolds, first, n, m_info, m_draw, m_dispatcher);
-      return;
-    }
     for (int i = 0; i < numBodies; ++i) m_bodies.push_back(bodies[i]);
     // A manifold without contact points makes no rows, and it may join bodies of two islands
     // (ContactIslands): solving it would make the other island's body a solver body of this batch,

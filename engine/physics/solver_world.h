@@ -3,10 +3,12 @@
 // Bullet's island callback finds each island's joints by scanning the sorted joint list from its
 // start for every island, so a world of n separate modules spends O(n^2) a substep there: 19% of
 // `superbots_1000`'s time. This world sorts the joints the same way, notes where each island's run
-// starts once, and batches islands into solver groups exactly as Bullet does (the same groups in
-// the same order, so results are bit-identical). With worker threads it solves the batches on
-// several solvers at once (setBatchSolvers). It also skips the predictive-contact pass that only
-// continuous collision detection needs.
+// starts once, and batches islands into solver groups of at least 128 rows as Bullet does. Its
+// islands are joined by contact points, not by overlapping bounding boxes (ContactIslands in
+// solver_world.cpp). With worker threads it solves the batches on several solvers at once
+// (setBatchSolvers); the batches are the same at any thread count, and a batch is solved the same
+// by any of the solvers, so the results are the same bits. It also skips the predictive-contact
+// pass that only continuous collision detection needs.
 #pragma once
 
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>

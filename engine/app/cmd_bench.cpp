@@ -78,11 +78,12 @@ const Scene kScenes[] = {
     {"superbots_10000", "N separate SuperBots, every motor alternating between two targets", 10000, 0,
      kSuperbots},
     {"docking_1000",
-     "N SuperBots in zero gravity packed 1 cm apart, every dock enabled, latching at run time", 1000, 0,
-     RM3D_BENCH_SETTINGS R"(, gravity = {0, 0, 0}}
+     "N SuperBots in zero gravity in rows, end faces 1 cm apart, every dock enabled, latching into chains "
+     "at run time",
+     1000, 0, RM3D_BENCH_SETTINGS R"(, gravity = {0, 0, 0}}
 local side = math.ceil(math.sqrt(args.n))
 for i = 0, args.n - 1 do
-  world.spawn(args.type, {at = {-(i % side) * 0.20, (i // side) * 0.114, 0}})
+  world.spawn(args.type, {at = {-(i % side) * 0.20, (i // side) * 0.15, 0}})
 end)"},
     {"relay_1000", "N SuperBots in one chain on the ground relaying a message per step from head to tail",
      1000, 0, RM3D_BENCH_SETTINGS R"(}

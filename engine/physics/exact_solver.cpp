@@ -693,16 +693,37 @@ void ExactSolver::factorLoops(Cluster& c) {
   // pseudo-inverse through its eigenvectors. Redundant directions measure 1e-9 to 5e-7 (the
   // regularisation and float rounding) against 1 to 100 for real ones: below 1e-5 of the
   // largest, a direction is dropped.
+  //
+  // S is also nearly singular where a loop's rows nearly repeat the tree's: in a packed grid of
+  // SuperBots, side by side, two modules' pitch axes are nearly one line, and S has directions
+  // at 1e-5 to 1e-3 of its largest. Inverted exactly, each small misfit in such a direction
+  // became hundreds of newtons of self-stress through the hinges' motor rows, which a motor held
+  // at its rating then let go of at once: zero-gravity packs of 100 and 196 SuperBots latching at
+  // run time diverged. So the velocity solve damps them: 1 / s becomes s / (s^2 + m^2), m =
+  // kLoopDamping of the largest (a direction at 10 m keeps 99% of its correction, and every
+  // iteration sweeps again). The position projection keeps them nearly exact (kLoopPositionDamping):
+  // damped as much, the free ring below that folds flat at speed opened by 0.08 mm; with 1e-4,
+  // by 0.0012 mm, as undamped.
+  constexpr double kLoopDamping = 1e-2, kLoopPositionDamping = 1e-4;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (c.schur + c.schur.transpose()));
   c.schur = eig.eigenvectors();
   const Eigen::VectorXd& values = eig.eigenvalues();
-  const double floor = 1e-5 * std::max(values.cwiseAbs().maxCoeff(), 1e-300);
+  const double top = std::max(values.cwiseAbs().maxCoeff(), 1e-300), floor = 1e-5 * top;
   c.schurInv.resize(k);
-  for (int i = 0; i < k; ++i) c.schurInv[i] = values[i] > floor ? 1.0 / values[i] : 0.0;
+  c.schurPosInv.resize(k);
+  for (int i = 0; i < k; ++i) {
+    const double v = values[i] > floor ? values[i] : 0.0;
+    c.schurInv[i] = v / (v * v + kLoopDamping * kLoopDamping * top * top);
+    c.schurPosInv[i] = v / (v * v + kLoopPositionDamping * kLoopPositionDamping * top * top);
+  }
 }
 
 Eigen::VectorXd ExactSolver::solveLoops(const Cluster& c, const Eigen::VectorXd& v) const {
   return c.schur * c.schurInv.cwiseProduct(c.schur.transpose() * v);
+}
+
+Eigen::VectorXd ExactSolver::solveLoopPositions(const Cluster& c, const Eigen::VectorXd& v) const {
+  return c.schur * c.schurPosInv.cwiseProduct(c.schur.transpose() * v);
 }
 
 /// Makes the loop rows exact after the tree's solve: their impulse change through S, then
@@ -1041,7 +1062,7 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
       Eigen::VectorXd err(6 * loops);
       for (int l = 0; l < loops; ++l)
         err.segment<6>(6 * l) = positionError(m_loopJoints[size_t(c.loopBegin + l)]);
-      pushThroughTree(c, solveLoops(c, err), true);
+      pushThroughTree(c, solveLoopPositions(c, err), true);
       applyPositionChanges(c);
     }
     double left = 0;

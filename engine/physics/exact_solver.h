@@ -208,8 +208,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
     // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
     int loopBegin = 0, loopEnd = 0;
-    Eigen::MatrixXd schur;     // S, then its eigenvectors
-    Eigen::VectorXd schurInv;  // inverse eigenvalues (0 for the redundant directions)
+    Eigen::MatrixXd schur;        // S, then its eigenvectors
+    Eigen::VectorXd schurInv;     // damped inverse eigenvalues (0 for the redundant directions)
+    Eigen::VectorXd schurPosInv;  // ... for the position projection, damped much less
   };
   struct Row {                        // per joint, this substep
     int node = -1, na = -1, nb = -1;  // body indices (into m_bodies) or -1 static
@@ -291,8 +292,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void factorLoops(Cluster& c);
   void loopIteration(Cluster& c, bool clamp);
   /// S's pseudo-inverse times v: loop rows that repeat the tree's (a planar ring's out-of-plane
-  /// rows) are redundant, and take no impulse.
+  /// rows) are redundant, and take no impulse; nearly redundant directions are damped
+  /// (factorLoops). solveLoopPositions: the same for the position projection.
   Eigen::VectorXd solveLoops(const Cluster& c, const Eigen::VectorXd& v) const;
+  Eigen::VectorXd solveLoopPositions(const Cluster& c, const Eigen::VectorXd& v) const;
   /// Applies impulses `p` (6 per loop joint row) on the loop joints' bodies through the tree:
   /// the tree's joints take their share (lambda) and the bodies' velocities change (or, with
   /// `positions`, returns the bodies' position changes in the nodes' x without applying them).

@@ -140,8 +140,26 @@ std::string htmlEscaped(const std::string& s) {
   return out;
 }
 
+// three.min.js is about 0.6 MiB; a file far larger is not a three.js build (RM3D_THREE_JS=/dev/zero
+// once read until memory ran out).
+constexpr std::uintmax_t kThreeJsMaxBytes = 64u << 20;
+
 bool readThreeJs(std::string& text, std::string& err) {
   const char* path = htmlThreeJsPath();
+  std::error_code ec;
+  const bool regular = std::filesystem::is_regular_file(path, ec);
+  if (!regular && std::filesystem::exists(path, ec)) {
+    err = std::string(path) + ": not a regular file (expected three.js, e.g. three.min.js)";
+    return false;
+  }
+  if (regular) {
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (!ec && size > kThreeJsMaxBytes) {
+      err = std::string(path) + ": " + std::to_string(size >> 20) + " MiB, more than the " +
+            std::to_string(kThreeJsMaxBytes >> 20) + " MiB a three.js build can be";
+      return false;
+    }
+  }
   std::ifstream f(path, std::ios::binary);
   std::ostringstream s;
   if (f) s << f.rdbuf();
@@ -154,9 +172,12 @@ bool readThreeJs(std::string& text, std::string& err) {
   std::string lower = text;
   std::transform(lower.begin(), lower.end(), lower.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
-  if (lower.find("</script") != std::string::npos) {
-    err = std::string(path) + ": contains '</script', which cannot be inlined in a page";
-    return false;
+  // Either would end the page's script element, or change how the rest of it is read.
+  for (const char* bad : {"</script", "<!--"}) {
+    if (lower.find(bad) != std::string::npos) {
+      err = std::string(path) + ": contains '" + bad + "', which cannot be inlined in a page";
+      return false;
+    }
   }
   return true;
 }
@@ -327,21 +348,31 @@ bool writeHtmlReplay(const Recording& rec, const SceneLayout::CameraDef& camera,
   j["points"] = std::move(points);
   j["camera"] = std::move(camData);
 
-  // "</" inside a JSON string would end the <script> element: write it as "<\/" (same string).
+  // Every "<" written as "\u003c" (the same JSON string): "</script" would end the <script>
+  // element, and "<!--" followed by "<script" makes the browser read the rest of the page as
+  // part of it (a module named "<!--<script>" once swallowed the page's code). JSON has "<"
+  // only inside strings.
   std::string data = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  for (size_t at = 0; (at = data.find("</", at)) != std::string::npos; at += 3) data.replace(at, 2, "<\\/");
+  for (size_t at = 0; (at = data.find('<', at)) != std::string::npos; at += 6) data.replace(at, 1, "\\u003c");
 
   std::string page = kHtmlReplayPage;
   const size_t titleAt = page.find("@TITLE@");
   if (titleAt != std::string::npos) page.replace(titleAt, 7, htmlEscaped(pageTitle(rec)));
-  for (const auto& [marker, text] : {std::pair<std::string, const std::string*>{"/*@THREE@*/", &three},
-                                     std::pair<std::string, const std::string*>{"/*@DATA@*/", &data}}) {
-    const size_t at = page.find(marker);
-    if (at == std::string::npos) {
-      err = "--html " + out + ": the page template lacks " + marker;
-      return false;
-    }
-    page.replace(at, marker.size(), *text);
+  // Both markers found in the template first, then filled from the later one back: a three.js
+  // file that itself holds "/*@DATA@*/" must not get the data spliced into it.
+  const std::string threeMarker = "/*@THREE@*/", dataMarker = "/*@DATA@*/";
+  const size_t threeAt = page.find(threeMarker), dataAt = page.find(dataMarker);
+  if (threeAt == std::string::npos || dataAt == std::string::npos) {
+    err = "--html " + out + ": the page template lacks " +
+          (threeAt == std::string::npos ? threeMarker : dataMarker);
+    return false;
+  }
+  if (threeAt > dataAt) {
+    page.replace(threeAt, threeMarker.size(), three);
+    page.replace(dataAt, dataMarker.size(), data);
+  } else {
+    page.replace(dataAt, dataMarker.size(), data);
+    page.replace(threeAt, threeMarker.size(), three);
   }
 
   // Written next to OUT first and renamed, so a failed write leaves no half page behind.

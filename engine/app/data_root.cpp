@@ -5,8 +5,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -177,6 +179,12 @@ std::string jsonString(const std::string& s) {
 }  // namespace
 
 int initProjectCommand(const std::string& dir, const std::string& root) {
+  if (dir.empty()) {
+    std::fprintf(
+        stderr,
+        "rm3d init: the folder name is empty (expected a folder to make, e.g. rm3d init myproject)\n");
+    return 2;
+  }
   const fs::path base(dir);
   const std::string meta = (fs::path(root) / "lua" / "meta").lexically_normal().string();
   const std::string lib = (fs::path(root) / "lua").lexically_normal().string();
@@ -197,10 +205,20 @@ int initProjectCommand(const std::string& dir, const std::string& root) {
       {base / ".luarc.json", luarc},
   };
   std::error_code ec;
+  // symlink_status: a link, even one to nothing, is never written through (it would put a file
+  // outside the folder); nor is a sub-folder that is a link.
   for (const auto& [path, text] : files) {
-    if (fs::exists(path, ec)) {
+    if (fs::exists(fs::symlink_status(path, ec))) {
       std::fprintf(stderr, "rm3d init: %s already exists (init never overwrites; choose a new folder)\n",
                    path.string().c_str());
+      return 2;
+    }
+  }
+  for (const fs::path& d : {base / "worlds", base / "behaviors", base / "lua"}) {
+    if (fs::is_symlink(fs::symlink_status(d, ec))) {
+      std::fprintf(
+          stderr, "rm3d init: %s is a symbolic link (init writes only inside the folder; choose a new one)\n",
+          d.string().c_str());
       return 2;
     }
   }
@@ -212,11 +230,12 @@ int initProjectCommand(const std::string& dir, const std::string& root) {
     }
   }
   for (const auto& [path, text] : files) {
-    std::ofstream out(path);
-    out << text;
-    out.close();
-    if (!out) {
-      std::fprintf(stderr, "rm3d init: cannot write %s\n", path.string().c_str());
+    // "x": created here or not at all (never through a link made since the check above).
+    std::FILE* out = std::fopen(path.string().c_str(), "wx");
+    const bool ok = out && std::fwrite(text.data(), 1, text.size(), out) == text.size();
+    if (out && std::fclose(out) != 0) out = nullptr;
+    if (!ok || !out) {
+      std::fprintf(stderr, "rm3d init: cannot write %s: %s\n", path.string().c_str(), std::strerror(errno));
       return 2;
     }
     std::printf("wrote %s\n", path.string().c_str());

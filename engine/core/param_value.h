@@ -1,7 +1,8 @@
 // A `--param key=value` value as scripts and summaries see it: whole numbers and numbers arrive
-// as numbers, `true`/`false` as booleans, anything else as the string given.
+// as numbers (a whole number beyond 64 bits as a float), `true`/`false` as booleans, anything else as the string given.
 #pragma once
 
+#include <cerrno>
 #include <cstdlib>
 #include <string>
 
@@ -18,8 +19,11 @@ inline ParamValue parseParamValue(const std::string& v) {
   ParamValue p;
   if (v.empty()) return p;
   char* end = nullptr;
+  errno = 0;
   p.integer = std::strtoll(v.c_str(), &end, 10);
-  if (*end == '\0') {
+  // A whole number beyond 64 bits is a float, as Lua reads the same literal (strtoll would clamp
+  // 2^64 to 2^63 - 1).
+  if (*end == '\0' && errno != ERANGE) {
     p.kind = ParamValue::Kind::Integer;
     return p;
   }

@@ -1,5 +1,6 @@
 // A `--param key=value` value as scripts and summaries see it: whole numbers and numbers arrive
-// as numbers (a whole number beyond 64 bits as a float), `true`/`false` as booleans, anything else as the string given.
+// as numbers (a whole number beyond 64 bits as a float), `true`/`false` as booleans, anything else as the
+// string given.
 #pragma once
 
 #include <cerrno>

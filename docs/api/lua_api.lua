@@ -400,7 +400,7 @@ fn{"observe", doc = [[For the Python API (docs/python.md): the module's row of t
 fn{"act", doc = [[For the Python API: called each step under `policy=True`, before `step(dt)`, with the module's row of the `act` array (`act_size` numbers; by default one per joint). Without it the row sets the joints' servo targets (rad). Whatever it sends through a dock arrives next step, as from `step`.]],
   params = {{"a", "number[]"}}}
 global{"act_size", type = "integer", value = "nil",
-  doc = "How many numbers `act(a)` takes (0 to 4096); unset: the module's joint count."}
+  doc = "How many numbers `act(a)` takes, a whole number from 0 to 4096 (1.5 faults the module; it is never rounded); unset: the module's joint count."}
 fn{"on_reload", doc = "Called after a hot reload replaced the behaviour's definitions (`state` survives)."}
 fn{"on_dock", doc = [[Called at the start of the module's next step for each dock event: `dock` is the Dock handle (compare `dock:name() == "front"`), `event` what happened: "engaged", "disengaged" or "broken"; and, before a connection exists, "captured" (a capture joint has begun drawing this dock and another together) and "stalled" (that capture has not latched after `capture_time`).]],
   params = {{"dock", "Dock"}, {"event", [["engaged"|"disengaged"|"broken"|"captured"|"stalled"]]}}}

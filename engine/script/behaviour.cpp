@@ -119,13 +119,15 @@ int refreshCallbackRefs(lua_State* L) {
   lua_pushliteral(L, "act_size");
   const int type = lua_rawget(L, g);
   if (type != LUA_TNIL) {
-    lua_Integer n = 0;
-    if (!lua_isinteger(L, -1) && !(type == LUA_TNUMBER && lua_numbertointeger(lua_tonumber(L, -1), &n)))
+    if (type != LUA_TNUMBER)
       return luaL_error(L, "the global 'act_size' is a %s; expected a whole number from 0 to %d",
                         luaL_typename(L, -1), kMaxActSize);
-    if (lua_isinteger(L, -1)) n = lua_tointeger(L, -1);
-    if (n < 0 || n > kMaxActSize)
-      return luaL_error(L, "act_size = %d; expected a whole number from 0 to %d", int(n), kMaxActSize);
+    // lua_tointegerx takes a float only when it is whole (3.0), never rounding 1.5 down.
+    int whole = 0;
+    const lua_Integer n = lua_tointegerx(L, -1, &whole);
+    if (!whole || n < 0 || n > kMaxActSize)
+      return luaL_error(L, "act_size = %s; expected a whole number from 0 to %d", lua_tostring(L, -1),
+                        kMaxActSize);
     ctx->actSize = int(n);
   }
   return 0;

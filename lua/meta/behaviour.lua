@@ -183,7 +183,7 @@ function observe() end
 ---For the Python API: called each step under `policy=True`, before `step(dt)`, with the module's row of the `act` array (`act_size` numbers; by default one per joint). Without it the row sets the joints' servo targets (rad). Whatever it sends through a dock arrives next step, as from `step`.
 ---@param a number[]
 function act(a) end
----How many numbers `act(a)` takes (0 to 4096); unset: the module's joint count.
+---How many numbers `act(a)` takes, a whole number from 0 to 4096 (1.5 faults the module; it is never rounded); unset: the module's joint count.
 ---@type integer
 act_size = nil
 ---Called after a hot reload replaced the behaviour's definitions (`state` survives).

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -188,16 +189,27 @@ int World::addObstacle(const ShapeDef& shape, const Pose& pose, double mass, dou
   return part;
 }
 
+namespace {
+
+/// Bytes as a reader wants them: "12 MiB", or below a MiB "300 KiB" (never "0 MiB" for something;
+/// --memory-budget 1 once refused a module that "would take 0 MiB" with "0 MiB left").
+std::string byteSize(double bytes) {
+  char buf[64];
+  if (bytes >= 1048576.0)
+    std::snprintf(buf, sizeof buf, "%.0f MiB", bytes / 1048576);
+  else
+    std::snprintf(buf, sizeof buf, "%.0f KiB", std::ceil(bytes / 1024));
+  return buf;
+}
+
+}  // namespace
+
 void World::chargeBudget(double bytes, const std::string& what) {
   const double budget = m_options.memoryBudget;
   if (!(m_budgetUsed + bytes <= budget)) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "the world's memory budget: %s would take %.0f MiB, %.0f MiB of the %.0f MiB budget are "
-                  "left (everything a world script adds shares it; see docs/limits.md)",
-                  what.c_str(), bytes / 1048576, std::max(0.0, budget - m_budgetUsed) / 1048576,
-                  budget / 1048576);
-    throw InputError(buf);
+    throw InputError("the world's memory budget: " + what + " would take " + byteSize(bytes) + ", " +
+                     byteSize(std::max(0.0, budget - m_budgetUsed)) + " of the " + byteSize(budget) +
+                     " budget are left (everything a world script adds shares it; see docs/limits.md)");
   }
   m_budgetUsed += bytes;
 }

@@ -319,9 +319,27 @@ Simulation::~Simulation() {
   }
 }
 
+namespace {
+
+/// A path holding a NUL would name another file to the operating system (everything after the
+/// NUL dropped): refused, never shortened.
+void checkNoNul(const std::string& value, const std::string& what) {
+  if (const size_t at = value.find('\0'); at != std::string::npos)
+    throw Error(what + ": holds a NUL character (byte " + std::to_string(at) + "); expected a file path");
+}
+
+void checkPaths(const Options& options) {
+  checkNoNul(options.record, "record");
+  checkNoNul(options.root, "root");
+}
+
+}  // namespace
+
 std::unique_ptr<Simulation> Simulation::open(const std::string& path, const Options& options) {
   std::unique_ptr<Simulation> s(new Simulation());
   if (path.empty()) throw Error("path: empty; expected a world file (.lua)");
+  checkNoNul(path, "path");
+  checkPaths(options);
   std::error_code ec;
   const std::string abs = fs::absolute(path, ec).lexically_normal().string();
   s->m->options = options;
@@ -335,6 +353,7 @@ std::unique_ptr<Simulation> Simulation::open(const std::string& path, const Opti
 std::unique_ptr<Simulation> Simulation::fromString(const std::string& source, const std::string& name,
                                                    const Options& options) {
   std::unique_ptr<Simulation> s(new Simulation());
+  checkPaths(options);
   s->m->options = options;
   s->m->source = source;
   s->m->name = name.empty() ? "world" : name;

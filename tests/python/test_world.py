@@ -276,3 +276,17 @@ def test_record_never_overwrites_an_input(tmp_path):
     with pytest.raises(rm3d.Error, match=r"record= .*link\.rec: is also the world script"):
         rm3d.World(str(world), record=str(link), root=str(ROOT))
     assert {p: p.read_bytes() for p in (world, behaviour)} == before
+
+
+def test_a_nul_in_a_path_is_refused(tmp_path):
+    # The operating system would stop at the NUL and open another file ("w.lua" for
+    # "w.lua\0x"): refused instead, naming the argument and where the NUL is.
+    world = tmp_path / "w.lua"
+    world.write_text("world.set{duration = 0.1}\n")
+    with pytest.raises(rm3d.Error, match=r"path: holds a NUL character \(byte \d+\)"):
+        rm3d.World(str(world) + "\0x", root=str(ROOT))
+    with pytest.raises(rm3d.Error, match=r"record: holds a NUL character"):
+        rm3d.World(str(world), record=str(tmp_path / "r.rec") + "\0x", root=str(ROOT))
+    with pytest.raises(rm3d.Error, match=r"root: holds a NUL character"):
+        rm3d.World(str(world), root=str(ROOT) + "\0x")
+    assert not (tmp_path / "r.rec").exists()

@@ -112,6 +112,16 @@ void Batch::step(int64_t n, const std::function<bool()>& interrupted) {
   // Under policy one round: the arrays are read after a step() call, and its length stays the
   // caller's (a read is part of a snapshot's inputs).
   const int64_t round = m->options.front().policy || !interrupted ? n : 64;
+  // Every world's actions checked before any world steps: an error leaves the batch in step
+  // (world 0 used to step before world 1's NaN was found).
+  if (n > 0 && m->options.front().policy)
+    for (int i = 0; i < size(); ++i) {
+      try {
+        m->worlds[size_t(i)]->checkActions();
+      } catch (const Error& e) {
+        throw Error("world " + std::to_string(i) + ": " + e.what());
+      }
+    }
   for (int64_t done = 0; done < n;) {
     const int64_t k = std::min<int64_t>(round, n - done);
     runAll(*m->pool, size(), [this, k](int i) { m->worlds[size_t(i)]->step(k); });

@@ -244,8 +244,8 @@ struct Simulation::Impl {
     target = own;
   }
 
-  /// The action rows of this world in the target arrays, checked finite.
-  void applyActions(int64_t stepIndex) {
+  /// Raises Error where this world's action rows in the target arrays hold a NaN or an infinity.
+  void checkActions() {
     AgentArrays& a = arr();
     const int n = std::min(int(world->modules().size()), capacity());
     if (n <= 0 || a.actDim == 0) return;
@@ -260,6 +260,15 @@ struct Simulation::Impl {
                       "): actions must be finite numbers");
         }
     }
+  }
+
+  /// The action rows of this world in the target arrays, checked finite.
+  void applyActions(int64_t stepIndex) {
+    checkActions();
+    AgentArrays& a = arr();
+    const int n = std::min(int(world->modules().size()), capacity());
+    if (n <= 0 || a.actDim == 0) return;
+    const double* base = a.act.data() + size_t(rowOffset) * size_t(a.actDim);
     if (options.snapshots) {
       acts.push_back({stepIndex, n, a.actDim, actData.size()});
       actData.insert(actData.end(), base, base + size_t(n) * size_t(a.actDim));
@@ -387,6 +396,13 @@ void Simulation::step(int64_t n, const std::function<bool()>& interrupted) {
   }
   m->wallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!w.scriptError().empty()) throw Error(w.scriptError());
+}
+
+void Simulation::checkActions() {
+  m->check();
+  if (!m->options.policy || m->ended || m->world->stopped()) return;
+  if (m->refreshedAt < 0) m->refresh();  // the first step: sizes for the act rows
+  m->checkActions();
 }
 
 double Simulation::time() const {

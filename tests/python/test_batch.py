@@ -66,6 +66,11 @@ def test_batch_errors():
     b.act[1, 2, 0] = np.inf
     with pytest.raises(rm3d.Error, match=r"world 1: act\[2\]\[0\] is infinite"):
         b.step()
+    # Checked before any world stepped: the batch stays in step (world 0 used to step alone).
+    assert list(b.time) == [0.0, 0.0]
+    b.act[1, 2, 0] = 0.1
+    b.step()
+    assert list(b.time) == pytest.approx([1 / 60, 1 / 60])
     b.close()
     with pytest.raises(rm3d.Error, match="closed"):
         b.step()

@@ -73,6 +73,9 @@ class Simulation {
   /// infinity: Error, before any step). Throws Error when the world script fails. A world that stopped
   /// (world.stop(), a fatal fault, an error) does not step; one past its duration goes on.
   void step(int64_t n = 1, const std::function<bool()>& interrupted = {});
+  /// With policy on: raises Error (as step() would) where the act rows hold a NaN or an
+  /// infinity, and changes nothing. Batch::step asks every world before any steps.
+  void checkActions();
   double time() const;
   int64_t steps() const;
   double dt() const;

@@ -576,7 +576,18 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
     m.path = h.at("world").get<std::string>();
     m.source = h.at("source").get<std::string>();
     m.name = h.at("name").get<std::string>();
-    m.root = h.at("root").get<std::string>();
+    // The bytes are untrusted input: a root the header names is taken only where it is an RM3D
+    // project, as World(root=) requires (a header saying root = "/" was accepted, and a mesh
+    // outside the project loaded); else the root is found as for a new World of that file.
+    const std::string root = h.at("root").get<std::string>();
+    checkNoNul(m.path, "snapshot: its world path");
+    checkNoNul(root, "snapshot: its root");
+    if (!m.path.empty() && !fs::path(m.path).is_absolute())
+      throw Error("snapshot: its world path '" + m.path + "' is not absolute (damaged bytes)");
+    std::error_code ec;
+    m.root = !root.empty() && fs::path(root).is_absolute() && isDataRoot(root)
+                 ? fs::weakly_canonical(root, ec).string()
+                 : findRoot(Options{}, m.path);
     m.actData.resize(size_t(nAct));
     std::memcpy(m.actData.data(), body.data() + p, size_t(nAct) * sizeof(double));
     for (const auto& a : h.at("acts")) {

@@ -139,3 +139,38 @@ def test_ctrl_c_stops_a_long_restore_and_leaves_the_world_as_it_was():
     assert v.steps == 5
     v.step(1)
     assert v.steps == 6
+
+
+def _header(snapshot):
+    import struct
+    import zlib
+
+    raw = zlib.decompress(snapshot[16:])
+    (hlen,) = struct.unpack("<Q", raw[:8])
+    return json.loads(raw[8 : 8 + hlen]), raw, hlen
+
+
+def _with_header(snapshot, header):
+    import struct
+    import zlib
+
+    _, raw, hlen = _header(snapshot)
+    text = json.dumps(header).encode()
+    body = struct.pack("<Q", len(text)) + text + raw[8 + hlen :]
+    return snapshot[:8] + struct.pack("<Q", len(body)) + zlib.compress(body)
+
+
+def test_a_snapshot_header_cannot_name_a_root_outside_any_project():
+    # Snapshot bytes are untrusted input: root = "/" (no assets/modules) is not taken; the root
+    # is found as for a new World of that file, and the restored world is the same world.
+    w = rm3d.World(str(ROOT / "worlds" / "snake.lua"), params={"modules": 3}, root=str(ROOT))
+    w.step(5)
+    snap = w.snapshot()
+    header, _, _ = _header(snap)
+    header["root"] = "/"
+    restored = rm3d.World.from_snapshot(_with_header(snap, header))
+    assert _header(restored.snapshot())[0]["root"] == str(ROOT)
+    assert restored.summary()["steps"] == 5
+    header["world"] = "relative/w.lua"
+    with pytest.raises(rm3d.Error, match=r"snapshot: its world path 'relative/w\.lua' is not absolute"):
+        rm3d.World.from_snapshot(_with_header(snap, header))

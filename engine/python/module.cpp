@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <optional>
 
@@ -53,21 +54,34 @@ std::map<std::string, std::string> toParams(const py::object& params, const char
   return out;
 }
 
+// A world's seed is a Lua integer (world.set{seed=}, math.randomseed): 0 to 2**63-1, as
+// `rm3d run --seed` takes (a larger one was refused by the world script's first line instead).
 std::optional<uint64_t> toSeed(const py::object& seed, const char* arg = "seed") {
   if (seed.is_none()) return std::nullopt;
   if (!py::isinstance<py::int_>(seed) || py::isinstance<py::bool_>(seed))
-    throw py::type_error(std::string(arg) + ": expected an int from 0 to 2**64-1 or None, got " +
+    throw py::type_error(std::string(arg) + ": expected an int from 0 to 2**63-1 or None, got " +
                          std::string(py::str(py::type::of(seed).attr("__name__"))));
+  uint64_t v = 0;
   try {
-    return py::cast<uint64_t>(seed);
+    v = py::cast<uint64_t>(seed);
   } catch (const py::cast_error&) {
-    throw py::value_error(std::string(arg) + " = " + std::string(py::repr(seed)) + ": expected 0 to 2**64-1");
+    v = UINT64_MAX;
   }
+  if (v > uint64_t(INT64_MAX))
+    throw py::value_error(std::string(arg) + " = " + std::string(py::repr(seed)) +
+                          ": expected 0 to 2**63-1 (a world's seed is a Lua integer, as rm3d run --seed)");
+  return v;
 }
 
 std::string toPath(const py::object& p, const char* arg = "path") {
   if (py::isinstance<py::str>(p)) return py::cast<std::string>(p);
-  if (py::hasattr(p, "__fspath__")) return py::cast<std::string>(p.attr("__fspath__")());
+  if (py::hasattr(p, "__fspath__")) {
+    const py::object r = p.attr("__fspath__")();
+    if (!py::isinstance<py::str>(r))
+      throw py::type_error(std::string(arg) + ": its __fspath__() returned " +
+                           std::string(py::str(py::type::of(r).attr("__name__"))) + "; expected a str");
+    return py::cast<std::string>(r);
+  }
   throw py::type_error(std::string(arg) + ": expected a str or os.PathLike, got " +
                        std::string(py::str(py::type::of(p).attr("__name__"))));
 }

@@ -290,3 +290,21 @@ def test_a_nul_in_a_path_is_refused(tmp_path):
     with pytest.raises(rm3d.Error, match=r"root: holds a NUL character"):
         rm3d.World(str(world), root=str(ROOT) + "\0x")
     assert not (tmp_path / "r.rec").exists()
+
+
+def test_seed_and_path_type_errors_name_the_argument(tmp_path):
+    # A world's seed is a Lua integer: above 2**63-1 is refused here, as by rm3d run --seed (it
+    # was refused by the world script's first line, which sets no seed).
+    world = tmp_path / "w.lua"
+    world.write_text("world.set{duration = 0.1}\n")
+    with pytest.raises(ValueError, match=r"seed = 9223372036854775808: expected 0 to 2\*\*63-1"):
+        rm3d.World(str(world), seed=2**63, root=str(ROOT))
+    w = rm3d.World(str(world), seed=2**63 - 1, root=str(ROOT))
+    assert w.summary()["seed"] == 2**63 - 1
+
+    class BadPath:
+        def __fspath__(self):
+            return 5
+
+    with pytest.raises(TypeError, match=r"path: its __fspath__\(\) returned int; expected a str"):
+        rm3d.World(BadPath(), root=str(ROOT))

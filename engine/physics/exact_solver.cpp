@@ -702,8 +702,8 @@ void ExactSolver::factorLoops(Cluster& c) {
   // run time diverged. So the velocity solve damps them: 1 / s becomes s / (s^2 + m^2), m =
   // kLoopDamping of the largest (a direction at 10 m keeps 99% of its correction, and every
   // iteration sweeps again). The position projection keeps them nearly exact (kLoopPositionDamping):
-  // damped as much, the free ring below that folds flat at speed opened by 0.08 mm; with 1e-4,
-  // by 0.0012 mm, as undamped.
+  // damped as much, the free ring of tests/engine/physics, folding flat at speed, opened by
+  // 0.08 mm; with 1e-4, by 0.0012 mm, as undamped.
   constexpr double kLoopDamping = 1e-2, kLoopPositionDamping = 1e-4;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (c.schur + c.schur.transpose()));
   c.schur = eig.eigenvectors();
@@ -711,19 +711,16 @@ void ExactSolver::factorLoops(Cluster& c) {
   const double top = std::max(values.cwiseAbs().maxCoeff(), 1e-300), floor = 1e-5 * top;
   c.schurInv.resize(k);
   c.schurPosInv.resize(k);
+  auto damped = [&](double v, double m) { return v > floor ? v / (v * v + m * m * top * top) : 0.0; };
   for (int i = 0; i < k; ++i) {
-    const double v = values[i] > floor ? values[i] : 0.0;
-    c.schurInv[i] = v / (v * v + kLoopDamping * kLoopDamping * top * top);
-    c.schurPosInv[i] = v / (v * v + kLoopPositionDamping * kLoopPositionDamping * top * top);
+    c.schurInv[i] = damped(values[i], kLoopDamping);
+    c.schurPosInv[i] = damped(values[i], kLoopPositionDamping);
   }
 }
 
-Eigen::VectorXd ExactSolver::solveLoops(const Cluster& c, const Eigen::VectorXd& v) const {
-  return c.schur * c.schurInv.cwiseProduct(c.schur.transpose() * v);
-}
-
-Eigen::VectorXd ExactSolver::solveLoopPositions(const Cluster& c, const Eigen::VectorXd& v) const {
-  return c.schur * c.schurPosInv.cwiseProduct(c.schur.transpose() * v);
+Eigen::VectorXd ExactSolver::solveLoops(const Cluster& c, const Eigen::VectorXd& inv,
+                                        const Eigen::VectorXd& v) const {
+  return c.schur * inv.cwiseProduct(c.schur.transpose() * v);
 }
 
 /// Makes the loop rows exact after the tree's solve: their impulse change through S, then
@@ -741,7 +738,7 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
     y[5] = r.axialActive ? e.rowTarget + y[5] - (e.state == A::Motor ? e.compliance * r.lambda[5] : 0) : 0;
     err.segment<6>(6 * l) = y;
   }
-  const Eigen::VectorXd dl = solveLoops(c, err);
+  const Eigen::VectorXd dl = solveLoops(c, c.schurInv, err);
   for (int l = 0; l < loops; ++l)
     m_rows[size_t(m_loopJoints[size_t(c.loopBegin + l)])].lambda += dl.segment<6>(6 * l);
   pushThroughTree(c, dl, false);
@@ -1062,7 +1059,7 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
       Eigen::VectorXd err(6 * loops);
       for (int l = 0; l < loops; ++l)
         err.segment<6>(6 * l) = positionError(m_loopJoints[size_t(c.loopBegin + l)]);
-      pushThroughTree(c, solveLoopPositions(c, err), true);
+      pushThroughTree(c, solveLoops(c, c.schurPosInv, err), true);
       applyPositionChanges(c);
     }
     double left = 0;

@@ -291,11 +291,11 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// the loop rows exact: their impulse change through S, passed on through the tree.
   void factorLoops(Cluster& c);
   void loopIteration(Cluster& c, bool clamp);
-  /// S's pseudo-inverse times v: loop rows that repeat the tree's (a planar ring's out-of-plane
-  /// rows) are redundant, and take no impulse; nearly redundant directions are damped
-  /// (factorLoops). solveLoopPositions: the same for the position projection.
-  Eigen::VectorXd solveLoops(const Cluster& c, const Eigen::VectorXd& v) const;
-  Eigen::VectorXd solveLoopPositions(const Cluster& c, const Eigen::VectorXd& v) const;
+  /// S's pseudo-inverse times v, through inverse eigenvalues `inv` (c.schurInv for velocities,
+  /// c.schurPosInv for positions): loop rows that repeat the tree's (a planar ring's
+  /// out-of-plane rows) are redundant, and take no impulse; nearly redundant directions are
+  /// damped (factorLoops).
+  Eigen::VectorXd solveLoops(const Cluster& c, const Eigen::VectorXd& inv, const Eigen::VectorXd& v) const;
   /// Applies impulses `p` (6 per loop joint row) on the loop joints' bodies through the tree:
   /// the tree's joints take their share (lambda) and the bodies' velocities change (or, with
   /// `positions`, returns the bodies' position changes in the nodes' x without applying them).

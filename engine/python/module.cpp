@@ -128,11 +128,20 @@ void assignActions(py::handle value, double* dst, const std::vector<py::ssize_t>
 struct PyWorld {
   std::unique_ptr<Simulation> sim;
   bool busy = false;  ///< a call runs without the GIL (read and written only under the GIL)
-  Simulation& s() {
+  void checkIdle() const {
     if (busy)
       throw Error("this world is busy: another Python thread is in a call on it (one call at a time)");
+  }
+  Simulation& s() {
+    checkIdle();
     if (!sim || sim->closed()) throw Error("this world is closed");
     return *sim;
+  }
+  /// Ends the world; while another thread's call runs on it, that is "busy" too (closing under
+  /// a running step freed what the step was using).
+  void close() {
+    checkIdle();
+    if (sim) sim->close();
   }
 };
 
@@ -364,17 +373,12 @@ PYBIND11_MODULE(_rm3d, m) {
           },
           "An independent copy of this world at this step.")
       .def(
-          "close",
-          [](PyWorld& w) {
-            if (w.sim) w.sim->close();
-          },
+          "close", [](PyWorld& w) { w.close(); },
           "Ends the recording (if any); later calls raise rm3d.Error. Also on leaving a `with` block.")
       .def_property_readonly(
           "closed", [](PyWorld& w) { return !w.sim || w.sim->closed(); }, "True after close().")
       .def("__enter__", [](PyWorld& w) -> PyWorld& { return w; })
-      .def("__exit__", [](PyWorld& w, py::args) {
-        if (w.sim) w.sim->close();
-      });
+      .def("__exit__", [](PyWorld& w, py::args) { w.close(); });
 
   py::class_<PyBatch>(m, "Batch", "Many worlds stepped together by C++ threads (GIL released).")
       .def(py::init([](const py::object& paths, const py::object& seeds, const py::object& params,

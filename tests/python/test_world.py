@@ -259,6 +259,32 @@ def test_a_second_thread_gets_busy_not_a_crash():
     assert b.time[0] == b.time[1] and b.time[0] >= 300 / 60
 
 
+def test_close_while_another_thread_steps_is_busy(tmp_path):
+    # close() and leaving a `with` block freed the world under a running step (a recording
+    # world crashed); like every other call they get "busy", and the step finishes.
+    import threading
+    rec = tmp_path / "r.rec"
+    w = rm3d.World(SNAKE, params={"modules": 30}, record=str(rec))
+    t = threading.Thread(target=lambda: w.step(400))
+    t.start()
+    refused = 0
+    while t.is_alive() and not w.closed:  # a close that gets in after the step ended is fine
+        for call in (w.close, lambda: w.__exit__(None, None, None)):
+            try:
+                call()
+            except rm3d.Error as e:
+                assert "busy" in str(e)
+                refused += 1
+    t.join()
+    assert refused > 0
+    if not w.closed:
+        assert w.steps == 400
+        w.close()
+    out = tmp_path / "last.json"
+    r = subprocess.run([rm3d_bin(), "replay", str(rec), "--json", str(out)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr  # the recording was finished, not cut off
+
+
 def test_record_never_overwrites_an_input(tmp_path):
     # The output rule (docs/limits.md): record= may not be the world script, a file the world read
     # (a behaviour), or a link to either; the file is left as it was.

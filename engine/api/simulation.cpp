@@ -647,12 +647,29 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
 void Simulation::restore(const std::string& bytes, const std::function<bool()>& interrupted) {
   m->check();
   std::unique_ptr<Simulation> other = fromSnapshot(bytes, m->options.threads, interrupted);
-  std::shared_ptr<AgentArrays> target = m->target;
+  std::shared_ptr<AgentArrays> target = m->target, kept = m->own;
   const int offset = m->rowOffset, limit = m->rowLimit;
   const bool bound = target != m->own;
   m->endRecording();
   std::swap(m, other->m);
-  if (bound) bindArrays(target, offset, limit);
+  if (bound) {
+    bindArrays(target, offset, limit);
+    return;
+  }
+  // Views of the arrays held from before (a kept `w.act`) go on reading and driving this world:
+  // the restored arrays are copied into the same buffers where their shapes agree.
+  AgentArrays& now = *m->own;
+  AgentArrays& k = *kept;
+  if (k.rows != now.rows || k.obsDim != now.obsDim || k.actDim != now.actDim) return;
+  std::copy(now.obs.begin(), now.obs.end(), k.obs.begin());
+  std::copy(now.act.begin(), now.act.end(), k.act.begin());
+  std::copy(now.reward.begin(), now.reward.end(), k.reward.begin());
+  std::copy(now.done.begin(), now.done.end(), k.done.begin());
+  std::copy(now.mask.begin(), now.mask.end(), k.mask.begin());
+  std::copy(now.obsSize.begin(), now.obsSize.end(), k.obsSize.begin());
+  std::copy(now.actSize.begin(), now.actSize.end(), k.actSize.begin());
+  m->own = kept;
+  m->target = kept;
 }
 
 std::unique_ptr<Simulation> Simulation::fork(const std::function<bool()>& interrupted) const {

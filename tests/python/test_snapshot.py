@@ -22,11 +22,18 @@ def state(w):
     return json.dumps(s, sort_keys=True), w.obs.tobytes(), w.reward.tobytes(), w.done.tobytes()
 
 
+def fill(act, k):
+    """A fixed, step-dependent policy (the same in every run), written into an action array."""
+    act[:, 0] = 0.5 * np.sin(0.1 * k + np.arange(act.shape[0]))
+    act[:, 1] = 1.0 if k % 7 == 0 else 0.0
+
+
 def policy(w, k):
-    """A fixed, step-dependent policy (the same in every run)."""
-    rows, cols = w.act.shape
-    w.act[:, 0] = 0.5 * np.sin(0.1 * k + np.arange(rows))
-    w.act[:, 1] = 1.0 if k % 7 == 0 else 0.0
+    fill(w.act, k)
+
+
+def agents():
+    return rm3d.World(AGENTS, params={"modules": 5, "hops": 1}, policy=True)
 
 
 def run_policy(w, steps, start=0):
@@ -51,10 +58,10 @@ def test_lua_world_snapshot_restore_bit_exact():
 
 def test_policy_world_snapshot_restore_and_fork():
     n, k = 150, 60
-    a = rm3d.World(AGENTS, params={"modules": 5, "hops": 1}, policy=True)
+    a = agents()
     run_policy(a, n)
     ref = state(a)
-    b = rm3d.World(AGENTS, params={"modules": 5, "hops": 1}, policy=True)
+    b = agents()
     run_policy(b, k)
     snap = b.snapshot()
     c = b.fork()
@@ -67,6 +74,25 @@ def test_policy_world_snapshot_restore_and_fork():
     d = rm3d.World.from_snapshot(snap, threads=2)  # any thread count
     run_policy(d, n - k, start=k)
     assert state(d) == ref
+
+
+def test_views_kept_from_before_a_restore_go_on_driving_the_world():
+    # A kept w.act (and w.obs) view went on writing into the arrays of the world before restore():
+    # the restored world no longer saw the actions. Views now stay the world's own.
+    n, k = 120, 40
+    b = agents()
+    act, obs = b.act, b.obs
+    run_policy(b, k)
+    snap = b.snapshot()
+    run_policy(b, 30, start=k)
+    b.restore(snap)
+    assert np.array_equal(obs, b.obs)
+    for step in range(k, n):
+        fill(act, step)  # the view from before the restore, not b.act
+        b.step()
+    a = agents()
+    run_policy(a, n)
+    assert state(b) == state(a) and np.array_equal(obs, b.obs)
 
 
 def test_snapshot_restores_in_another_process(tmp_path):

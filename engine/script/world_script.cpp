@@ -100,10 +100,16 @@ bool callPerModule(LuaVm& vm, int ref, double t, int modules, T* out, const char
   lua_State* L = vm.L();
   const int top = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, ref);
+  // Where the function was written, so that a wrong return names its file and line.
+  std::string where;
+  lua_Debug ar;
+  lua_pushvalue(L, -1);
+  if (lua_getinfo(L, ">S", &ar) && ar.linedefined > 0)
+    where = std::string(ar.short_src) + ":" + std::to_string(ar.linedefined) + ": ";
   lua_pushnumber(L, t);
   if (!vm.call(1, 1, err, name)) return false;
   auto fail = [&](const std::string& what) {
-    err = std::string(name) + "'s function returned " + what + "; expected a " + kind +
+    err = where + name + "'s function returned " + what + "; expected a " + kind +
           " or a list with one per module (" + std::to_string(modules) + ")";
     lua_settop(L, top);
     return false;

@@ -136,6 +136,18 @@ def test_errors_name_file_and_line(tmp_path):
     w = rm3d.World(hook)
     with pytest.raises(rm3d.Error, match=r"hook.lua:2: boom"):
         w.step(10)
+    # A reward or done function that returns the wrong count or type: named by its file and line.
+    for hook, body, want in (("reward", "return {1}", r"a list of 1; expected a finite number"),
+                             ("reward", "return 'x'", r"a string; expected a finite number"),
+                             ("reward", "return 0/0", r"a number; expected a finite number"),
+                             ("done", "return {true, 1}", r"a number at \[2\]; expected a boolean"),
+                             ("done", "return nil", r"a nil; expected a boolean")):
+        src = tmp_path / f"{hook}.lua"
+        src.write_text("world.spawn('superbot')\nworld.spawn('superbot', {at = {0.5, 0, 0}})\n"
+                       f"world.{hook}(function(t)\n  {body}\nend)\n")
+        w = rm3d.World(src, policy=True, root=ROOT)
+        with pytest.raises(rm3d.Error, match=rf"{hook}.lua:3: world.{hook}'s function returned {want}"):
+            w.step()
     with pytest.raises(TypeError, match="params: expected a dict"):
         rm3d.World(SNAKE, params=[1])
     with pytest.raises(TypeError, match=r"params\['x'\]: expected str, int, float or bool"):

@@ -280,7 +280,8 @@ PYBIND11_MODULE(_rm3d, m) {
       .def_property_readonly(
           "finished", [](PyWorld& w) { return w.s().finished(); },
           "True once the world stopped (world.stop(), a fatal fault, an error), reached its duration, or "
-          "finish() ran.")
+          "finish() ran. step() goes on past the duration when asked (as rm3d run --seconds); a stopped "
+          "world does not step.")
       .def_property_readonly(
           "modules", [](PyWorld& w) { return w.s().moduleNames(); },
           "Module names, in module order (the rows of the arrays).")

@@ -14,6 +14,8 @@
 #include <system_error>
 #include <vector>
 
+#include "script/lua_vm.h"
+
 namespace fs = std::filesystem;
 
 namespace rm3d {
@@ -113,7 +115,17 @@ std::string firstComment(const fs::path& file) {
   if (!std::getline(in, line) || line.rfind("--", 0) != 0) return "";
   size_t at = line.find_first_not_of("- ");
   std::string text = at == std::string::npos ? "" : line.substr(at);
-  if (text.size() > 100) text = text.substr(0, 97) + "...";
+  if (text.size() > 100) {  // cut at a character's start, not inside one
+    size_t cut = 97;
+    while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+    text = text.substr(0, cut) + "...";
+  }
+  // The file is anyone's: invalid bytes become U+FFFD and control characters (a terminal's escape
+  // sequences, a carriage return) a space, so the listing shows text and only text.
+  makeValidUtf8(text);
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = ' ';
+  text.erase(text.find_last_not_of(' ') + 1);
   return text;
 }
 
@@ -131,8 +143,8 @@ int listWorldsCommand(const std::string& root) {
     return 2;
   }
   std::sort(worlds.begin(), worlds.end());
-  std::printf("%zu worlds in %s/ (run one from any folder: rm3d run worlds/NAME.lua):\n", worlds.size(),
-              dir.string().c_str());
+  std::printf("%zu world%s in %s/ (run one from any folder: rm3d run worlds/NAME.lua):\n", worlds.size(),
+              worlds.size() == 1 ? "" : "s", dir.string().c_str());
   for (const fs::path& w : worlds) {
     const std::string name = "worlds/" + w.filename().string();
     std::printf("  %-28s %s\n", name.c_str(), firstComment(w).c_str());

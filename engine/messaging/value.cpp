@@ -11,6 +11,16 @@ size_t valueSize(const Value& v) {
   return s;
 }
 
+ValueCounts valueCounts(const Value& v) {
+  ValueCounts c{1, double(v.string.size())};
+  for (const auto& [k, val] : v.table) {
+    const ValueCounts a = valueCounts(k), b = valueCounts(val);
+    c.values += a.values + b.values;
+    c.stringBytes += a.stringBytes + b.stringBytes;
+  }
+  return c;
+}
+
 nlohmann::json valueToJson(const Value& v) {
   switch (v.type) {
     case Value::Type::Nil:

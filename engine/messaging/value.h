@@ -42,6 +42,11 @@ inline Value::~Value() = default;
 
 /// Approximate size in bytes (what message and params limits count).
 size_t valueSize(const Value& v);
+/// How many values (keys included) and string bytes a value holds: what its copies cost.
+struct ValueCounts {
+  double values = 0, stringBytes = 0;
+};
+ValueCounts valueCounts(const Value& v);
 /// The value as JSON (tables with keys 1..n become arrays).
 nlohmann::json valueToJson(const Value& v);
 

@@ -361,6 +361,10 @@ int World::spawn(const SpawnDef& def) {
     typePtr = variant.get();
   }
   const ModuleTypeDef& type = *typePtr;
+  if (def.params.type != Value::Type::Nil) {
+    const ValueCounts c = valueCounts(def.params);
+    chargeBudget(c.values * budget::kParamsValue + c.stringBytes * budget::kParamsByte, "a module's params");
+  }
   chargeBudget(budget::kBody * double(type.links.size()), "a module");
   ensurePhysics();
   std::string behaviourPath;

@@ -26,6 +26,7 @@
 #include "core/error.h"
 #include "core/path_rule.h"
 #include "core/source_files.h"
+#include "core/text_file.h"
 #include "io/run_capture.h"
 #include "io/summary.h"
 #include "script/world_script.h"
@@ -155,7 +156,8 @@ struct Simulation::Impl {
     try {
       if (!path.empty()) {
         std::error_code ec;
-        if (!fs::is_regular_file(path, ec))
+        // A snapshot's world text is in its overlay: the file itself may be gone.
+        if (!(sources && sources->overlaid(path)) && !fs::is_regular_file(path, ec))
           throw Error(path + ": cannot read world file (" +
                       (fs::exists(path, ec) ? "not a regular file" : "no such file") + ")");
         world->loadFile(path);
@@ -600,7 +602,20 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
     }
     std::map<std::string, std::string> texts;
     for (const auto& t : h.at("texts")) texts[t.at(0).get<std::string>()] = t.at(1).get<std::string>();
+    // What the re-run does not find among the texts comes from the disk. The world's own folder
+    // counts only where the world file there is the one the bytes carry; otherwise a header could
+    // name any folder and have a hook `require` from it. Then only the project root is read.
     m.sources = std::make_shared<SourceFiles>();
+    std::string onDisk;
+    const auto recorded = m.path.empty() ? texts.end() : texts.find(SourceFiles::key(m.path));
+    const bool same = recorded != texts.end() && fs::is_regular_file(m.path, ec) &&
+                      fs::file_size(m.path, ec) == recorded->second.size() && !ec &&
+                      readTextFile(m.path, onDisk) && onDisk == recorded->second;
+    if (!m.path.empty() && !same)
+      m.sources->limitDisk({m.root}, " (this world came from a snapshot whose world file " + m.path +
+                                         " is not here as it was: besides the snapshot's texts, only the "
+                                         "project root " +
+                                         m.root + " is read)");
     m.sources->setOverlay(std::move(texts));
     const int64_t steps = h.at("steps").get<int64_t>();
     const std::vector<int64_t> reads = h.at("reads").get<std::vector<int64_t>>();

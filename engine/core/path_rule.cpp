@@ -62,7 +62,8 @@ ScriptFile findScriptFile(const std::string& name, const std::vector<std::string
     if (overlay ? !sources->isFile(c.string()) : !fs::exists(c, ec)) continue;
     // It exists: where it really lies (a symlink may lead out). Recorded texts were checked then.
     const fs::path real = fs::weakly_canonical(c, ec);
-    if (!(overlay && sources->overlaid(c.string())) && (ec || !insideAny(real, allowed, true))) {
+    if (!(overlay && sources->overlaid(c.string())) &&
+        (ec || !insideAny(real, allowed, true) || (sources && !sources->diskAllowed(real.string())))) {
       out.status = ScriptFile::Status::Outside;
       out.path = c.string();
       return out;

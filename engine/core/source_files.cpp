@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "core/path_rule.h"
 #include "core/text_file.h"
 
 namespace fs = std::filesystem;
@@ -28,7 +29,7 @@ bool SourceFiles::read(const std::string& path, std::string& out) {
       if (fs::path(k).extension() == ".lua") return false;
     }
   }
-  if (!readTextFile(path, out)) return false;
+  if (!diskAllowed(path) || !readTextFile(path, out)) return false;
   std::lock_guard<std::mutex> lock(m_mutex);
   if (m_seen.insert(k).second) m_taken.emplace_back(k, out);
   return true;
@@ -41,7 +42,36 @@ bool SourceFiles::isFile(const std::string& path) const {
     if (m_overlayOn && fs::path(k).extension() == ".lua") return m_overlay.count(k) > 0;
   }
   std::error_code ec;
-  return fs::is_regular_file(path, ec);
+  return diskAllowed(path) && fs::is_regular_file(path, ec);
+}
+
+void SourceFiles::limitDisk(std::vector<std::string> folders, std::string note) {
+  std::lock_guard<std::mutex> lock(m_mutex);
+  m_diskLimited = true;
+  m_diskFolders = std::move(folders);
+  m_diskNote = std::move(note);
+}
+
+bool SourceFiles::diskAllowed(const std::string& path) const {
+  std::vector<std::string> folders;
+  {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    if (!m_diskLimited) return true;
+    folders = m_diskFolders;
+  }
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  if (ec) return false;
+  for (const std::string& f : folders) {
+    const fs::path dir = fs::weakly_canonical(f, ec);
+    if (!ec && pathInside(real.lexically_normal().string(), dir.lexically_normal().string())) return true;
+  }
+  return false;
+}
+
+std::string SourceFiles::diskNote() const {
+  std::lock_guard<std::mutex> lock(m_mutex);
+  return m_diskNote;
 }
 
 bool SourceFiles::overlaid(const std::string& path) const {

@@ -30,6 +30,15 @@ class SourceFiles {
   void clearOverlay();
   bool overlayOn() const;
 
+  /// From now on, files the overlay does not hold are read from disk only inside these folders
+  /// (absolute; a restored snapshot's project root); `note` is added to the message of a refusal.
+  void limitDisk(std::vector<std::string> folders, std::string note);
+  /// True when the file at `path` may be read from disk: no limit, or it really lies (links
+  /// resolved) inside a folder of limitDisk.
+  bool diskAllowed(const std::string& path) const;
+  /// The limit's note ("" without a limit).
+  std::string diskNote() const;
+
   /// The texts read so far, by absolute path, in the order they were first read.
   std::vector<std::pair<std::string, std::string>> taken() const;
 
@@ -39,6 +48,9 @@ class SourceFiles {
  private:
   mutable std::mutex m_mutex;
   bool m_overlayOn = false;
+  bool m_diskLimited = false;
+  std::vector<std::string> m_diskFolders;
+  std::string m_diskNote;
   std::map<std::string, std::string> m_overlay;
   std::vector<std::pair<std::string, std::string>> m_taken;
   std::set<std::string> m_seen;

@@ -532,7 +532,8 @@ int LuaVm::require(lua_State* L) {
         tried += "\n\tno file '" + vm->displayName((fs::path(dir) / rel).string()) + "'";
     } else if (f.status == ScriptFile::Status::Outside) {
       problem = "require: '" + shown +
-                "' leads outside the folders scripts may load from (lua/, behaviors/, the script's folder)";
+                "' leads outside the folders scripts may load from (lua/, behaviors/, the script's folder)" +
+                (vm->m_sources ? vm->m_sources->diskNote() : "");
     } else if (vm->m_sources ? !vm->m_sources->read(f.path, text) : !readTextFile(f.path, text)) {
       problem = "require: cannot read '" + shown + "'";
     } else {

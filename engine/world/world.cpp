@@ -275,7 +275,9 @@ std::string World::resolvePath(const std::string& path) const {
   if (std::string own = projectFolderOf(worldDir); !own.empty()) folders.push_back(std::move(own));
   folders.push_back(m_options.projectRoot);
   const ScriptFile f = findScriptFile(path, folders, folders, m_options.sources.get());
-  if (f.status == ScriptFile::Status::Outside) throw InputError(outsideMessage(path, folders));
+  if (f.status == ScriptFile::Status::Outside)
+    throw InputError(outsideMessage(path, folders) +
+                     (m_options.sources ? m_options.sources->diskNote() : ""));
   return f.path;
 }
 

@@ -200,3 +200,37 @@ def test_a_snapshot_header_cannot_name_a_root_outside_any_project():
     header["world"] = "relative/w.lua"
     with pytest.raises(rm3d.Error, match=r"snapshot: its world path 'relative/w\.lua' is not absolute"):
         rm3d.World.from_snapshot(_with_header(snap, header))
+
+
+def test_a_snapshot_reads_its_world_folder_only_where_its_world_file_is_there(tmp_path):
+    # After the re-run, what the texts do not hold comes from the disk. The world's folder counts
+    # only where the world file there is the one the bytes carry: a header naming another folder
+    # had a hook's require read a file there (its text coming back in the error), and a deleted
+    # world file made the snapshot unusable though the bytes carry its text.
+    home, secret = tmp_path / "home", tmp_path / "secret"
+    home.mkdir()
+    secret.mkdir()
+    world = home / "w.lua"
+    world.write_text('world.at(0.5, function() world.metric("x", require("helper").x) end)\n')
+    (home / "helper.lua").write_text("return {x = 42}\n")
+    (secret / "helper.lua").write_text("SECRET-TEXT is not Lua\n")
+    w = rm3d.World(str(world), root=str(ROOT))
+    w.step(10)
+    snap = w.snapshot()
+    same = rm3d.World.from_snapshot(snap)  # the world file is there as it was: its folder is read
+    same.step(30)
+    assert same.metrics["x"] == 42
+    header, _, _ = _header(snap)
+    header["world"] = str(secret / "w.lua")
+    header["texts"] = [[str(secret / "w.lua") if p == str(world) else p, t] for p, t in header["texts"]]
+    forged = rm3d.World.from_snapshot(_with_header(snap, header))
+    assert forged.steps == 10
+    with pytest.raises(rm3d.Error, match=r"require: .*helper\.lua' leads outside .*snapshot whose world file") as e:
+        forged.step(30)
+    assert "SECRET" not in str(e.value)
+    world.rename(home / "gone.lua")
+    gone = rm3d.World.from_snapshot(snap)  # restored from the texts the bytes carry
+    assert gone.steps == 10
+    gone.step(10)
+    with pytest.raises(rm3d.Error, match=r"not here as it was"):
+        gone.step(30)

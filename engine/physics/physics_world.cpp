@@ -13,6 +13,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "physics/body_pool.h"
 #include "physics/cloth_system.h"
 #include "physics/exact_solver.h"
 #include "physics/plane_contacts.h"
@@ -24,9 +25,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 
 namespace rm3d {
 
@@ -119,6 +122,18 @@ btCollisionShape* makeShape(const ShapeDef& s, ShapeData& data) {
     }
   }
   return nullptr;
+}
+
+/// What makeShape reads of a convex definition, as bytes: equal keys make equal shapes.
+std::string shapeKey(const ShapeDef& s) {
+  std::string k;
+  auto put = [&k](const void* p, size_t n) { k.append(static_cast<const char*>(p), n); };
+  put(&s.kind, sizeof s.kind);
+  put(s.size.data(), 3 * sizeof(double));
+  put(&s.radius, sizeof s.radius);
+  put(&s.length, sizeof s.length);
+  for (const Vec3& p : s.points) put(p.data(), 3 * sizeof(double));
+  return k;
 }
 
 /// Where Bullet's shape sits in the ShapeDef's frame (see makeShape).
@@ -230,6 +245,7 @@ struct PhysicsWorld::Impl {
   std::optional<double> groundFriction;  // set by addGroundPlane: the ground is there (cloth, particles)
   OwnerFilter filter;
   std::vector<Part> parts;
+  BodyPool bodyPool;  // the bodies' memory, side by side (declared first: it outlives them)
   std::vector<Body> bodies;
   struct Capture {
     CaptureDesc d;
@@ -240,6 +256,11 @@ struct PhysicsWorld::Impl {
   std::vector<int> freeCaptures;
   std::vector<Hinge> hinges;
   std::vector<btCollisionShape*> extraShapes;  // ground plane
+  // Every part shape this world made (freed with it). A convex shape is made once per
+  // definition and shared by every part that has it (a module type's links: one bracket hull
+  // for 10,000 SuperBots, not 10,000 copies scattered over memory); none changes once made.
+  std::vector<btCollisionShape*> partShapes;
+  std::map<std::string, btCollisionShape*> convexShapes;  // by definition (shapeKey)
   std::vector<btRigidBody*> extraBodies;
   int liveBodies = 0;
   std::vector<Force> forces;
@@ -291,15 +312,28 @@ struct PhysicsWorld::Impl {
       world.removeRigidBody(rb);
       delete rb;
     }
-    for (Part& p : parts)
-      for (btCollisionShape* s : p.shapes) delete s;
+    for (btCollisionShape* s : partShapes) delete s;
     for (btCollisionShape* s : extraShapes) delete s;
+  }
+
+  /// The Bullet shape for a part's shape: a shared one for a convex definition seen before.
+  btCollisionShape* shapeFor(const ShapeDef& d, ShapeData& data) {
+    if (staticOnly(d.kind)) {  // meshes and heightfields: each its own (they hold per-part data)
+      partShapes.push_back(makeShape(d, data));
+      return partShapes.back();
+    }
+    std::string key = shapeKey(d);
+    auto it = convexShapes.find(key);
+    if (it != convexShapes.end()) return it->second;
+    partShapes.push_back(makeShape(d, data));
+    convexShapes.emplace(std::move(key), partShapes.back());
+    return partShapes.back();
   }
 
   void destroyBody(Body& b) {
     if (!b.rb) return;
     world.removeRigidBody(b.rb);
-    delete b.rb;
+    bodyPool.destroy(b.rb);
     delete b.compound;
     b.rb = nullptr;
     b.compound = nullptr;
@@ -398,7 +432,7 @@ struct PhysicsWorld::Impl {
     // ball set spinning in place spins for ever and keeps everything near it awake.
     ci.m_rollingFriction = btScalar(parts[ids[0]].rollingFriction);
     ci.m_spinningFriction = btScalar(parts[ids[0]].rollingFriction);
-    b.rb = new btRigidBody(ci);
+    b.rb = bodyPool.make(ci);
     b.rb->setUserIndex(index);
     for (int id : ids)
       for (const ShapeData& d : parts[id].shapeData)
@@ -663,6 +697,37 @@ struct PhysicsWorld::Impl {
   }
 };
 
+namespace {
+
+/// Bullet's allocations, failing as C++ does. Bullet's own allocator returns null when memory
+/// runs out and Bullet then writes through it (a crash inside the soft-body code at the 17th
+/// large cloth under a 3 GB address-space limit); this one throws, so a world script's call
+/// ends in an error with its file and line, and a step in an error naming the world.
+struct BulletOutOfMemory : std::bad_alloc {
+  const char* what() const noexcept override {
+    return "out of memory: the physics engine could not allocate (the machine's memory or the process's "
+           "address-space limit is spent; a smaller --memory-budget refuses additions before that)";
+  }
+};
+
+// Bullet's aligned allocations go through these (it keeps the block's start in front of the
+// aligned pointer), and the free is Bullet's default, so blocks from before the switch are freed
+// alike.
+void* bulletAlloc(size_t size) {
+  void* p = std::malloc(size ? size : 1);
+  if (!p) throw BulletOutOfMemory();
+  return p;
+}
+void bulletFree(void* p) {
+  std::free(p);
+}
+
+// Process-wide, the same for every world, and set while the program (or the Python module) loads,
+// before any thread can be allocating.
+[[maybe_unused]] const bool kBulletAllocator = (btAlignedAllocSetCustom(&bulletAlloc, &bulletFree), true);
+
+}  // namespace
+
 PhysicsWorld::PhysicsWorld(const PhysicsSettings& settings) : m(std::make_unique<Impl>(settings)) {}
 PhysicsWorld::~PhysicsWorld() = default;
 
@@ -771,7 +836,7 @@ int PhysicsWorld::addPart(const PartDesc& desc) {
   }
   for (const ShapeDef& s : desc.shapes) {
     p.shapeData.emplace_back();
-    p.shapes.push_back(makeShape(s, p.shapeData.back()));
+    p.shapes.push_back(m->shapeFor(s, p.shapeData.back()));
     p.shapePoses.push_back(s.pose * bulletShapeOffset(s));
   }
   m->buildBody({id}, {desc.pose}, Vec3::Zero(), Vec3::Zero());

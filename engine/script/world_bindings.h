@@ -5,8 +5,10 @@
 // turns C++ exceptions from World into Lua errors. The behaviour side is behaviour_bindings.h.
 #pragma once
 
+#include <cstring>
 #include <exception>
 #include <lua.hpp>
+#include <new>
 
 #include "physics/shape_def.h"
 #include "world/world_editor.h"
@@ -51,8 +53,13 @@ int callWorld(lua_State* L, const char* fn, F&& f) {
   try {
     results = f();
   } catch (const std::exception& e) {
+    // Memory that ran out anywhere reads the same as the physics engine's (its own message).
+    const char* what =
+        dynamic_cast<const std::bad_alloc*>(&e) && std::strcmp(e.what(), "std::bad_alloc") == 0
+            ? "out of memory (the machine's memory or the process's address-space limit is spent)"
+            : e.what();
     luaL_where(L, 1);
-    lua_pushfstring(L, "%s: %s", fn, e.what());
+    lua_pushfstring(L, "%s: %s", fn, what);
     lua_concat(L, 2);
   }
   if (results >= 0) return results;

@@ -222,6 +222,10 @@ struct Simulation::Impl {
       doneRow.assign(size_t(n), 0);
       if (s->hasReward() && !s->reward(n, rewardRow.data(), err)) world->setScriptError(err);
       if (s->hasDone() && err.empty() && !s->done(n, doneRow.data(), err)) world->setScriptError(err);
+      if (!err.empty()) {  // what a failing hook returned is not handed on (a NaN, half a list)
+        std::fill(rewardRow.begin(), rewardRow.end(), 0.0);
+        std::fill(doneRow.begin(), doneRow.end(), uint8_t(0));
+      }
       std::copy_n(rewardRow.begin(), avail, reward);
       std::copy_n(doneRow.begin(), avail, done);
     }
@@ -466,7 +470,11 @@ std::map<std::string, std::string> Simulation::faults() const {
 
 std::shared_ptr<AgentArrays> Simulation::arrays() {
   m->check();
+  // A read refreshes the arrays, which calls observe() and the reward and done hooks: an error
+  // they raise here is raised as step() raises it, not left in the world unseen.
+  const bool failedBefore = !m->world->scriptError().empty();
   m->refresh();
+  if (!failedBefore && !m->world->scriptError().empty()) throw Error(m->world->scriptError());
   return m->target;
 }
 

@@ -148,6 +148,13 @@ def test_errors_name_file_and_line(tmp_path):
         w = rm3d.World(src, policy=True, root=ROOT)
         with pytest.raises(rm3d.Error, match=rf"{hook}.lua:3: world.{hook}'s function returned {want}"):
             w.step()
+    # Read before the first step, a reward of 0/0 was handed to Python as nan, the error unseen.
+    nan = tmp_path / "nan.lua"
+    nan.write_text("world.spawn('superbot')\nworld.reward(function(t)\n  return 0 / t\nend)\n")
+    w = rm3d.World(nan, policy=True, root=ROOT)
+    with pytest.raises(rm3d.Error, match=r"nan.lua:2: world.reward's function returned a number; expected a finite"):
+        w.reward
+    assert w.reward.tolist() == [0.0]
     with pytest.raises(TypeError, match="params: expected a dict"):
         rm3d.World(SNAKE, params=[1])
     with pytest.raises(TypeError, match=r"params\['x'\]: expected str, int, float or bool"):

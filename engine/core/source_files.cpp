@@ -15,7 +15,7 @@ std::string SourceFiles::key(const std::string& path) {
   return (ec ? fs::path(path) : abs).lexically_normal().string();
 }
 
-bool SourceFiles::read(const std::string& path, std::string& out) {
+bool SourceFiles::read(const std::string& path, std::string& out, std::string* why) {
   const std::string k = key(path);
   {
     std::lock_guard<std::mutex> lock(m_mutex);
@@ -26,10 +26,17 @@ bool SourceFiles::read(const std::string& path, std::string& out) {
         if (m_seen.insert(k).second) m_taken.emplace_back(k, out);
         return true;
       }
-      if (fs::path(k).extension() == ".lua") return false;
+      if (fs::path(k).extension() == ".lua") {
+        if (why) *why = "not among the recorded texts";
+        return false;
+      }
     }
   }
-  if (!diskAllowed(path) || !readTextFile(path, out)) return false;
+  if (!diskAllowed(path)) {
+    if (why) *why = "outside the folders this world reads" + diskNote();
+    return false;
+  }
+  if (!readTextFile(path, out, why)) return false;
   std::lock_guard<std::mutex> lock(m_mutex);
   if (m_seen.insert(k).second) m_taken.emplace_back(k, out);
   return true;

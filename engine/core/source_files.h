@@ -17,7 +17,7 @@ class SourceFiles {
  public:
   /// Reads `path`: the overlay's text when the overlay is on, else the file. Notes what it read
   /// (the first text per path). False when neither has it.
-  bool read(const std::string& path, std::string& out);
+  bool read(const std::string& path, std::string& out, std::string* why = nullptr);
   /// True when `path` is a source: with the overlay on, a .lua path must be in it (so a run
   /// resolves names exactly as the recorded one did); anything else is a regular file on disk.
   bool isFile(const std::string& path) const;

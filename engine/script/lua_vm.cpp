@@ -384,9 +384,9 @@ std::string LuaVm::displayName(const std::string& path) const {
 
 bool LuaVm::loadFile(const std::string& path, std::string& err) {
   std::string text;
-  if (m_sources ? !m_sources->read(path, text) : !readTextFile(path, text)) {
-    err = displayName(path) + ": cannot read file (" + (m_sources ? "not in the recording or " : "") +
-          std::strerror(errno) + ")";
+  std::string why;
+  if (m_sources ? !m_sources->read(path, text, &why) : !readTextFile(path, text, &why)) {
+    err = displayName(path) + ": cannot read file (" + why + ")";
     return false;
   }
   std::string chunk = "@";
@@ -534,8 +534,9 @@ int LuaVm::require(lua_State* L) {
       problem = "require: '" + shown +
                 "' leads outside the folders scripts may load from (lua/, behaviors/, the script's folder)" +
                 (vm->m_sources ? vm->m_sources->diskNote() : "");
-    } else if (vm->m_sources ? !vm->m_sources->read(f.path, text) : !readTextFile(f.path, text)) {
-      problem = "require: cannot read '" + shown + "'";
+    } else if (std::string why;
+               vm->m_sources ? !vm->m_sources->read(f.path, text, &why) : !readTextFile(f.path, text, &why)) {
+      problem = "require: cannot read '" + shown + "' (" + why + ")";
     } else {
       const std::string chunk = "@" + shown;
       if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") == LUA_OK)

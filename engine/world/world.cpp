@@ -826,10 +826,10 @@ int World::reloadFile(const std::string& path, std::vector<std::string>& errors)
     if (!b || (!library && m.behaviourFile != path)) continue;
     auto it = sources.find(m.behaviourFile);
     if (it == sources.end()) {
-      std::string t;
-      if (m_options.sources ? !m_options.sources->read(m.behaviourFile, t)
-                            : !readTextFile(m.behaviourFile, t)) {
-        errors.push_back(m.behaviourFile + ": cannot read file");
+      std::string t, why;
+      if (m_options.sources ? !m_options.sources->read(m.behaviourFile, t, &why)
+                            : !readTextFile(m.behaviourFile, t, &why)) {
+        errors.push_back(m.behaviourFile + ": cannot read file (" + why + ")");
         continue;
       }
       it = sources.emplace(m.behaviourFile, std::move(t)).first;

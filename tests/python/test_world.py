@@ -194,6 +194,20 @@ def test_a_faulty_behaviour_faults_its_module_only(tmp_path):
     assert strict.finished and strict.steps < 30
 
 
+def test_past_the_duration_a_world_steps_on_when_asked_and_stays_finished(tmp_path):
+    # As rm3d run --seconds runs past a world's duration (docs/python.md); a stopped world does not.
+    w = rm3d.World.from_string("world.set{duration = 0.1}\nworld.spawn('superbot')\n")
+    w.step(6)
+    assert w.finished and w.steps == 6
+    w.step(6)
+    assert w.finished and w.steps == 12 and abs(w.time - 0.2) < 1e-9
+    stopped = rm3d.World.from_string("world.at(0.05, function() world.stop() end)\nworld.spawn('superbot')\n")
+    stopped.step(10)
+    assert stopped.finished and stopped.steps == 3
+    stopped.step(10)
+    assert stopped.steps == 3
+
+
 def test_finish_runs_on_end_once_and_ends_the_world():
     w = rm3d.World(SNAKE, params={"modules": 4})
     w.step(60)

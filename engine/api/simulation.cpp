@@ -356,7 +356,23 @@ std::unique_ptr<Simulation> Simulation::open(const std::string& path, const Opti
   checkNoNul(path, "path");
   checkPaths(options);
   std::error_code ec;
-  const std::string abs = fs::absolute(path, ec).lexically_normal().string();
+  std::string abs = fs::absolute(path, ec).lexically_normal().string();
+  // As `rm3d run` finds a world: the working folder, then the data root (the shipped worlds/).
+  if (!fs::path(path).is_absolute() && !fs::exists(abs, ec)) {
+    std::string root;
+    try {
+      root = findRoot(options, "");
+    } catch (const Error&) {
+    }
+    const fs::path inRoot = fs::path(root) / path;
+    if (!root.empty() && fs::exists(inRoot, ec)) {
+      abs = inRoot.lexically_normal().string();
+    } else {
+      throw Error(path + ": no such world file in the working folder (" + fs::current_path(ec).string() +
+                  ")" + (root.empty() ? std::string() : " nor in the data root (" + root + ")") +
+                  "; `rm3d worlds` lists the shipped worlds");
+    }
+  }
   s->m->options = options;
   s->m->path = abs;
   s->m->root = findRoot(options, abs);
@@ -419,6 +435,9 @@ int64_t Simulation::steps() const {
 }
 double Simulation::dt() const {
   return m->world->settings().dt;
+}
+const std::string& Simulation::path() const {
+  return m->path;
 }
 bool Simulation::finished() const {
   return m->ended || m->world->finished();

@@ -278,6 +278,11 @@ PYBIND11_MODULE(_rm3d, m) {
       .def_property_readonly(
           "dt", [](PyWorld& w) { return w.s().dt(); }, "The control step, seconds.")
       .def_property_readonly(
+          "path", [](PyWorld& w) { return w.s().path(); },
+          "The world file it runs, absolute: the path given, or the data root's when a relative path "
+          "is not in the working folder (as rm3d run finds worlds/snake.lua from any folder); '' for "
+          "from_string.")
+      .def_property_readonly(
           "finished", [](PyWorld& w) { return w.s().finished(); },
           "True once the world stopped (world.stop(), a fatal fault, an error), reached its duration, or "
           "finish() ran. step() goes on past the duration when asked (as rm3d run --seconds); a stopped "

@@ -208,6 +208,20 @@ def test_past_the_duration_a_world_steps_on_when_asked_and_stays_finished(tmp_pa
     assert stopped.steps == 3
 
 
+def test_a_relative_world_path_is_found_as_rm3d_run_finds_it(tmp_path, monkeypatch):
+    # From a folder outside the project, "worlds/snake.lua" is the data root's (as rm3d run does).
+    monkeypatch.chdir(tmp_path)
+    w = rm3d.World("worlds/snake.lua", params={"modules": 3})
+    assert w.path == str(ROOT / "worlds" / "snake.lua")
+    w.step(2)
+    with pytest.raises(rm3d.Error, match=r"worlds/nope\.lua: no such world file in the working folder .* nor in the data root"):
+        rm3d.World("worlds/nope.lua")
+    (tmp_path / "worlds").mkdir()
+    (tmp_path / "worlds" / "snake.lua").write_text("world.spawn('superbot')\n")
+    own = rm3d.World("worlds/snake.lua", root=ROOT)  # the working folder's comes first
+    assert own.path == str(tmp_path / "worlds" / "snake.lua") and len(own.modules) == 1
+
+
 def test_finish_runs_on_end_once_and_ends_the_world():
     w = rm3d.World(SNAKE, params={"modules": 4})
     w.step(60)

@@ -55,7 +55,9 @@ struct AgentArrays {
 
 class Simulation {
  public:
-  /// Loads a world file. Throws Error.
+  /// Loads a world file, found as `rm3d run` finds it: the path as given, else (relative and not
+  /// in the working folder) in the data root, so "worlds/snake.lua" runs from any folder. Throws
+  /// Error.
   static std::unique_ptr<Simulation> open(const std::string& path, const Options& options);
   /// Loads world-script source held in memory (`name` is what messages call it).
   static std::unique_ptr<Simulation> fromString(const std::string& source, const std::string& name,
@@ -79,6 +81,8 @@ class Simulation {
   double time() const;
   int64_t steps() const;
   double dt() const;
+  /// The world file it runs (absolute: the one found, see open); empty for fromString.
+  const std::string& path() const;
   /// Stopped, failed, or at its duration.
   bool finished() const;
   bool stopped() const;

@@ -99,8 +99,16 @@ def test_env_truncated_when_the_world_ends_terminated_when_done():
     env = rm3d.gym.Env(CHAIN, params={"modules": 2, "done_after": 0.25})
     try:
         env.reset()
-        terms = [env.step(np.zeros(2))[2] for _ in range(20)]
-        assert terms.index(True) in (14, 15) and all(terms[terms.index(True):])
+        terms = []
+        while not terms or not terms[-1]:
+            terms.append(env.step(np.zeros(2))[2])
+            assert len(terms) <= 20
+        assert len(terms) - 1 in (14, 15)
+        # The episode ended: a step without reset() is an error, not a silent step past the end.
+        with pytest.raises(rm3d.Error, match=r"after the episode ended .*reset\(\)"):
+            env.step(np.zeros(2))
+        env.reset()
+        assert env.step(np.zeros(2))[2] is False
     finally:
         env.close()
 
@@ -118,6 +126,30 @@ def test_env_reset_with_a_seed_and_the_recreate_mode():
             assert info["time"] == 0.0 and seeded.shape == first.shape
         finally:
             env.close()
+
+
+def test_env_actions_outside_their_bounds_are_refused_or_clipped_and_np_random_is_seeded():
+    env = rm3d.gym.Env(CHAIN, params={"modules": 2}, action_bounds=(-1.5, 1.5))
+    clipped = rm3d.gym.Env(CHAIN, params={"modules": 2}, action_bounds=(-1.5, 1.5), clip_actions=True)
+    edge = rm3d.gym.Env(CHAIN, params={"modules": 2}, action_bounds=(-1.5, 1.5))
+    try:
+        env.reset()
+        with pytest.raises(ValueError, match=r"action\[1\] = 2 lies outside action_bounds \[-1.5, 1.5\]"):
+            env.step(np.array([0.0, 2.0]))
+        assert env.world.steps == 0
+        clipped.reset()
+        edge.reset()
+        for _ in range(20):
+            a, _, _, _, _ = clipped.step(np.array([-9.0, 2.0]))
+            b, _, _, _, _ = edge.step(np.array([-1.5, 1.5]))
+        assert np.array_equal(a, b)  # clipping gives what the bounds themselves give
+        env.reset(seed=5)
+        x = env.np_random.random(3)
+        env.reset(seed=5)
+        assert np.array_equal(x, env.np_random.random(3))
+    finally:
+        for e in (env, clipped, edge):
+            e.close()
 
 
 def test_env_refuses_bad_actions_and_calls_after_close():

@@ -154,22 +154,28 @@ class Env(_EnvBase):
     """One RM3D world as a single-agent environment.
 
     Env(path, seed=None, params=None, threads=1, record=None, action_bounds=None,
-        observation_bounds=None, reset="snapshot")
+        observation_bounds=None, reset="snapshot", clip_actions=False)
 
     ``path``, ``seed``, ``params``, ``threads`` and ``record`` are rm3d.World's. Spaces are
     unbounded unless ``action_bounds``/``observation_bounds`` give ``(low, high)`` (scalars or
-    arrays of the flat shape). ``reset="snapshot"`` (default) restores a snapshot taken right
-    after the world was made (fast, bit-exact); ``reset="recreate"`` makes the world again.
-    ``reset(seed=S)`` with a seed other than the current one makes the world again with seed S.
+    arrays of the flat shape). An action outside ``action_bounds`` raises ValueError, or is
+    clipped to them with ``clip_actions=True``. ``reset="snapshot"`` (default) restores a snapshot
+    taken right after the world was made (fast, bit-exact); ``reset="recreate"`` makes the world
+    again. ``reset(seed=S)`` with a seed other than the current one makes the world again with
+    seed S, and seeds ``np_random``. ``step()`` after the episode ended (terminated or truncated)
+    raises rm3d.Error until ``reset()``.
     """
 
     metadata = {"render_modes": []}
     render_mode = None
 
     def __init__(self, path, seed=None, params=None, threads=1, record=None,
-                 action_bounds=None, observation_bounds=None, reset="snapshot"):
+                 action_bounds=None, observation_bounds=None, reset="snapshot", clip_actions=False):
         if reset not in ("snapshot", "recreate"):
             raise ValueError("reset must be 'snapshot' or 'recreate', got %r" % (reset,))
+        self._clip = bool(clip_actions)
+        self._ended = False
+        self._rng = None
         self._episode = _Episode(path, seed, params, threads, record, recreate=reset == "recreate")
         w = self._world
         self._obs_idx = _used_index(w.obs_size, w.obs.shape[1])
@@ -203,11 +209,23 @@ class Env(_EnvBase):
         return {"time": w.time, "steps": w.steps, "metrics": dict(w.metrics),
                 "reward": np.array(w.reward), "done": np.array(w.done)}
 
+    if _gymnasium is None:
+        @property
+        def np_random(self):
+            """A numpy Generator for the environment's own randomness (as gymnasium.Env's):
+            seeded by reset(seed=...), else from fresh entropy."""
+            if self._rng is None:
+                self._rng = np.random.default_rng()
+            return self._rng
+
     def reset(self, seed=None, options=None):
         self._live()
         if _gymnasium is not None:
             super().reset(seed=seed)
+        elif seed is not None:
+            self._rng = np.random.default_rng(seed)
         self._episode.reset(seed)
+        self._ended = False
         return self._observation(), self._info()
 
     def step(self, action):
@@ -215,6 +233,18 @@ class Env(_EnvBase):
         if a.shape != (len(self._act_idx),):
             raise ValueError("action must have shape (%d,), got %s" % (len(self._act_idx),
                                                                        a.shape))
+        if self._ended:
+            raise Error("step() after the episode ended (terminated or truncated): call reset() first")
+        low, high = self.action_space.low, self.action_space.high
+        if self._clip:
+            a = np.clip(a, low, high)
+        else:
+            outside = np.flatnonzero((a < low) | (a > high))
+            if len(outside):
+                i = int(outside[0])
+                raise ValueError("action[%d] = %g lies outside action_bounds [%g, %g] (clip_actions=True "
+                                 "clips instead)" % (i, a[i], np.broadcast_to(low, a.shape)[i],
+                                                     np.broadcast_to(high, a.shape)[i]))
         w = self._live()
         row = np.zeros(w.act.shape, dtype=np.float64)
         row.reshape(-1)[self._act_idx] = a
@@ -223,6 +253,7 @@ class Env(_EnvBase):
         reward = float(np.mean(w.reward)) if len(w.reward) else 0.0
         terminated = bool(np.any(w.done))
         truncated = bool(w.finished)
+        self._ended = terminated or truncated
         return self._observation(), reward, terminated, truncated, self._info()
 
     def render(self):

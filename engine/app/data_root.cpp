@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -108,23 +109,44 @@ std::string resolveWorldPath(const std::string& path, const std::string& root, s
 
 namespace {
 
-/// The first comment line of a Lua file, without the dashes ("" when it opens with code).
+/// What a world says of itself: the first sentence of the comment it opens with (its lines
+/// joined), at most 90 bytes cut at a word, without a leading "worlds/x.lua:" naming itself;
+/// "" when it opens with code.
 std::string firstComment(const fs::path& file) {
   std::ifstream in(file);
-  std::string line;
-  if (!std::getline(in, line) || line.rfind("--", 0) != 0) return "";
-  size_t at = line.find_first_not_of("- ");
-  std::string text = at == std::string::npos ? "" : line.substr(at);
-  if (text.size() > 100) {  // cut at a character's start, not inside one
-    size_t cut = 97;
-    while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
-    text = text.substr(0, cut) + "...";
+  std::string line, text;
+  for (int n = 0; n < 12 && std::getline(in, line) && line.rfind("--", 0) == 0; ++n) {
+    const size_t at = line.find_first_not_of("- ");
+    if (at == std::string::npos) break;  // an empty comment line ends the paragraph
+    text += (text.empty() ? "" : " ") + line.substr(at);
+    if (text.size() > 400) break;
   }
   // The file is anyone's: invalid bytes become U+FFFD and control characters (a terminal's escape
   // sequences, a carriage return) a space, so the listing shows text and only text.
   makeValidUtf8(text);
   for (char& c : text)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = ' ';
+  if (const size_t colon = text.find(": "); colon != std::string::npos && colon > 4 &&
+                                            text.compare(colon - 4, 4, ".lua") == 0 &&
+                                            text.find(' ') >= colon)
+    text.erase(0, colon + 2);
+  if (!text.empty() && text[0] >= 'a' && text[0] <= 'z') text[0] = char(text[0] - 'a' + 'A');
+  // The first sentence: up to ". " (not inside "Fig. 5" or "e.g. x": the next word starts upper-case).
+  for (size_t p = text.find(". "); p != std::string::npos; p = text.find(". ", p + 1))
+    if (p + 2 < text.size() && std::isupper(static_cast<unsigned char>(text[p + 2])) &&
+        !(p >= 3 && text.compare(p - 3, 3, "Fig") == 0)) {
+      text.resize(p + 1);
+      break;
+    }
+  const size_t limit = 90;
+  if (text.size() > limit) {  // cut at a word, never inside a character
+    size_t cut = text.rfind(' ', limit);
+    if (cut == std::string::npos || cut < limit / 2) {
+      cut = limit;
+      while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+    }
+    text = text.substr(0, cut) + "...";
+  }
   text.erase(text.find_last_not_of(' ') + 1);
   return text;
 }
@@ -135,8 +157,14 @@ int listWorldsCommand(const std::string& root) {
   const fs::path dir = fs::path(root) / "worlds";
   std::error_code ec;
   std::vector<fs::path> worlds;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (it->path().extension() == ".lua") worlds.push_back(it->path());
+  // worlds/*.lua and one folder down (worlds/python/*.lua, the Python examples' worlds).
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code e2;
+    if (it->path().extension() == ".lua" && it->is_regular_file(e2)) worlds.push_back(it->path());
+    if (!it->is_directory(e2) || it->is_symlink(e2)) continue;
+    for (fs::directory_iterator in(it->path(), e2), stop; !e2 && in != stop; in.increment(e2))
+      if (in->path().extension() == ".lua" && in->is_regular_file(e2)) worlds.push_back(in->path());
+  }
   if (ec || worlds.empty()) {
     std::fprintf(stderr, "rm3d worlds: no worlds in %s (the data root is %s)\n", dir.string().c_str(),
                  root.c_str());
@@ -146,8 +174,8 @@ int listWorldsCommand(const std::string& root) {
   std::printf("%zu world%s in %s/ (run one from any folder: rm3d run worlds/NAME.lua):\n", worlds.size(),
               worlds.size() == 1 ? "" : "s", dir.string().c_str());
   for (const fs::path& w : worlds) {
-    const std::string name = "worlds/" + w.filename().string();
-    std::printf("  %-28s %s\n", name.c_str(), firstComment(w).c_str());
+    const std::string name = "worlds/" + w.lexically_relative(dir).generic_string();
+    std::printf("  %-32s %s\n", name.c_str(), firstComment(w).c_str());
   }
   return 0;
 }

@@ -47,6 +47,10 @@ check "installed rm3d tests a shipped world from elsewhere" 0 "1 passed, 0 faile
   "$prefix/bin/rm3d" test worlds/nodders.lua
 check "rm3d worlds lists the shipped worlds" 0 "^  worlds/snake.lua +[A-Z]" -- \
   "$prefix/bin/rm3d" worlds
+check "and the Python examples' worlds, one folder down" 0 "^  worlds/python/py_chain.lua +A straight chain" -- \
+  "$prefix/bin/rm3d" worlds
+check "each with its first sentence, without naming itself" 0 "^  worlds/dock_pair.lua +Docking on the ground\.$" -- \
+  "$prefix/bin/rm3d" worlds
 check "a world in neither place names both" 2 "worlds/nowhere.lua: not found in the working folder \($tmp/elsewhere\) nor in the data root \($prefix/share/rm3d\)" -- \
   "$prefix/bin/rm3d" run worlds/nowhere.lua
 # rm3d init: a project folder outside the checkout whose first world runs, with a .luarc.json that

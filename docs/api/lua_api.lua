@@ -68,7 +68,7 @@ fn{"world.fluid", doc = [[Fills the box with fluid particles on a lattice `spaci
 fn{"world.debris", doc = "The same with grains (`density` 1600, `friction` 0.6 static, kinetic 0.8 of it, `damping` 0.5 /s, `substeps` 1); at most 2,000,000 particles in a world.",
   params = {{"o", "{min: number[], max: number[], spacing: number?, density: number?, friction: number?, kinetic_friction: number?, damping: number?, iterations: integer?, substeps: integer?, max_speed: number?}"}},
   returns = {{"Particles"}}}
-fn{"world.spawn", doc = "A module of `assets/modules/<type>.lua` (or of a module-type file given by path); `fixed = true` holds its root link in place (a base); `joints` is its initial posture, angles in radians by joint name (`{pitch = 0.5}`) or in joint order (`{0.5, 0, -0.3}`), within the joints' limits: the root link is at `at` and the other links follow, and the servos hold that posture until commanded; returns a Module.",
+fn{"world.spawn", doc = "A module of `assets/modules/<type>.lua` (or of a module-type file given by path), its root link at `at` (metres) turned by `rot` (`{roll, pitch, yaw}` in radians, about the fixed x, then y, then z axes) or `quat` (`{w, x, y, z}`, normalised; it wins over `rot`); `fixed = true` holds its root link in place (a base); `joints` is its initial posture, angles in radians by joint name (`{pitch = 0.5}`) or in joint order (`{0.5, 0, -0.3}`), within the joints' limits: the root link is at `at` and the other links follow, and the servos hold that posture until commanded; returns a Module.",
   params = {{"type", "string", "a module type name or a module-type file"}, {"o?", "{at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?, joints: table<string|integer, number>?, docks: DockSettings?}"}},
   returns = {{"Module"}}}
 fn{"world.docks", doc = [[Dock settings over the module types' for every module spawned after the call (a key left out keeps the type's value; `world.spawn`'s `docks` does the same for one module, over these): `capture` `"joint"` (the default: a capture joint draws the faces together, see [Docking at run time](../physics.md#docking-at-run-time)) or `"magnet"` (a force `pull` at each face), and the dock keys of a module-type file: `capture_radius`, `capture_angle`, `latch_distance`, `latch_angle`, `capture_speed`, `capture_turn_speed`, `capture_force`, `capture_torque`, `capture_time`, `pull`, `strength`, `strength_torque`.]],
@@ -276,13 +276,13 @@ section{"Behaviours", md = [[Globals: `module`, `params` (a copy of the spawn pa
 class{"Joint",
   doc = "A joint of the module (module.joint(name)).",
   table = "local Joint = {}"}
-fn{"Joint:angle", doc = "Radians (child relative to parent, right-handed about the axis), rad/s.",
+fn{"Joint:angle", doc = "The joint's angle now, radians: the child link's rotation relative to its parent, right-handed about the joint axis.",
   returns = {{"number", "radians, child relative to parent"}}}
-fn{"Joint:velocity", doc = "Radians (child relative to parent, right-handed about the axis), rad/s.",
+fn{"Joint:velocity", doc = "The joint's angular speed now, rad/s, with the sign of `angle`.",
   returns = {{"number", "rad/s"}}}
-fn{"Joint:torque", doc = "The torque the motor (with the limit stop, when in contact) applied over the last step, and whether it gave its full rating (it could not hold or reach its command).",
+fn{"Joint:torque", doc = "The torque the motor (with the limit stop, when in contact) applied over the last step, N·m, and whether that was its full rating (it could not hold or reach its command).",
   returns = {{"number", "torque"}, {"boolean", "saturated"}}}
-fn{"Joint:saturated", doc = "The torque the motor (with the limit stop, when in contact) applied over the last step, and whether it gave its full rating (it could not hold or reach its command).",
+fn{"Joint:saturated", doc = "True when the motor gave its full rating over the last step (it could not hold or reach its command); `torque` gives the torque too.",
   returns = {{"boolean"}}}
 fn{"Joint:set_target", doc = "Position servo within limits, torque and speed.",
   params = {{"rad", "number"}}}
@@ -299,20 +299,20 @@ fn{"Joint:name", doc = "Name.",
 class{"Dock",
   doc = "A dock of the module (module.dock(name)).",
   table = "local Dock = {}"}
-fn{"Dock:enabled", doc = "State; `peer` gives the peer's module id and dock name.",
+fn{"Dock:enabled", doc = "True when the dock is willing to connect (`enable`/`disable`).",
   returns = {{"boolean"}}}
-fn{"Dock:engaged", doc = "State; `peer` gives the peer's module id and dock name.",
+fn{"Dock:engaged", doc = "True while the dock is latched to another.",
   returns = {{"boolean"}}}
-fn{"Dock:gender", doc = "State; `peer` gives the peer's module id and dock name.",
+fn{"Dock:gender", doc = "The dock's gender in the module type: `\"male\"` latches only to `\"female\"` and the reverse; `\"none\"` (genderless, as SuperBot's) only to `\"none\"`.",
   returns = {{[["male"|"female"|"none"]]}}}
-fn{"Dock:enable", doc = "Willing / unwilling to connect."}
-fn{"Dock:disable", doc = "Willing / unwilling to connect."}
+fn{"Dock:enable", doc = "Makes the dock willing to connect: it latches to a facing willing dock within the capture limits."}
+fn{"Dock:disable", doc = "Makes the dock unwilling to connect; an engaged dock lets go (an undock)."}
 fn{"Dock:send", doc = "Queue a plain value (nil, boolean, number, string, tables of these; at most 64 KiB) for the module docked here, readable next step; false when nothing is engaged, or when this step's sends already fill 8 MiB (counted as dropped).",
   params = {{"value", "any", "nil, boolean, number, string, tables of these"}},
   returns = {{"boolean", "sent false when nothing is engaged"}}}
-fn{"Dock:name", doc = "State; `peer` gives the peer's module id and dock name.",
+fn{"Dock:name", doc = "The dock's name in the module type.",
   returns = {{"string"}}}
-fn{"Dock:peer", doc = "State; `peer` gives the peer's module id and dock name.",
+fn{"Dock:peer", doc = "While engaged, the module id and dock name it is latched to; nil otherwise.",
   returns = {{"integer?", "peer module id"}, {"string?", "peer dock name"}}}
 
 class{"module",
@@ -320,18 +320,18 @@ class{"module",
             {"name", "string"},
             {"type", "string"}},
   table = "module = {}"}
-fn{"module.joint", doc = "Joints of the type.",
+fn{"module.joint", doc = "The joint of this name (an error naming the type's joints when there is none).",
   params = {{"name", "string"}},
   returns = {{"Joint"}}}
-fn{"module.joints", doc = "Joints of the type.",
+fn{"module.joints", doc = "The names of the module type's joints, in joint order.",
   returns = {{"string[]"}}}
 fn{"module.type_data", doc = "This module's type as data (the table `world.module_type` gives), or that of another type a module of this world was spawned with.",
   params = {{"name?", "string"}},
   returns = {{"ModuleTypeData"}}}
-fn{"module.dock", doc = "Docks of the type.",
+fn{"module.dock", doc = "The dock of this name (an error naming the type's docks when there is none).",
   params = {{"name", "string"}},
   returns = {{"Dock"}}}
-fn{"module.docks", doc = "Docks of the type.",
+fn{"module.docks", doc = "The names of the module type's docks, in dock order.",
   returns = {{"string[]"}}}
 fn{"module.receive", doc = "The oldest pending message (on that dock), consumed.",
   params = {{"dock?", "string"}},
@@ -359,14 +359,14 @@ class{"RandomStream",
 
 class{"sim",
   table = "sim = {}"}
-fn{"sim.time", doc = "The clock.",
+fn{"sim.time", doc = "Simulated seconds since the start.",
   returns = {{"number", "seconds since the start"}}}
-fn{"sim.dt", doc = "The clock.",
+fn{"sim.dt", doc = "The control step, seconds (the world's `dt`).",
   returns = {{"number", "the control step"}}}
-fn{"sim.random", doc = "The module's own random stream (`math.random` and `math.randomseed` use it too).",
+fn{"sim.random", doc = "A number from the module's own random stream, as `math.random` (`math.random` and `math.randomseed` use the stream too): [0, 1), or a whole number in [1, m] or [m, n].",
   params = {{"m?", "integer"}, {"n?", "integer"}},
   returns = {{"number"}}}
-fn{"sim.gaussian", doc = "The module's own random stream (`math.random` and `math.randomseed` use it too).",
+fn{"sim.gaussian", doc = "A normal deviate from the module's own random stream, mean `mu` (default 0) and standard deviation `sigma` (default 1).",
   params = {{"mu?", "number"}, {"sigma?", "number"}},
   returns = {{"number"}}}
 fn{"sim.stream", doc = "A random stream of its own, seeded from the world seed, the module's stream and `key`: draws elsewhere never shift it (`stream.random()`, `stream.gaussian(mu, sigma)`, called with a dot).",
@@ -463,21 +463,21 @@ class{"linalg.matrix",
 number), unary -, ==, # (entries of a vector, rows of a matrix).]],
   operators = {"add(linalg.matrix): linalg.matrix", "sub(linalg.matrix): linalg.matrix", "mul(linalg.matrix|number): linalg.matrix", "div(number): linalg.matrix", "unm: linalg.matrix", "len: integer"},
   table = "local Matrix = {}"}
-fn{"Matrix:rows", doc = "Shape.",
+fn{"Matrix:rows", doc = "The number of rows.",
   returns = {{"integer"}}}
-fn{"Matrix:cols", doc = "Shape.",
+fn{"Matrix:cols", doc = "The number of columns.",
   returns = {{"integer"}}}
-fn{"Matrix:get", doc = "Read and write one entry (`set` returns A).",
+fn{"Matrix:get", doc = "Entry (i, j), or entry i of a vector.",
   params = {{"i", "integer"}, {"j?", "integer"}},
   returns = {{"number"}}}
-fn{"Matrix:set", doc = "Read and write one entry (`set` returns A).",
+fn{"Matrix:set", doc = "Sets entry (i, j) to x (or entry i of a vector to j) and returns the matrix.",
   params = {{"i", "integer"}, {"j", "number"}, {"x?", "number"}},
   returns = {{"linalg.matrix"}}}
 fn{"Matrix:t", doc = "Transpose (of a vector: a 1 x n matrix).",
   returns = {{"linalg.matrix"}}}
-fn{"Matrix:inv", doc = "Inverse (an error when singular), determinant.",
+fn{"Matrix:inv", doc = "The inverse (an error when singular).",
   returns = {{"linalg.matrix"}}}
-fn{"Matrix:det", doc = "Inverse (an error when singular), determinant.",
+fn{"Matrix:det", doc = "The determinant of a square matrix.",
   returns = {{"number"}}}
 fn{"Matrix:solve", doc = "X with A x = b (b a vector or a matrix); least squares when A is not square; an error when a square A is singular.",
   params = {{"b", "linalg.matrix"}},
@@ -490,15 +490,15 @@ fn{"Matrix:svd", doc = "Thin SVD: A = U diag(s) Vᵀ, s a vector in descending o
 fn{"Matrix:dls", doc = "Damped least squares `(AᵀA + λ²I)⁻¹Aᵀb`, solved through the smaller of AᵀA and AAᵀ.",
   params = {{"b", "linalg.matrix"}, {"lambda", "number"}},
   returns = {{"linalg.matrix"}}}
-fn{"Matrix:norm", doc = "Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.",
+fn{"Matrix:norm", doc = "The Euclidean norm (the Frobenius norm for a matrix).",
   returns = {{"number"}}}
-fn{"Matrix:dot", doc = "Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.",
+fn{"Matrix:dot", doc = "The dot product with a vector of the same size.",
   params = {{"w", "linalg.matrix"}},
   returns = {{"number"}}}
-fn{"Matrix:cross", doc = "Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.",
+fn{"Matrix:cross", doc = "The cross product with another 3-vector.",
   params = {{"w", "linalg.matrix|number[]"}},
   returns = {{"linalg.matrix"}}}
-fn{"Matrix:normalized", doc = "Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.",
+fn{"Matrix:normalized", doc = "The vector scaled to unit length.",
   returns = {{"linalg.matrix"}}}
 fn{"Matrix:copy", doc = "A copy.",
   returns = {{"linalg.matrix"}}}
@@ -509,29 +509,29 @@ class{"linalg.quat",
   doc = "A unit quaternion. q * r composes, q * v rotates a 3-vector.",
   operators = {"mul(linalg.quat): linalg.quat"},
   table = "local Quat = {}"}
-fn{"Quat:rotate", doc = "Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.",
+fn{"Quat:rotate", doc = "The 3-vector v rotated by the quaternion (as `q * v`).",
   params = {{"v", "linalg.matrix|number[]"}},
   returns = {{"linalg.matrix"}}}
-fn{"Quat:inv", doc = "Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.",
+fn{"Quat:inv", doc = "The inverse rotation (the conjugate).",
   returns = {{"linalg.quat"}}}
-fn{"Quat:matrix", doc = "Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.",
+fn{"Quat:matrix", doc = "The 3 x 3 rotation matrix.",
   returns = {{"linalg.matrix", "3 x 3 rotation"}}}
-fn{"Quat:angle", doc = "Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.",
+fn{"Quat:angle", doc = "The rotation angle, radians, 0 to pi.",
   returns = {{"number", "radians, 0..pi"}}}
-fn{"Quat:totable", doc = "Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.",
+fn{"Quat:totable", doc = "The quaternion as `{w, x, y, z}`.",
   returns = {{"number[]", "{w, x, y, z}"}}}
 
 class{"linalg.transform",
   doc = "A rigid transform. T * U composes, T * v applies to a point.",
   operators = {"mul(linalg.transform): linalg.transform"},
   table = "local Transform = {}"}
-fn{"Transform:inv", doc = "Composition, applying, inverse, parts, 4 x 4 homogeneous.",
+fn{"Transform:inv", doc = "The inverse transform.",
   returns = {{"linalg.transform"}}}
-fn{"Transform:rotation", doc = "Composition, applying, inverse, parts, 4 x 4 homogeneous.",
+fn{"Transform:rotation", doc = "The rotation part, a quaternion.",
   returns = {{"linalg.quat"}}}
-fn{"Transform:translation", doc = "Composition, applying, inverse, parts, 4 x 4 homogeneous.",
+fn{"Transform:translation", doc = "The translation part, a 3-vector.",
   returns = {{"linalg.matrix"}}}
-fn{"Transform:matrix", doc = "Composition, applying, inverse, parts, 4 x 4 homogeneous.",
+fn{"Transform:matrix", doc = "The 4 x 4 homogeneous matrix.",
   returns = {{"linalg.matrix", "4 x 4 homogeneous"}}}
 lua{"local linalg = {}"}
 fn{"linalg.matrix", doc = "A matrix from its rows.",
@@ -540,16 +540,16 @@ fn{"linalg.matrix", doc = "A matrix from its rows.",
 fn{"linalg.vector", doc = "A vector (an n x 1 column that stays a vector through products), or n zeros.",
   params = {{"entries", "number[]|integer"}},
   returns = {{"linalg.matrix"}}}
-fn{"linalg.identity", doc = "Identity; zero matrix; zero vector.",
+fn{"linalg.identity", doc = "The n x n identity matrix.",
   params = {{"n", "integer"}},
   returns = {{"linalg.matrix"}}}
-fn{"linalg.zeros", doc = "Identity; zero matrix; zero vector.",
+fn{"linalg.zeros", doc = "A zero matrix of r x c, or a zero vector of r entries.",
   params = {{"r", "integer"}, {"c?", "integer"}},
   returns = {{"linalg.matrix"}}}
-fn{"linalg.quat", doc = "Unit quaternions (normalised when made).",
+fn{"linalg.quat", doc = "A unit quaternion from w, x, y, z or a table `{w, x, y, z}` (normalised when made).",
   params = {{"w", "number|number[]"}, {"x?", "number"}, {"y?", "number"}, {"z?", "number"}},
   returns = {{"linalg.quat"}}}
-fn{"linalg.quat_axis_angle", doc = "Unit quaternions (normalised when made).",
+fn{"linalg.quat_axis_angle", doc = "The unit quaternion turning `angle` radians about `axis` (normalised when made).",
   params = {{"axis", "linalg.matrix|number[]"}, {"angle", "number"}},
   returns = {{"linalg.quat"}}}
 fn{"linalg.transform", doc = "A rigid transform from a quat or 3 x 3 rotation and a 3-vector (`{x, y, z}` tables work wherever a 3-vector is asked).",

@@ -6,17 +6,17 @@
 ---A joint of the module (module.joint(name)).
 ---@class Joint
 local Joint = {}
----Radians (child relative to parent, right-handed about the axis), rad/s.
+---The joint's angle now, radians: the child link's rotation relative to its parent, right-handed about the joint axis.
 ---@return number radians, child relative to parent
 function Joint:angle() end
----Radians (child relative to parent, right-handed about the axis), rad/s.
+---The joint's angular speed now, rad/s, with the sign of `angle`.
 ---@return number rad/s
 function Joint:velocity() end
----The torque the motor (with the limit stop, when in contact) applied over the last step, and whether it gave its full rating (it could not hold or reach its command).
+---The torque the motor (with the limit stop, when in contact) applied over the last step, N·m, and whether that was its full rating (it could not hold or reach its command).
 ---@return number torque
 ---@return boolean saturated
 function Joint:torque() end
----The torque the motor (with the limit stop, when in contact) applied over the last step, and whether it gave its full rating (it could not hold or reach its command).
+---True when the motor gave its full rating over the last step (it could not hold or reach its command); `torque` gives the torque too.
 ---@return boolean
 function Joint:saturated() end
 ---Position servo within limits, torque and speed.
@@ -41,27 +41,27 @@ function Joint:name() end
 ---A dock of the module (module.dock(name)).
 ---@class Dock
 local Dock = {}
----State; `peer` gives the peer's module id and dock name.
+---True when the dock is willing to connect (`enable`/`disable`).
 ---@return boolean
 function Dock:enabled() end
----State; `peer` gives the peer's module id and dock name.
+---True while the dock is latched to another.
 ---@return boolean
 function Dock:engaged() end
----State; `peer` gives the peer's module id and dock name.
+---The dock's gender in the module type: `"male"` latches only to `"female"` and the reverse; `"none"` (genderless, as SuperBot's) only to `"none"`.
 ---@return "male"|"female"|"none"
 function Dock:gender() end
----Willing / unwilling to connect.
+---Makes the dock willing to connect: it latches to a facing willing dock within the capture limits.
 function Dock:enable() end
----Willing / unwilling to connect.
+---Makes the dock unwilling to connect; an engaged dock lets go (an undock).
 function Dock:disable() end
 ---Queue a plain value (nil, boolean, number, string, tables of these; at most 64 KiB) for the module docked here, readable next step; false when nothing is engaged, or when this step's sends already fill 8 MiB (counted as dropped).
 ---@param value any nil, boolean, number, string, tables of these
 ---@return boolean sent false when nothing is engaged
 function Dock:send(value) end
----State; `peer` gives the peer's module id and dock name.
+---The dock's name in the module type.
 ---@return string
 function Dock:name() end
----State; `peer` gives the peer's module id and dock name.
+---While engaged, the module id and dock name it is latched to; nil otherwise.
 ---@return integer? peer module id
 ---@return string? peer dock name
 function Dock:peer() end
@@ -71,22 +71,22 @@ function Dock:peer() end
 ---@field name string
 ---@field type string
 module = {}
----Joints of the type.
+---The joint of this name (an error naming the type's joints when there is none).
 ---@param name string
 ---@return Joint
 function module.joint(name) end
----Joints of the type.
+---The names of the module type's joints, in joint order.
 ---@return string[]
 function module.joints() end
 ---This module's type as data (the table `world.module_type` gives), or that of another type a module of this world was spawned with.
 ---@param name? string
 ---@return ModuleTypeData
 function module.type_data(name) end
----Docks of the type.
+---The dock of this name (an error naming the type's docks when there is none).
 ---@param name string
 ---@return Dock
 function module.dock(name) end
----Docks of the type.
+---The names of the module type's docks, in dock order.
 ---@return string[]
 function module.docks() end
 ---The oldest pending message (on that dock), consumed.
@@ -127,18 +127,18 @@ function module.publish(key, value) end
 
 ---@class sim
 sim = {}
----The clock.
+---Simulated seconds since the start.
 ---@return number seconds since the start
 function sim.time() end
----The clock.
+---The control step, seconds (the world's `dt`).
 ---@return number the control step
 function sim.dt() end
----The module's own random stream (`math.random` and `math.randomseed` use it too).
+---A number from the module's own random stream, as `math.random` (`math.random` and `math.randomseed` use the stream too): [0, 1), or a whole number in [1, m] or [m, n].
 ---@param m? integer
 ---@param n? integer
 ---@return number
 function sim.random(m, n) end
----The module's own random stream (`math.random` and `math.randomseed` use it too).
+---A normal deviate from the module's own random stream, mean `mu` (default 0) and standard deviation `sigma` (default 1).
 ---@param mu? number
 ---@param sigma? number
 ---@return number

@@ -23,18 +23,18 @@
 ---@operator unm: linalg.matrix
 ---@operator len: integer
 local Matrix = {}
----Shape.
+---The number of rows.
 ---@return integer
 function Matrix:rows() end
----Shape.
+---The number of columns.
 ---@return integer
 function Matrix:cols() end
----Read and write one entry (`set` returns A).
+---Entry (i, j), or entry i of a vector.
 ---@param i integer
 ---@param j? integer
 ---@return number
 function Matrix:get(i, j) end
----Read and write one entry (`set` returns A).
+---Sets entry (i, j) to x (or entry i of a vector to j) and returns the matrix.
 ---@param i integer
 ---@param j number
 ---@param x? number
@@ -43,10 +43,10 @@ function Matrix:set(i, j, x) end
 ---Transpose (of a vector: a 1 x n matrix).
 ---@return linalg.matrix
 function Matrix:t() end
----Inverse (an error when singular), determinant.
+---The inverse (an error when singular).
 ---@return linalg.matrix
 function Matrix:inv() end
----Inverse (an error when singular), determinant.
+---The determinant of a square matrix.
 ---@return number
 function Matrix:det() end
 ---X with A x = b (b a vector or a matrix); least squares when A is not square; an error when a square A is singular.
@@ -67,18 +67,18 @@ function Matrix:svd() end
 ---@param lambda number
 ---@return linalg.matrix
 function Matrix:dls(b, lambda) end
----Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.
+---The Euclidean norm (the Frobenius norm for a matrix).
 ---@return number
 function Matrix:norm() end
----Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.
+---The dot product with a vector of the same size.
 ---@param w linalg.matrix
 ---@return number
 function Matrix:dot(w) end
----Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.
+---The cross product with another 3-vector.
 ---@param w linalg.matrix|number[]
 ---@return linalg.matrix
 function Matrix:cross(w) end
----Euclidean norm (Frobenius for a matrix), dot product, cross product of 3-vectors, unit vector.
+---The vector scaled to unit length.
 ---@return linalg.matrix
 function Matrix:normalized() end
 ---A copy.
@@ -92,20 +92,20 @@ function Matrix:totable() end
 ---@class linalg.quat
 ---@operator mul(linalg.quat): linalg.quat
 local Quat = {}
----Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
+---The 3-vector v rotated by the quaternion (as `q * v`).
 ---@param v linalg.matrix|number[]
 ---@return linalg.matrix
 function Quat:rotate(v) end
----Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
+---The inverse rotation (the conjugate).
 ---@return linalg.quat
 function Quat:inv() end
----Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
+---The 3 x 3 rotation matrix.
 ---@return linalg.matrix 3 x 3 rotation
 function Quat:matrix() end
----Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
+---The rotation angle, radians, 0 to pi.
 ---@return number radians, 0..pi
 function Quat:angle() end
----Product, rotating a 3-vector, inverse, 3 x 3 rotation, rotation angle, `{w, x, y, z}`.
+---The quaternion as `{w, x, y, z}`.
 ---@return number[] {w, x, y, z}
 function Quat:totable() end
 
@@ -113,16 +113,16 @@ function Quat:totable() end
 ---@class linalg.transform
 ---@operator mul(linalg.transform): linalg.transform
 local Transform = {}
----Composition, applying, inverse, parts, 4 x 4 homogeneous.
+---The inverse transform.
 ---@return linalg.transform
 function Transform:inv() end
----Composition, applying, inverse, parts, 4 x 4 homogeneous.
+---The rotation part, a quaternion.
 ---@return linalg.quat
 function Transform:rotation() end
----Composition, applying, inverse, parts, 4 x 4 homogeneous.
+---The translation part, a 3-vector.
 ---@return linalg.matrix
 function Transform:translation() end
----Composition, applying, inverse, parts, 4 x 4 homogeneous.
+---The 4 x 4 homogeneous matrix.
 ---@return linalg.matrix 4 x 4 homogeneous
 function Transform:matrix() end
 local linalg = {}
@@ -134,23 +134,23 @@ function linalg.matrix(rows) end
 ---@param entries number[]|integer
 ---@return linalg.matrix
 function linalg.vector(entries) end
----Identity; zero matrix; zero vector.
+---The n x n identity matrix.
 ---@param n integer
 ---@return linalg.matrix
 function linalg.identity(n) end
----Identity; zero matrix; zero vector.
+---A zero matrix of r x c, or a zero vector of r entries.
 ---@param r integer
 ---@param c? integer
 ---@return linalg.matrix
 function linalg.zeros(r, c) end
----Unit quaternions (normalised when made).
+---A unit quaternion from w, x, y, z or a table `{w, x, y, z}` (normalised when made).
 ---@param w number|number[]
 ---@param x? number
 ---@param y? number
 ---@param z? number
 ---@return linalg.quat
 function linalg.quat(w, x, y, z) end
----Unit quaternions (normalised when made).
+---The unit quaternion turning `angle` radians about `axis` (normalised when made).
 ---@param axis linalg.matrix|number[]
 ---@param angle number
 ---@return linalg.quat

@@ -74,7 +74,7 @@ function world.fluid(o) end
 ---@param o {min: number[], max: number[], spacing: number?, density: number?, friction: number?, kinetic_friction: number?, damping: number?, iterations: integer?, substeps: integer?, max_speed: number?}
 ---@return Particles
 function world.debris(o) end
----A module of `assets/modules/<type>.lua` (or of a module-type file given by path); `fixed = true` holds its root link in place (a base); `joints` is its initial posture, angles in radians by joint name (`{pitch = 0.5}`) or in joint order (`{0.5, 0, -0.3}`), within the joints' limits: the root link is at `at` and the other links follow, and the servos hold that posture until commanded; returns a Module.
+---A module of `assets/modules/<type>.lua` (or of a module-type file given by path), its root link at `at` (metres) turned by `rot` (`{roll, pitch, yaw}` in radians, about the fixed x, then y, then z axes) or `quat` (`{w, x, y, z}`, normalised; it wins over `rot`); `fixed = true` holds its root link in place (a base); `joints` is its initial posture, angles in radians by joint name (`{pitch = 0.5}`) or in joint order (`{0.5, 0, -0.3}`), within the joints' limits: the root link is at `at` and the other links follow, and the servos hold that posture until commanded; returns a Module.
 ---@param type string a module type name or a module-type file
 ---@param o? {at: number[]?, rot: number[]?, quat: number[]?, name: string?, behavior: string?, params: table?, fixed: boolean?, joints: table<string|integer, number>?, docks: DockSettings?}
 ---@return Module

@@ -1,6 +1,7 @@
 // The public engine API (engine/api/rm3d/simulation.h): a Batch's worlds on threads are the same
 // worlds stepped one by one, bit for bit (run under ThreadSanitizer by .ci/tsan: worlds are built
-// and stepped concurrently); a snapshot re-runs to the same bits; errors carry RM3D's messages.
+// and stepped concurrently); a snapshot re-runs to the same bits, and arrays held from before a
+// restore stay the world's; errors carry RM3D's messages, a failing hook's with its file and line.
 #include "rm3d/simulation.h"
 
 #include <doctest/doctest.h>
@@ -106,4 +107,42 @@ TEST_CASE("API errors carry RM3D's messages") {
   CHECK_THROWS_WITH_AS(w->step(1), doctest::Contains("act[0][0] is nan"), Error);
   w->close();
   CHECK_THROWS_WITH_AS(w->step(1), doctest::Contains("closed"), Error);
+}
+
+TEST_CASE("arrays held from before a restore go on driving the world") {
+  auto a = Simulation::open(kSnake, snake(4, 3));
+  for (int k = 0; k < 40; ++k) {
+    act(*a->arrays(), k);
+    a->step(1);
+  }
+  auto b = Simulation::open(kSnake, snake(4, 3));
+  const auto held = b->arrays();  // as a Python view keeps them
+  for (int k = 0; k < 25; ++k) {
+    act(*held, k);
+    b->step(1);
+  }
+  const std::string snap = b->snapshot();
+  for (int k = 25; k < 35; ++k) {
+    act(*held, k);
+    b->step(1);
+  }
+  b->restore(snap);
+  CHECK(b->arrays() == held);
+  for (int k = 25; k < 40; ++k) {
+    act(*held, k);
+    b->step(1);
+  }
+  CHECK(held->obs == a->arrays()->obs);
+  CHECK(b->metrics() == a->metrics());
+}
+
+TEST_CASE("a hook that fails while the arrays are read raises, naming its file and line") {
+  Options o;
+  o.policy = true;
+  o.root = RM3D_SOURCE_DIR;
+  auto w = Simulation::fromString("world.spawn('superbot')\nworld.reward(function(t)\n  return 0 / t\nend)\n",
+                                  "rw", o);
+  CHECK_THROWS_WITH_AS(w->arrays(), doctest::Contains("rw:2: world.reward's function returned a number"),
+                       Error);
+  CHECK(w->arrays()->reward[0] == 0.0);  // nothing of what it returned is handed on
 }

@@ -2,6 +2,7 @@
 # messages through docks, records, and errors.
 import json
 import math
+import pathlib
 import subprocess
 
 import numpy as np
@@ -26,6 +27,30 @@ def strip(summary):
 def test_import_and_names():
     assert callable(rm3d.World) and callable(rm3d.Batch) and callable(rm3d.evaluate)
     assert issubclass(rm3d.Error, RuntimeError)
+
+
+def test_import_under_the_wrong_interpreter_says_what_to_do(tmp_path):
+    # Under an interpreter without numpy, or one the engine was not built for, `import rm3d` said
+    # "No module named numpy" or "No module named rm3d._rm3d" and nothing more.
+    import shutil
+    import sys
+    pkg = pathlib.Path(rm3d.__file__).parent
+    fake = tmp_path / "nonumpy" / "numpy"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("raise ImportError('No module named numpy')\n")
+    r = subprocess.run([sys.executable, "-c", "import rm3d"], capture_output=True, text=True,
+                       env={"PYTHONPATH": "%s:%s" % (fake.parent, pkg.parent)})
+    assert "rm3d needs numpy, which this Python" in r.stderr and sys.executable in r.stderr, r.stderr
+    other = tmp_path / "other" / "rm3d"
+    other.mkdir(parents=True)
+    for f in pkg.glob("*.py"):
+        shutil.copy(f, other / f.name)
+    # The engine as another interpreter's build would be named: this one does not load it.
+    shutil.copy(next(pkg.glob("_rm3d*.so")), other / "_rm3d.cpython-39-x86_64-linux-gnu.so")
+    r = subprocess.run([sys.executable, "-c", "import rm3d"], capture_output=True, text=True,
+                       env={"PYTHONPATH": str(other.parent)})
+    assert "rm3d's engine was built for CPython 3.9" in r.stderr, r.stderr
+    assert "-DPython_EXECUTABLE=%s" % sys.executable in r.stderr
 
 
 def test_world_equals_rm3d_run(tmp_path):

@@ -14,12 +14,38 @@ import math as _math
 import os as _os
 import pathlib as _pathlib
 import shutil as _shutil
+import sys as _sys
 import warnings as _warnings
 
-import numpy as _np
 
-from ._rm3d import Batch, Error, World
-from ._rm3d import _evaluate as _rm3d_evaluate
+def _built_for():
+    """What the engine beside this file was built for ("CPython 3.11"), from its file name."""
+    import re
+    for f in sorted(_pathlib.Path(__file__).parent.glob("_rm3d*.so")):
+        m = re.match(r"_rm3d\.cpython-(\d)(\d+)", f.name)
+        if m:
+            return "CPython %s.%s (%s)" % (m.group(1), m.group(2), f.name)
+    return None
+
+
+_HERE = "this Python (%s %s, %s)" % (_sys.implementation.name, ".".join(map(str, _sys.version_info[:2])),
+                                     _sys.executable)
+try:
+    import numpy as _np
+except ImportError as _e:
+    raise ImportError("rm3d needs numpy, which %s does not have: install it for this interpreter "
+                      "(python -m pip install numpy), or run Debian's /usr/bin/python3 "
+                      "(apt install python3-numpy)" % _HERE) from _e
+try:
+    from ._rm3d import Batch, Error, World
+    from ._rm3d import _evaluate as _rm3d_evaluate
+except ImportError as _e:
+    _for = _built_for()
+    raise ImportError(
+        "rm3d's engine was built for %s and cannot load into %s (%s): run it with the interpreter it "
+        "was built for (Debian's /usr/bin/python3 for the project's build), or build it for this one: "
+        "cmake -S . -B build -DPython_EXECUTABLE=%s && cmake --build build"
+        % (_for or "another interpreter (no engine file beside the package)", _HERE, _e, _sys.executable)) from _e
 
 __all__ = ["World", "Batch", "Error", "evaluate", "executable"]
 

@@ -356,23 +356,18 @@ std::unique_ptr<Simulation> Simulation::open(const std::string& path, const Opti
   checkNoNul(path, "path");
   checkPaths(options);
   std::error_code ec;
-  std::string abs = fs::absolute(path, ec).lexically_normal().string();
   // As `rm3d run` finds a world: the working folder, then the data root (the shipped worlds/).
-  if (!fs::path(path).is_absolute() && !fs::exists(abs, ec)) {
-    std::string root;
+  std::string found = path;
+  if (!fs::path(path).is_absolute() && !fs::exists(path, ec)) {
+    std::string root, note;
     try {
       root = findRoot(options, "");
-    } catch (const Error&) {
+    } catch (const Error&) {  // no data root: the path stays as given, and load() says it is missing
     }
-    const fs::path inRoot = fs::path(root) / path;
-    if (!root.empty() && fs::exists(inRoot, ec)) {
-      abs = inRoot.lexically_normal().string();
-    } else {
-      throw Error(path + ": no such world file in the working folder (" + fs::current_path(ec).string() +
-                  ")" + (root.empty() ? std::string() : " nor in the data root (" + root + ")") +
-                  "; `rm3d worlds` lists the shipped worlds");
-    }
+    found = resolveWorldPath(path, root, &note);
+    if (found == path && !note.empty()) throw Error(note);
   }
+  const std::string abs = fs::absolute(found, ec).lexically_normal().string();
   s->m->options = options;
   s->m->path = abs;
   s->m->root = findRoot(options, abs);
@@ -635,9 +630,9 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
     m.sources = std::make_shared<SourceFiles>();
     std::string onDisk;
     const auto recorded = m.path.empty() ? texts.end() : texts.find(SourceFiles::key(m.path));
-    const bool same = recorded != texts.end() && fs::is_regular_file(m.path, ec) &&
-                      fs::file_size(m.path, ec) == recorded->second.size() && !ec &&
-                      readTextFile(m.path, onDisk) && onDisk == recorded->second;
+    const bool same = recorded != texts.end() &&
+                      readTextFile(m.path, onDisk, nullptr, recorded->second.size()) &&
+                      onDisk == recorded->second;
     if (!m.path.empty() && !same)
       m.sources->limitDisk({m.root}, " (this world came from a snapshot whose world file " + m.path +
                                          " is not here as it was: besides the snapshot's texts, only the "

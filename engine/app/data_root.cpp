@@ -92,21 +92,6 @@ DataRoot findDataRoot(const std::string& given) {
 
 // --- World paths, `rm3d worlds`, `rm3d init` ------------------------------------------------------
 
-std::string resolveWorldPath(const std::string& path, const std::string& root, std::string* note) {
-  std::error_code ec;
-  if (path.empty() || fs::exists(path, ec) || fs::path(path).is_absolute() || root.empty()) return path;
-  const fs::path inRoot = fs::path(root) / path;
-  if (!fs::exists(inRoot, ec)) {
-    if (note)
-      *note = path + ": not found in the working folder (" + fs::current_path(ec).string() +
-              ") nor in the data root (" + root + "); `rm3d worlds` lists the shipped worlds";
-    return path;
-  }
-  const std::string found = inRoot.lexically_normal().string();
-  if (note) *note = path + ": not found here; using " + found + " (the data root's)";
-  return found;
-}
-
 namespace {
 
 /// What a world says of itself: the first sentence of the comment it opens with (its lines

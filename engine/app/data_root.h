@@ -24,13 +24,6 @@ bool isDataRoot(const std::string& dir);
 /// when nothing is found, the error lists every place looked.
 DataRoot findDataRoot(const std::string& given);
 
-/// A world (or test folder) path as given on the command line, resolved: `path` itself when it
-/// exists from the working folder, else `<root>/<path>` when that exists (a shipped world such as
-/// worlds/snake.lua, run from another folder), else `path` unchanged (the command then reports it
-/// missing). `note` is set to a line saying which file is used when the data root's is, or, when
-/// neither exists, where it looked.
-std::string resolveWorldPath(const std::string& path, const std::string& root, std::string* note);
-
 /// `rm3d worlds`: prints the shipped worlds (<root>/worlds/*.lua) with their first comment line.
 int listWorldsCommand(const std::string& root);
 

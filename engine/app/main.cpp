@@ -15,6 +15,7 @@
 #include "app/cmd_view.h"
 #include "app/data_root.h"
 #include "app/sweep.h"
+#include "core/path_rule.h"
 #include "core/version.h"
 
 namespace {

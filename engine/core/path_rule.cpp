@@ -122,4 +122,19 @@ std::string outsideMessage(const std::string& name, const std::vector<std::strin
          "; see docs/limits.md, the path rule)";
 }
 
+std::string resolveWorldPath(const std::string& path, const std::string& root, std::string* note) {
+  std::error_code ec;
+  if (path.empty() || fs::exists(path, ec) || fs::path(path).is_absolute() || root.empty()) return path;
+  const fs::path inRoot = fs::path(root) / path;
+  if (!fs::exists(inRoot, ec)) {
+    if (note)
+      *note = path + ": not found in the working folder (" + fs::current_path(ec).string() +
+              ") nor in the data root (" + root + "); `rm3d worlds` lists the shipped worlds";
+    return path;
+  }
+  const std::string found = inRoot.lexically_normal().string();
+  if (note) *note = path + ": not found here; using " + found + " (the data root's)";
+  return found;
+}
+
 }  // namespace rm3d

@@ -39,6 +39,13 @@ struct NamedPath {
 bool checkOutputsApart(const std::vector<NamedPath>& inputs, const std::vector<NamedPath>& outputs,
                        std::string& err);
 
+/// A world (or test folder) path as given on the command line (or to rm3d.World), resolved: `path` itself
+/// when it exists from the working folder, else `<root>/<path>` when that exists (a shipped world such as
+/// worlds/snake.lua, run from another folder), else `path` unchanged (the command then reports it
+/// missing). `note` is set to a line saying which file is used when the data root's is, or, when
+/// neither exists, where it looked.
+std::string resolveWorldPath(const std::string& path, const std::string& root, std::string* note);
+
 /// True when `p` is `dir` or lies below it (both absolute and normal; compared by components).
 bool pathInside(const std::string& p, const std::string& dir);
 

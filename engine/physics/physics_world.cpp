@@ -245,7 +245,7 @@ struct PhysicsWorld::Impl {
   std::optional<double> groundFriction;  // set by addGroundPlane: the ground is there (cloth, particles)
   OwnerFilter filter;
   std::vector<Part> parts;
-  BodyPool bodyPool;  // the bodies' memory, side by side (declared first: it outlives them)
+  BodyPool bodyPool;  // the bodies' memory, side by side (declared before `bodies`: it outlives them)
   std::vector<Body> bodies;
   struct Capture {
     CaptureDesc d;

@@ -239,7 +239,7 @@ def test_a_relative_world_path_is_found_as_rm3d_run_finds_it(tmp_path, monkeypat
     w = rm3d.World("worlds/snake.lua", params={"modules": 3})
     assert w.path == str(ROOT / "worlds" / "snake.lua")
     w.step(2)
-    with pytest.raises(rm3d.Error, match=r"worlds/nope\.lua: no such world file in the working folder .* nor in the data root"):
+    with pytest.raises(rm3d.Error, match=r"worlds/nope\.lua: not found in the working folder .* nor in the data root"):
         rm3d.World("worlds/nope.lua")
     (tmp_path / "worlds").mkdir()
     (tmp_path / "worlds" / "snake.lua").write_text("world.spawn('superbot')\n")

@@ -23,12 +23,15 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "assets/mesh_loader.h"
 #include "core/error.h"
 #include "core/path_rule.h"
 #include "core/source_files.h"
 #include "core/text_file.h"
 #include "io/run_capture.h"
+#include "io/scene_state.h"
 #include "io/summary.h"
+#include "render/offscreen_renderer.h"
 #include "script/world_script.h"
 #include "world/world.h"
 
@@ -120,6 +123,7 @@ struct Simulation::Impl {
   std::string source, name;  ///< a source world's text and name
   std::unique_ptr<World> world;
   std::shared_ptr<SourceFiles> sources;
+  std::shared_ptr<rm3d::MeshCache> meshes;  ///< kept across restores (and shared in a Batch)
   std::shared_ptr<AgentArrays> own = std::make_shared<AgentArrays>();
   std::shared_ptr<AgentArrays> target;  ///< own, or a batch's
   int rowOffset = 0;
@@ -131,6 +135,15 @@ struct Simulation::Impl {
   bool closed = false, ended = false;
   double wallSeconds = 0;
   std::unique_ptr<RunCapture> capture;
+  /// render(): the renderer (an OSMesa context, made at the first render) and the scene as it was
+  /// then (the automatic camera frames it).
+  struct Picture {
+    OffscreenRenderer renderer;
+    SceneLayout layout;
+    SceneState start, now;
+    bool started = false;
+  };
+  std::unique_ptr<Picture> picture;
   // The log (see the top of this file): actions by step, and the steps the arrays were read at.
   struct Act {
     int64_t step;
@@ -152,6 +165,8 @@ struct Simulation::Impl {
     RunOptions ro = runOptions(options, root);
     if (sources) ro.sources = sources;
     sources = ro.sources;
+    if (!meshes) meshes = std::make_shared<rm3d::MeshCache>();
+    ro.meshes = meshes;
     world = std::make_unique<World>(ro);
     try {
       if (!path.empty()) {
@@ -351,7 +366,13 @@ void checkPaths(const Options& options) {
 }  // namespace
 
 std::unique_ptr<Simulation> Simulation::open(const std::string& path, const Options& options) {
+  return open(path, options, nullptr);
+}
+
+std::unique_ptr<Simulation> Simulation::open(const std::string& path, const Options& options,
+                                             std::shared_ptr<rm3d::MeshCache> meshes) {
   std::unique_ptr<Simulation> s(new Simulation());
+  s->m->meshes = std::move(meshes);
   if (path.empty()) throw Error("path: empty; expected a world file (.lua)");
   checkNoNul(path, "path");
   checkPaths(options);
@@ -526,6 +547,66 @@ int Simulation::actDim() const {
   return m->own->actDim;
 }
 
+std::vector<uint8_t> Simulation::render(int width, int height, const View& view) {
+  m->check();
+  constexpr int kMaxSide = 8192;
+  constexpr int64_t kMaxPixels = int64_t(7680) * 4320;  // 8K: the buffers then take 400 MB
+  if (width < 1 || width > kMaxSide || height < 1 || height > kMaxSide ||
+      int64_t(width) * height > kMaxPixels)
+    throw Error("render: " + std::to_string(width) + "x" + std::to_string(height) +
+                ": expected a width and a height from 1 to " + std::to_string(kMaxSide) +
+                ", at most 7680x4320 pixels in all");
+  auto finite3 = [](const std::optional<std::array<double, 3>>& v, const char* what) {
+    if (v && !(std::isfinite((*v)[0]) && std::isfinite((*v)[1]) && std::isfinite((*v)[2])))
+      throw Error(std::string("render: camera ") + what + ": expected three finite numbers (metres)");
+  };
+  finite3(view.eye, "eye");
+  finite3(view.target, "target");
+  if (view.fovDeg && !(*view.fovDeg > 0 && *view.fovDeg < 180))
+    throw Error("render: camera fov " + std::to_string(*view.fovDeg) +
+                ": expected degrees between 0 and 180");
+  if (view.eye && view.target && *view.eye == *view.target)
+    throw Error("render: camera eye and target are the same point");
+  if (!m->picture) m->picture = std::make_unique<Impl::Picture>();
+  Impl::Picture& p = *m->picture;
+  if (p.renderer.width() != width || p.renderer.height() != height) {
+    std::string err;
+    if (!p.renderer.init(width, height, err)) {
+      m->picture.reset();
+      throw Error("render: " + err);
+    }
+  }
+  const World& w = *m->world;
+  SceneLayout layout = sceneLayout(w);
+  // The frame is chosen for the scene as first drawn; a module or body added since starts it again
+  // (the start state must list what the layout lists).
+  const bool same = p.started && layout.modules.size() == p.layout.modules.size() &&
+                    layout.items.size() == p.layout.items.size();
+  p.layout = std::move(layout);
+  captureState(w, p.layout, p.now);
+  if (!same) {
+    p.start = p.now;
+    p.started = true;
+  }
+  SceneLayout::CameraDef& cam = p.layout.camera;
+  const SceneLayout::CameraDef kept = cam;
+  auto vec = [](const std::array<double, 3>& a) { return Vec3(a[0], a[1], a[2]); };
+  if (view.eye) cam.eye = vec(*view.eye);
+  if (view.target) cam.target = vec(*view.target);
+  if (view.fovDeg) cam.fovDeg = *view.fovDeg;
+  const Camera camera = sceneCamera(p.layout, p.start, p.now);
+  cam = kept;
+  p.renderer.draw(buildSnapshot(p.layout, p.now), camera);
+  const std::vector<uint8_t>& rgba = p.renderer.rgba();
+  std::vector<uint8_t> rgb(size_t(width) * size_t(height) * 3);
+  for (size_t i = 0, n = size_t(width) * size_t(height); i < n; ++i) {
+    rgb[3 * i] = rgba[4 * i];
+    rgb[3 * i + 1] = rgba[4 * i + 1];
+    rgb[3 * i + 2] = rgba[4 * i + 2];
+  }
+  return rgb;
+}
+
 std::string Simulation::snapshot() const {
   m->check();
   if (!m->options.snapshots)
@@ -568,6 +649,12 @@ std::string Simulation::snapshot() const {
 
 std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, int threads,
                                                      const std::function<bool()>& interrupted) {
+  return fromSnapshot(bytes, threads, interrupted, nullptr);
+}
+
+std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, int threads,
+                                                     const std::function<bool()>& interrupted,
+                                                     std::shared_ptr<rm3d::MeshCache> meshes) {
   if (bytes.size() < 16 || bytes.compare(0, 8, kMagic, 8) != 0)
     throw Error("snapshot: not an RM3D snapshot (it does not start with " + std::string(kMagic, 8) + ")");
   size_t at = 8;
@@ -591,6 +678,7 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
   if (nAct > (body.size() - p) / sizeof(double)) throw Error("snapshot: the bytes end early (truncated)");
   std::unique_ptr<Simulation> s(new Simulation());
   Impl& m = *s->m;
+  m.meshes = std::move(meshes);
   try {
     m.options.threads = threads;
     if (!h.at("seed").is_null()) m.options.seed = h.at("seed").get<uint64_t>();
@@ -683,7 +771,7 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
 
 void Simulation::restore(const std::string& bytes, const std::function<bool()>& interrupted) {
   m->check();
-  std::unique_ptr<Simulation> other = fromSnapshot(bytes, m->options.threads, interrupted);
+  std::unique_ptr<Simulation> other = fromSnapshot(bytes, m->options.threads, interrupted, m->meshes);
   std::shared_ptr<AgentArrays> target = m->target, kept = m->own;
   const int offset = m->rowOffset, limit = m->rowLimit;
   const bool bound = target != m->own;

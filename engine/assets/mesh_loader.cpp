@@ -9,6 +9,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/text_file.h"
+
 namespace fs = std::filesystem;
 
 namespace rm3d {
@@ -77,6 +79,25 @@ bool loadMesh(const std::string& path, double scale, MeshData& out, std::string&
     err = path + ": no triangles in the file";
     return false;
   }
+  return true;
+}
+
+bool MeshCache::load(const std::string& path, double scale, MeshData& out, std::string& err) {
+  std::string bytes;
+  // What cannot be read whole here (a missing file, over 64 MiB) goes to loadMesh, which says why.
+  if (!readTextFile(path, bytes)) return loadMesh(path, scale, out, err);
+  const auto key = std::make_pair(path, scale);
+  {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    auto it = m_entries.find(key);
+    if (it != m_entries.end() && it->second.bytes == bytes) {
+      out = it->second.mesh;
+      return true;
+    }
+  }
+  if (!loadMesh(path, scale, out, err)) return false;
+  std::lock_guard<std::mutex> lock(m_mutex);
+  m_entries[key] = Entry{std::move(bytes), out};
   return true;
 }
 

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <optional>
 
@@ -18,6 +19,7 @@ using rm3d::api::Batch;
 using rm3d::api::Error;
 using rm3d::api::Options;
 using rm3d::api::Simulation;
+using rm3d::api::View;
 
 namespace {
 
@@ -354,6 +356,52 @@ PYBIND11_MODULE(_rm3d, m) {
             return view(a, a->actSize.data(), {a->rows}, false);
           },
           "int32 (modules,): the numbers each act row takes.")
+      .def(
+          "render",
+          [](PyWorld& w, int width, int height, const py::object& camera) {
+            View view;
+            if (!camera.is_none()) {
+              if (!py::isinstance<py::dict>(camera))
+                throw Error("render: camera must be a dict with any of eye, target, fov; got " +
+                            std::string(py::str(py::type::of(camera).attr("__name__"))));
+              for (const auto& [k, v] : camera.cast<py::dict>()) {
+                const std::string key = py::str(k);
+                auto three = [&](const char* what) {
+                  std::vector<double> a;
+                  try {
+                    a = v.cast<std::vector<double>>();
+                  } catch (const py::cast_error&) {
+                  }
+                  if (a.size() != 3)
+                    throw Error(std::string("render: camera ") + what +
+                                ": expected three numbers (x, y, z in metres)");
+                  return std::array<double, 3>{a[0], a[1], a[2]};
+                };
+                if (key == "eye")
+                  view.eye = three("eye");
+                else if (key == "target")
+                  view.target = three("target");
+                else if (key == "fov") {
+                  try {
+                    view.fovDeg = v.cast<double>();
+                  } catch (const py::cast_error&) {
+                    throw Error("render: camera fov: expected a number (degrees)");
+                  }
+                } else
+                  throw Error("render: camera: unknown key '" + key + "' (expected eye, target or fov)");
+              }
+            }
+            Simulation& s = w.s();
+            std::vector<uint8_t> rgb = withoutGil(&w.busy, [&] { return s.render(width, height, view); });
+            py::array_t<uint8_t> out({py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)});
+            std::memcpy(out.mutable_data(), rgb.data(), rgb.size());
+            return out;
+          },
+          py::arg("width") = 640, py::arg("height") = 480, py::kw_only(), py::arg("camera") = py::none(),
+          "The world now as a picture: a (height, width, 3) uint8 array, RGB, drawn offscreen as `rm3d run "
+          "--png` draws it (no display needed). camera: a dict with any of eye=(x, y, z), target=(x, y, z) "
+          "(metres) and fov (degrees); what it leaves out, world.camera{} or the automatic camera gives. "
+          "The automatic camera frames the world as first rendered and keeps that frame.")
       .def(
           "snapshot",
           [](PyWorld& w) {

@@ -141,8 +141,8 @@ Value copyModuleTable(lua_State* L, int idx, const std::string& file) {
 /// Validates the copied tree and builds the ModuleTypeDef.
 class TypeReader {
  public:
-  TypeReader(const LuaVm& vm, std::string file, fs::path dir, fs::path root)
-      : m_vm(vm), m_file(std::move(file)), m_dir(std::move(dir)), m_root(std::move(root)) {}
+  TypeReader(const LuaVm& vm, std::string file, fs::path dir, fs::path root, MeshCache* meshes)
+      : m_vm(vm), m_file(std::move(file)), m_dir(std::move(dir)), m_root(std::move(root)), m_cache(meshes) {}
 
   ModuleTypeDef read(const Value& top) {
     if (top.type != Value::Type::Table)
@@ -479,7 +479,7 @@ class TypeReader {
     if (it == m_meshes.end()) {
       MeshData mesh;
       std::string err;
-      if (!loadMesh(path, scale, mesh, err)) {
+      if (!(m_cache ? m_cache->load(path, scale, mesh, err) : loadMesh(path, scale, mesh, err))) {
         if (err.rfind(path, 0) == 0) err = display + err.substr(path.size());
         fail(where, err);
       }
@@ -673,11 +673,13 @@ class TypeReader {
   fs::path m_dir;
   fs::path m_root;
   std::map<std::pair<std::string, double>, MeshData> m_meshes;
+  MeshCache* m_cache;
 };
 
 }  // namespace
 
-ModuleTypeDef loadModuleType(const std::string& path, const std::string& projectRoot, SourceFiles* sources) {
+ModuleTypeDef loadModuleType(const std::string& path, const std::string& projectRoot, SourceFiles* sources,
+                             MeshCache* meshes) {
   std::error_code ec;
   const fs::path root = fs::absolute(projectRoot, ec).lexically_normal();
   const fs::path file = fs::absolute(path, ec).lexically_normal();
@@ -699,7 +701,7 @@ ModuleTypeDef loadModuleType(const std::string& path, const std::string& project
 
   const Value top = copyModuleTable(vm.L(), lua_gettop(vm.L()), display);
   lua_settop(vm.L(), 0);
-  return TypeReader(vm, display, dir, root).read(top);
+  return TypeReader(vm, display, dir, root, meshes).read(top);
 }
 
 }  // namespace rm3d

@@ -22,7 +22,8 @@ LuaScriptHost::LuaScriptHost(World& world) : m_world(world) {
 LuaScriptHost::~LuaScriptHost() = default;
 
 ModuleTypeDef LuaScriptHost::loadModuleType(const std::string& path) {
-  return rm3d::loadModuleType(path, m_world.options().projectRoot, m_world.options().sources.get());
+  return rm3d::loadModuleType(path, m_world.options().projectRoot, m_world.options().sources.get(),
+                              m_world.options().meshes.get());
 }
 
 std::unique_ptr<ModuleProgram> LuaScriptHost::loadBehaviour(const ModuleHandle& module,

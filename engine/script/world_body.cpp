@@ -74,7 +74,9 @@ void loadMeshShape(const World& w, const char* file, double scale, ShapeKind kin
     throw InputError(std::string("mesh file '") + file + "' not found " + w.resolveLookedIn());
   MeshData mesh;
   std::string err;
-  if (!loadMesh(path, scale, mesh, err)) throw InputError(err);
+  MeshCache* cache = w.options().meshes.get();
+  if (!(cache ? cache->load(path, scale, mesh, err) : loadMesh(path, scale, mesh, err)))
+    throw InputError(err);
   out.kind = kind;
   out.points = std::move(mesh.points);
   out.triangles = std::move(mesh.triangles);

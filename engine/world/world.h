@@ -38,6 +38,7 @@ class WorldScript;
 class BehaviourPool;
 class ModuleHandle;
 class SourceFiles;
+class MeshCache;
 
 /// How to run: what the command line or a test gives.
 struct RunOptions {
@@ -60,6 +61,8 @@ struct RunOptions {
   /// Where Lua sources are read (core/source_files.h): noted for --record, a recording's texts
   /// for --fork; null: straight from the disk.
   std::shared_ptr<SourceFiles> sources;
+  /// Meshes already parsed (assets/mesh_loader.h), kept by whoever makes worlds again; null: none.
+  std::shared_ptr<MeshCache> meshes;
 };
 
 /// The substeps and solver iterations each joint solver runs at unless world.set gives them:

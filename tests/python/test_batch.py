@@ -99,3 +99,47 @@ def test_evaluate_errors():
     with pytest.warns(RuntimeWarning, match="run 1"):
         r = rm3d.evaluate(SNAKE, params=[{"modules": 2}, {"modules": "many"}], seconds=0.1, metric="speed_m_s")
     assert np.isfinite(r[0]) and np.isnan(r[1])
+
+
+def test_reset_restores_the_start_bit_for_bit_and_keeps_the_texts_it_was_made_from(tmp_path):
+    # reset() restores each world's start snapshot: the worlds then run as fresh ones, bit for bit,
+    # from the texts they were made from (an edit of the file after the batch was made is not read).
+    world = tmp_path / "w.lua"
+    world.write_text(open(SNAKE).read())
+    b = rm3d.Batch(str(world), seeds=[1, 2], params={"modules": 3}, threads=2, policy=True)
+    fresh = drive(rm3d.Batch(str(world), seeds=[1, 2], params={"modules": 3}, threads=1, policy=True), 25)
+    drive(b, 40)
+    world.write_text("world.spawn('superbot')\n")
+    b.reset()
+    assert list(b.time) == [0.0, 0.0] and len(b.summaries()[0]["modules"]) == 3
+    again = drive(b, 25)
+    assert again[0].tobytes() == fresh[0].tobytes() and again[1].tobytes() == fresh[1].tobytes()
+    assert len(rm3d.Batch(str(world)).summaries()[0]["modules"]) == 1  # a new batch reads the file
+
+
+def cube_obj(bottom, top):
+    v = [(x, y, z) for z in (bottom, top) for y in (-0.1, 0.1) for x in (-0.1, 0.1)]
+    faces = [(1, 3, 4, 2), (5, 6, 8, 7), (1, 2, 6, 5), (3, 7, 8, 4), (1, 5, 7, 3), (2, 4, 8, 6)]
+    return "".join("v %g %g %g\n" % p for p in v) + "".join("f %d %d %d %d\n" % f for f in faces)
+
+
+def test_meshes_parsed_once_are_parsed_again_when_the_file_changes(tmp_path):
+    # A Batch keeps the meshes its worlds parsed (a file with the same bytes is not parsed again);
+    # a mesh file changed on disk is parsed again, by the batch's reset too (a snapshot carries
+    # the Lua texts, not the meshes: they are read from the disk as they are).
+    (tmp_path / "m.obj").write_text(cube_obj(0, 0.1))
+    world = tmp_path / "w.lua"
+    world.write_text('world.ground{}\nlocal b = world.mesh{file = "m.obj", mass = 1, at = {0, 0, 0.2}}\n'
+                     'world.on_step(function() world.metric("top", b:position().z) end)\n')
+    b = rm3d.Batch(str(world), seeds=[1, 2], threads=2)
+    b.step(90)
+    low = [m["top"] for m in b.metrics]
+    assert low[0] == low[1] and low[0] == pytest.approx(0.0, abs=0.01)  # its frame rests on the ground
+    (tmp_path / "m.obj").write_text(cube_obj(-0.3, 0.1))
+    w = rm3d.World(str(world), seed=1)
+    w.step(90)
+    high = w.metrics["top"]
+    assert high == pytest.approx(0.3, abs=0.01)  # the new hull reaches 0.3 m below its frame
+    b.reset()
+    b.step(90)
+    assert [m["top"] for m in b.metrics] == [high, high]

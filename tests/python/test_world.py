@@ -406,3 +406,40 @@ def test_seed_and_path_type_errors_name_the_argument(tmp_path):
 
     with pytest.raises(TypeError, match=r"path: its __fspath__\(\) returned int; expected a str"):
         rm3d.World(BadPath(), root=str(ROOT))
+
+
+def test_render_draws_the_world_headless_from_any_folder(tmp_path, monkeypatch):
+    # From a folder outside the project, the shipped snake drawn offscreen: a (240, 320, 3) uint8
+    # frame with the modules in it (their orange covers part of the frame; the ground is grey).
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.delenv("DISPLAY", raising=False)
+    w = rm3d.World("worlds/snake.lua")
+    w.step(30)
+    f = w.render(320, 240)
+    assert f.shape == (240, 320, 3) and f.dtype == np.uint8
+    r, g, b = (f[..., i].astype(int) for i in range(3))
+    orange = (r > 150) & (r - b > 80)  # the SuperBots' brackets
+    assert 0.02 < orange.mean() < 0.6
+    assert len(np.unique(f.reshape(-1, 3), axis=0)) > 100
+    # The automatic camera keeps its frame; a camera given wins and changes the picture.
+    assert w.render(320, 240).tobytes() == f.tobytes()
+    near = w.render(320, 240, camera={"eye": (0.3, -0.6, 0.4), "target": (0, 0, 0.05), "fov": 40})
+    assert near.shape == f.shape and near.tobytes() != f.tobytes()
+    assert w.render(64, 48).shape == (48, 64, 3)
+
+
+def test_render_refuses_bad_sizes_and_cameras():
+    w = rm3d.World(SNAKE, params={"modules": 2})
+    bad = [({"width": 0}, r"render: 0x480: expected a width and a height from 1 to 8192"),
+           ({"width": 8192, "height": 8192}, r"at most 7680x4320 pixels"),
+           ({"camera": {"eye": (1, 2)}}, r"render: camera eye: expected three numbers"),
+           ({"camera": {"target": (0, 0, float("nan"))}}, r"render: camera target: expected three finite numbers"),
+           ({"camera": {"fov": 180}}, r"render: camera fov 180.* expected degrees between 0 and 180"),
+           ({"camera": {"zoom": 2}}, r"render: camera: unknown key 'zoom' \(expected eye, target or fov\)"),
+           ({"camera": "above"}, r"render: camera must be a dict")]
+    for kwargs, message in bad:
+        with pytest.raises(rm3d.Error, match=message):
+            w.render(**kwargs)
+    w.close()
+    with pytest.raises(rm3d.Error, match="closed"):
+        w.render()

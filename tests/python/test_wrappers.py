@@ -310,3 +310,50 @@ def test_parallel_env_passes_the_pettingzoo_api_test():
         parallel_api_test(env, num_cycles=40)
     finally:
         env.close()
+
+
+def test_env_and_parallel_env_render_rgb_arrays():
+    env = rm3d.gym.Env(CHAIN, render_mode="rgb_array", render_size=(160, 120))
+    assert "rgb_array" in env.metadata["render_modes"] and env.render_mode == "rgb_array"
+    env.reset(seed=0)
+    first = env.render()
+    assert first.shape == (120, 160, 3) and first.dtype == np.uint8
+    assert len(np.unique(first.reshape(-1, 3), axis=0)) > 50
+    for _ in range(20):
+        env.step(np.full(env.action_space.shape, 0.5))
+    assert env.render().tobytes() != first.tobytes()  # the modules moved
+    env.reset()
+    assert env.render().tobytes() == first.tobytes()  # the start again, drawn the same
+    assert rm3d.gym.Env(CHAIN).render() is None  # no render_mode: None, as gymnasium's
+    pz = rm3d.pettingzoo.ParallelEnv(CHAIN, render_mode="rgb_array", render_size=(64, 48))
+    pz.reset()
+    assert pz.render().shape == (48, 64, 3)
+    with pytest.raises(ValueError, match="render_mode must be None or 'rgb_array', got 'human'"):
+        rm3d.gym.Env(CHAIN, render_mode="human")
+    with pytest.raises(ValueError, match=r"render_size must be \(width, height\)"):
+        rm3d.gym.Env(CHAIN, render_mode="rgb_array", render_size=320)
+
+
+def test_vector_env_and_parallel_env_refuse_or_clip_actions_outside_their_bounds():
+    v = rm3d.gym.VectorEnv(CHAIN, num_envs=2, params={"modules": 3}, action_bounds=(-1, 1))
+    v.reset()
+    a = np.zeros((2,) + v.single_action_space.shape)
+    a[1, 2] = 1.5
+    with pytest.raises(ValueError, match=r"actions\[1\]\[2\] = 1.5 lies outside action_bounds \[-1, 1\]"):
+        v.step(a)
+    assert list(v.batch.time) == [0.0, 0.0]  # refused before any world stepped
+    clipped = rm3d.gym.VectorEnv(CHAIN, num_envs=2, params={"modules": 3}, action_bounds=(-1, 1),
+                                 clip_actions=True)
+    clipped.reset()
+    clipped.step(a)
+    assert clipped.batch.act[1].reshape(-1)[2] == 1.0
+    p = rm3d.pettingzoo.ParallelEnv(CHAIN, params={"modules": 3}, action_bounds=(-1, 1))
+    p.reset()
+    agent = p.agents[1]
+    bad = np.full(p.action_space(agent).shape, -3.0)
+    with pytest.raises(ValueError, match=r"action of agent '%s': action\[0\] = -3 lies outside" % agent):
+        p.step({agent: bad})
+    pc = rm3d.pettingzoo.ParallelEnv(CHAIN, params={"modules": 3}, action_bounds=(-1, 1), clip_actions=True)
+    pc.reset()
+    pc.step({agent: bad})
+    assert pc.world.act[1, 0] == -1.0

@@ -5,6 +5,7 @@
 // rm3d::api::Error carrying RM3D's own message ("file:line: ..."). docs/python.md is the guide.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -13,6 +14,10 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+namespace rm3d {
+class MeshCache;  // assets/mesh_loader.h: opaque here
+}
 
 namespace rm3d::api {
 
@@ -51,6 +56,13 @@ struct AgentArrays {
   std::vector<double> obs, act, reward;
   std::vector<uint8_t> done, mask;        ///< mask: 1 where the row is a module
   std::vector<int32_t> obsSize, actSize;  ///< the numbers each row uses
+};
+
+/// Where a picture is taken from (render): what is given wins over world.camera{...}, as
+/// `rm3d run --eye/--target/--fov` do; what is not, the automatic camera chooses.
+struct View {
+  std::optional<std::array<double, 3>> eye, target;  ///< metres, world frame
+  std::optional<double> fovDeg;                      ///< vertical field of view, degrees
 };
 
 class Simulation {
@@ -101,6 +113,12 @@ class Simulation {
   /// next step applies under policy.
   std::shared_ptr<AgentArrays> arrays();
 
+  /// The world now, drawn offscreen as `rm3d run --png` draws it (OSMesa: no display, no GPU):
+  /// width x height x 3 bytes, RGB, top row first. Without a camera in `view` or world.camera{},
+  /// the frame is chosen at the first render and kept while the modules stay in it (as a run's
+  /// pictures do). Width and height: 1 to 8192, at most 7680 x 4320 pixels in all.
+  std::vector<uint8_t> render(int width, int height, const View& view = {});
+
   /// The whole run so far as bytes (docs/python.md, "Snapshots"): restore re-runs it bit for bit.
   std::string snapshot() const;
   /// Makes this simulation the snapshot's (same as fromSnapshot, in place).
@@ -122,7 +140,15 @@ class Simulation {
   struct Impl;
 
  private:
+  friend class Batch;
   Simulation();
+  /// open and fromSnapshot keeping parsed meshes in `meshes` (a Batch's, or this world's across
+  /// restores: assets/mesh_loader.h).
+  static std::unique_ptr<Simulation> open(const std::string& path, const Options& options,
+                                          std::shared_ptr<rm3d::MeshCache> meshes);
+  static std::unique_ptr<Simulation> fromSnapshot(const std::string& bytes, int threads,
+                                                  const std::function<bool()>& interrupted,
+                                                  std::shared_ptr<rm3d::MeshCache> meshes);
   std::unique_ptr<Impl> m;
 };
 
@@ -138,7 +164,8 @@ class Batch {
   /// Every world that has not stopped steps n times (with policy, the act rows each step);
   /// `interrupted` as for Simulation::step (asked by the calling thread between rounds).
   void step(int64_t n = 1, const std::function<bool()>& interrupted = {});
-  /// Rebuilds the worlds where mask[i] (empty: all) from their files, seeds and params.
+  /// Brings the worlds where mask[i] (empty: all) back to their start: each restores the snapshot
+  /// taken when it was made (its texts, seed and params then; not the files as they are now).
   void reset(const std::vector<uint8_t>& mask);
   /// rows = size() x maxModules; refreshed now if any world stepped since.
   std::shared_ptr<AgentArrays> arrays();

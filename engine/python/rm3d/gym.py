@@ -111,6 +111,36 @@ def _used_index(sizes, width):
 _EnvBase = _gymnasium.Env if _gymnasium is not None else object
 
 
+def _within(a, low, high, clip, name):
+    """a clipped to [low, high] when clip, else a as it is, or ValueError naming the first number
+    outside (its index in a's shape)."""
+    low, high = np.broadcast_to(low, a.shape), np.broadcast_to(high, a.shape)
+    if clip:
+        return np.clip(a, low, high)
+    outside = np.argwhere((a < low) | (a > high))
+    if len(outside):
+        i = tuple(int(k) for k in outside[0])
+        raise ValueError("%s%s = %g lies outside action_bounds [%g, %g] (clip_actions=True clips instead)"
+                         % (name, "".join("[%d]" % k for k in i), a[i], low[i], high[i]))
+    return a
+
+
+def _render_args(mode, size, camera):
+    """Checks render_mode, render_size and camera as Env and the PettingZoo env take them."""
+    if mode not in (None, "rgb_array"):
+        raise ValueError("render_mode must be None or 'rgb_array', got %r" % (mode,))
+    try:
+        width, height = (int(v) for v in size)
+    except (TypeError, ValueError):
+        raise ValueError("render_size must be (width, height), got %r" % (size,)) from None
+    if not (1 <= width <= 8192 and 1 <= height <= 8192 and width * height <= 7680 * 4320):
+        raise ValueError("render_size %dx%d: expected a width and a height from 1 to 8192, at most "
+                         "7680x4320 pixels in all" % (width, height))
+    if camera is not None and not isinstance(camera, dict):
+        raise ValueError("camera must be a dict with any of eye, target, fov; got %r" % (camera,))
+    return mode, (width, height), camera
+
+
 class _Episode:
     """The world an environment runs: one rm3d.World with policy=True that reset() brings back to
     its start, by restoring the snapshot taken when it was made (bit-exact), or by making it
@@ -154,7 +184,8 @@ class Env(_EnvBase):
     """One RM3D world as a single-agent environment.
 
     Env(path, seed=None, params=None, threads=1, record=None, action_bounds=None,
-        observation_bounds=None, reset="snapshot", clip_actions=False)
+        observation_bounds=None, reset="snapshot", clip_actions=False, render_mode=None,
+        render_size=(640, 480), camera=None)
 
     ``path``, ``seed``, ``params``, ``threads`` and ``record`` are rm3d.World's. Spaces are
     unbounded unless ``action_bounds``/``observation_bounds`` give ``(low, high)`` (scalars or
@@ -163,16 +194,19 @@ class Env(_EnvBase):
     taken right after the world was made (fast, bit-exact); ``reset="recreate"`` makes the world
     again. ``reset(seed=S)`` with a seed other than the current one makes the world again with
     seed S, and seeds ``np_random``. ``step()`` after the episode ended (terminated or truncated)
-    raises rm3d.Error until ``reset()``.
+    raises rm3d.Error until ``reset()``. ``render_mode="rgb_array"``: ``render()`` returns the
+    world now as a ``(height, width, 3)`` uint8 array (World.render with ``render_size`` =
+    (width, height) and ``camera``).
     """
 
-    metadata = {"render_modes": []}
-    render_mode = None
+    metadata = {"render_modes": ["rgb_array"]}
 
     def __init__(self, path, seed=None, params=None, threads=1, record=None,
-                 action_bounds=None, observation_bounds=None, reset="snapshot", clip_actions=False):
+                 action_bounds=None, observation_bounds=None, reset="snapshot", clip_actions=False,
+                 render_mode=None, render_size=(640, 480), camera=None):
         if reset not in ("snapshot", "recreate"):
             raise ValueError("reset must be 'snapshot' or 'recreate', got %r" % (reset,))
+        self.render_mode, self._render_size, self._camera = _render_args(render_mode, render_size, camera)
         self._clip = bool(clip_actions)
         self._ended = False
         self._rng = None
@@ -235,16 +269,7 @@ class Env(_EnvBase):
                                                                        a.shape))
         if self._ended:
             raise Error("step() after the episode ended (terminated or truncated): call reset() first")
-        low, high = self.action_space.low, self.action_space.high
-        if self._clip:
-            a = np.clip(a, low, high)
-        else:
-            outside = np.flatnonzero((a < low) | (a > high))
-            if len(outside):
-                i = int(outside[0])
-                raise ValueError("action[%d] = %g lies outside action_bounds [%g, %g] (clip_actions=True "
-                                 "clips instead)" % (i, a[i], np.broadcast_to(low, a.shape)[i],
-                                                     np.broadcast_to(high, a.shape)[i]))
+        a = _within(a, self.action_space.low, self.action_space.high, self._clip, "action")
         w = self._live()
         row = np.zeros(w.act.shape, dtype=np.float64)
         row.reshape(-1)[self._act_idx] = a
@@ -257,7 +282,11 @@ class Env(_EnvBase):
         return self._observation(), reward, terminated, truncated, self._info()
 
     def render(self):
-        return None
+        """The world now as a (height, width, 3) uint8 array under render_mode="rgb_array";
+        None without a render_mode (as gymnasium's)."""
+        if self.render_mode is None:
+            return None
+        return self._live().render(*self._render_size, camera=self._camera)
 
     def close(self):
         self._episode.close()
@@ -267,21 +296,23 @@ class VectorEnv:
     """A batch of RM3D worlds as a vectorised environment (one process, a C++ thread pool).
 
     VectorEnv(path_or_paths, num_envs=None, seeds=None, params=None, threads=1,
-              action_bounds=None, observation_bounds=None)
+              action_bounds=None, observation_bounds=None, clip_actions=False)
 
     One path and ``num_envs`` (seeds default 0..num_envs-1), or a list of paths / a list of
     params dicts (worlds may hold different bodies). ``reset()`` -> (obs, info);
     ``step(actions)`` -> (obs, rewards, terminated, truncated, info), arrays over worlds. A world
     that terminates or is truncated is reset in the same call (``Batch.reset(mask)``): the
     returned obs is its first one again, and ``info["final_observation"]`` (an object array,
-    None for the others) holds its last one, ``info["_final_observation"]`` the mask.
+    None for the others) holds its last one, ``info["_final_observation"]`` the mask. Actions
+    outside ``action_bounds`` raise ValueError, or are clipped with ``clip_actions=True`` (as Env).
     """
 
     metadata = {"render_modes": [], "autoreset_mode": "same-step"}
     render_mode = None
 
     def __init__(self, path_or_paths, num_envs=None, seeds=None, params=None, threads=1,
-                 action_bounds=None, observation_bounds=None):
+                 action_bounds=None, observation_bounds=None, clip_actions=False):
+        self._clip = bool(clip_actions)
         many_paths = isinstance(path_or_paths, (list, tuple))
         if seeds is None and not many_paths:
             if num_envs is None:
@@ -330,6 +361,7 @@ class VectorEnv:
         if a.shape != (self.num_envs,) + self._act_shape:
             raise ValueError("actions must have shape %s, got %s"
                              % ((self.num_envs,) + self._act_shape, a.shape))
+        a = _within(a, self.action_space.low, self.action_space.high, self._clip, "actions")
         b.act[:] = a.reshape(b.act.shape)
         b.step()
         mask = np.asarray(b.mask, dtype=bool)

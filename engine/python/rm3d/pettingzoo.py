@@ -15,7 +15,7 @@ are gymnasium Boxes when gymnasium is installed, else :class:`rm3d.gym.Box`.
 
 import numpy as np
 
-from .gym import _bounds, _Episode, make_box
+from .gym import _bounds, _Episode, _render_args, _within, make_box
 
 try:
     import pettingzoo as _pettingzoo
@@ -29,13 +29,19 @@ _Base = _pettingzoo.ParallelEnv if _pettingzoo is not None else object
 
 class ParallelEnv(_Base):
     """ParallelEnv(path, seed=None, params=None, threads=1, record=None, action_bounds=None,
-    observation_bounds=None): every module of the world is an agent (see the module's doc)."""
+    observation_bounds=None, clip_actions=False, render_mode=None, render_size=(640, 480),
+    camera=None): every module of the world is an agent (see the module's doc). An action outside
+    ``action_bounds`` raises ValueError naming the agent, or is clipped with
+    ``clip_actions=True``. ``render_mode="rgb_array"``: ``render()`` returns the world now as a
+    (height, width, 3) uint8 array (World.render)."""
 
-    metadata = {"render_modes": [], "name": "rm3d_parallel_v0", "is_parallelizable": True}
-    render_mode = None
+    metadata = {"render_modes": ["rgb_array"], "name": "rm3d_parallel_v0", "is_parallelizable": True}
 
     def __init__(self, path, seed=None, params=None, threads=1, record=None,
-                 action_bounds=None, observation_bounds=None):
+                 action_bounds=None, observation_bounds=None, clip_actions=False, render_mode=None,
+                 render_size=(640, 480), camera=None):
+        self._clip = bool(clip_actions)
+        self.render_mode, self._render_size, self._camera = _render_args(render_mode, render_size, camera)
         self._episode = _Episode(path, seed, params, threads, record)
         w = self._world
         self.possible_agents = list(w.modules)
@@ -101,7 +107,9 @@ class ParallelEnv(_Base):
             if a.shape != (self._act_size[i],):
                 raise ValueError("action of agent %r must have %d numbers, got shape %s"
                                  % (agent, self._act_size[i], np.shape(action)))
-            rows[i, :self._act_size[i]] = a
+            space = self.action_spaces[agent]
+            rows[i, :self._act_size[i]] = _within(a, space.low, space.high, self._clip,
+                                                 "action of agent %r: action" % agent)
         w.act[:] = rows
         w.step()
         live = list(self.agents)
@@ -119,7 +127,11 @@ class ParallelEnv(_Base):
         return np.asarray(self._world.obs, dtype=np.float64).reshape(-1).copy()
 
     def render(self):
-        return None
+        """The world now as a (height, width, 3) uint8 array under render_mode="rgb_array"; None
+        without one."""
+        if self.render_mode is None:
+            return None
+        return self._live().render(*self._render_size, camera=self._camera)
 
     def close(self):
         self._episode.close()

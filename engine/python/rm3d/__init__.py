@@ -44,21 +44,24 @@ except ImportError as _e:
     raise ImportError(
         "rm3d's engine was built for %s and cannot load into %s (%s): run it with the interpreter it "
         "was built for (Debian's /usr/bin/python3 for the project's build), or build it for this one: "
+        "%s -m pip install --no-build-isolation . (in the checkout), or "
         "cmake -S . -B build -DPython_EXECUTABLE=%s && cmake --build build"
-        % (_for or "another interpreter (no engine file beside the package)", _HERE, _e, _sys.executable)) from _e
+        % (_for or "another interpreter (no engine file beside the package)", _HERE, _e, _sys.executable,
+           _sys.executable)) from _e
 
 __all__ = ["World", "Batch", "Error", "evaluate", "executable"]
 
 
 def executable():
     """The `rm3d` command line that goes with this package (for `rm3d plot`, `rm3d replay`, ...):
-    $RM3D_BIN if set; else the one beside the package (BUILD/rm3d for a build tree's
-    BUILD/python/rm3d, PREFIX/bin/rm3d for an installed PREFIX/lib/python3*/dist-packages/rm3d);
+    $RM3D_BIN if set; else the one installed with the package (rm3d/bin/rm3d after `pip install`,
+    BUILD/rm3d for a build tree's BUILD/python/rm3d, PREFIX/bin/rm3d for an installed
+    PREFIX/lib/python3*/dist-packages/rm3d);
     else `rm3d` on PATH. Raises rm3d.Error naming the places when there is none."""
     if _os.environ.get("RM3D_BIN"):
         return _os.environ["RM3D_BIN"]
     here = _pathlib.Path(__file__).resolve().parent
-    tried = [here.parents[1] / "rm3d", here.parents[3] / "bin" / "rm3d"]
+    tried = [here / "bin" / "rm3d", here.parents[1] / "rm3d", here.parents[3] / "bin" / "rm3d"]
     for p in tried:
         if p.is_file() and _os.access(p, _os.X_OK):
             return str(p)
@@ -112,3 +115,14 @@ def evaluate(path, params=None, seeds=None, seconds=None, threads=1, metric=None
     if len(errors) > 3:
         _warnings.warn("rm3d.evaluate: %d more runs failed" % (len(errors) - 3), RuntimeWarning, stacklevel=2)
     return values if seeds is None else values.reshape(len(params), len(seeds))
+
+
+def _command():
+    """The `rm3d` command `pip install` puts on PATH: runs the package's own rm3d binary."""
+    try:
+        exe = executable()
+    except Error as e:
+        _sys.exit("rm3d: %s" % e)
+    if _os.path.realpath(exe) == _os.path.realpath(_sys.argv[0]):
+        _sys.exit("rm3d: no rm3d binary installed with the package (reinstall it with pip install .)")
+    _os.execv(exe, [exe] + _sys.argv[1:])

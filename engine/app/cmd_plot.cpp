@@ -312,8 +312,12 @@ int plotCommand(const PlotArgs& a) {
       << "\n";
     g << "set ylabel " << gpQuote(a.ylabel.empty() ? (a.y.size() == 1 ? a.y[0] : "") : a.ylabel) << "\n";
     g << "set grid\n";
-    // Points and error bars (a sweep, --mean) at the ends of the range would sit on the frame.
-    if (sweep || a.mean) g << "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n";
+    // Points and error bars (a sweep, --mean) at the ends of the range would sit on the frame; a
+    // line's highest and lowest values too, where they fall on a tic: 5% of room above and below.
+    if (sweep || a.mean)
+      g << "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n";
+    else
+      g << "set offsets 0, 0, graph 0.05, graph 0.05\n";
     if (series.size() > 16)
       g << "unset key\n";
     else

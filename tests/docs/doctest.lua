@@ -3,7 +3,8 @@
 -- In README.md and docs/**/*.md, a fenced block opened with "```sh doctest" holds commands, one a
 -- line (a trailing \ continues it); they run in order, in one scratch folder per page that holds
 -- links to the checkout's assets/, behaviors/, lua/ and worlds/ (so it looks like the checkout to
--- the commands, which write their outputs there), with the rm3d under test first on PATH. Each must exit 0 (or N, given as "```sh doctest exit=N"). When the next
+-- the commands, which write their outputs there), with the rm3d under test first on PATH and its
+-- Python package (BUILD/python) on PYTHONPATH. Each must exit 0 (or N, given as "```sh doctest exit=N"). When the next
 -- block (after blank lines only) opens with "```text output", the commands' output (stdout and
 -- stderr together) must be that text once normalised: wall-clock times and speeds, the version
 -- and the scratch folder are replaced by placeholders. --update writes the real outputs into the
@@ -107,6 +108,7 @@ for _, page in ipairs(pages) do
         if not c:match("^%s*$") and not c:match("^%s*#") then
           commands = commands + 1
           local full = "cd " .. shellQuote(dir) .. " && PATH=" .. shellQuote(binDir) .. ":\"$PATH\" " ..
+                       "PYTHONPATH=" .. shellQuote(binDir .. "/python") .. " RM3D_BIN=" .. shellQuote(rm3d) .. " " ..
                        "RM3D_DOC_SRC=" .. shellQuote(src) .. " timeout 600 bash -c " .. shellQuote(c) .. " 2>&1"
           local out, code = run(full)
           output[#output + 1] = out

@@ -9,7 +9,8 @@
 -- stderr together) must be that text once normalised: wall-clock times and speeds, the version
 -- and the scratch folder are replaced by placeholders. --update writes the real outputs into the
 -- pages instead of comparing (after a change that moves the figures: run it, read the diff,
--- commit).
+-- commit). "```sh doctest picture=OUT:SHOWN" also checks the picture SHOWN (in the repository)
+-- against the file OUT the commands wrote (--update copies OUT to SHOWN).
 -- Usage: lua5.4 tests/docs/doctest.lua RM3D SRC SCRATCH [--update]
 local rm3d, src, scratch, mode = arg[1], arg[2], arg[3], arg[4]
 if not (rm3d and src and scratch) or (mode and mode ~= "--update") then
@@ -93,7 +94,8 @@ for _, page in ipairs(pages) do
   local replacements = {}
   for n, b in ipairs(bs) do
     local expectCode = b.info:match("^sh doctest exit=(%d+)%s*$")
-    if b.info:match("^sh doctest%s*$") or expectCode then
+    local drawn, shownPicture = b.info:match("^sh doctest picture=([^:%s]+):(%S+)%s*$")
+    if b.info:match("^sh doctest%s*$") or expectCode or drawn then
       local cmds, cur = {}, ""
       for _, l in ipairs(b.body) do
         if l:match("\\%s*$") then
@@ -119,6 +121,27 @@ for _, page in ipairs(pages) do
                                 out:sub(-2000)))
           else
             print(string.format("ok   %s:%d: %s", page, b.first, c))
+          end
+        end
+      end
+      -- A picture the docs show, drawn by these commands: --update copies it in; otherwise the one
+      -- in the repository must look the same (tests/docs/png_same.py: the same size, pixels equal
+      -- to a rounding), so it cannot go stale.
+      if drawn then
+        local made, shown = dir .. "/" .. drawn, src .. "/" .. shownPicture
+        if update then
+          run("cp " .. shellQuote(made) .. " " .. shellQuote(shown))
+          print(string.format("ok   %s:%d: wrote %s from %s", page, b.first, shownPicture, drawn))
+        else
+          local out, code = run("/usr/bin/python3 " .. shellQuote(src .. "/tests/docs/png_same.py") .. " " ..
+                                shellQuote(shown) .. " " .. shellQuote(made) .. " 2>&1")
+          if code ~= 0 then
+            failures = failures + 1
+            print(string.format("FAIL %s:%d: the picture %s is not what the commands draw (%s); "
+                                .. "tests/docs/doctest.lua --update redraws it", page, b.first, shownPicture,
+                                out:gsub("\n$", "")))
+          else
+            print(string.format("ok   %s:%d: %s is what the commands draw", page, b.first, shownPicture))
           end
         end
       end

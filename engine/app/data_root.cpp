@@ -90,24 +90,21 @@ DataRoot findDataRoot(const std::string& given) {
   return r;
 }
 
-// --- World paths, `rm3d worlds`, `rm3d init` ------------------------------------------------------
-
-namespace {
-
-/// What a world says of itself: the first sentence of the comment it opens with (its lines
-/// joined), at most 90 bytes cut at a word, without a leading "worlds/x.lua:" naming itself;
-/// "" when it opens with code.
-std::string firstComment(const fs::path& file) {
-  std::ifstream in(file);
-  std::string line, text;
-  for (int n = 0; n < 12 && std::getline(in, line) && line.rfind("--", 0) == 0; ++n) {
-    const size_t at = line.find_first_not_of("- ");
-    if (at == std::string::npos) break;  // an empty comment line ends the paragraph
-    text += (text.empty() ? "" : " ") + line.substr(at);
+std::string worldSummary(const std::string& source, size_t limit) {
+  std::string text;
+  size_t at = 0;
+  for (int n = 0; n < 12 && at < source.size(); ++n) {
+    const size_t end = std::min(source.find('\n', at), source.size());
+    const std::string line = source.substr(at, end - at);
+    at = end + 1;
+    if (line.rfind("--", 0) != 0) break;
+    const size_t from = line.find_first_not_of("- ");
+    if (from == std::string::npos) break;  // an empty comment line ends the paragraph
+    text += (text.empty() ? "" : " ") + line.substr(from);
     if (text.size() > 400) break;
   }
   // The file is anyone's: invalid bytes become U+FFFD and control characters (a terminal's escape
-  // sequences, a carriage return) a space, so the listing shows text and only text.
+  // sequences, a carriage return) a space, so what is shown is text and only text.
   makeValidUtf8(text);
   for (char& c : text)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = ' ';
@@ -123,7 +120,6 @@ std::string firstComment(const fs::path& file) {
       text.resize(p + 1);
       break;
     }
-  const size_t limit = 90;
   if (text.size() > limit) {  // cut at a word, never inside a character
     size_t cut = text.rfind(' ', limit);
     if (cut == std::string::npos || cut < limit / 2) {
@@ -134,6 +130,18 @@ std::string firstComment(const fs::path& file) {
   }
   text.erase(text.find_last_not_of(' ') + 1);
   return text;
+}
+
+// --- World paths, `rm3d worlds`, `rm3d init` ------------------------------------------------------
+
+namespace {
+
+/// The opening comment of a world file (its first lines, read whole).
+std::string firstComment(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line, text;
+  for (int n = 0; n < 12 && std::getline(in, line); ++n) text += line + "\n";
+  return worldSummary(text, 90);
 }
 
 }  // namespace

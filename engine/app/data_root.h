@@ -24,6 +24,12 @@ bool isDataRoot(const std::string& dir);
 /// when nothing is found, the error lists every place looked.
 DataRoot findDataRoot(const std::string& given);
 
+/// What a world says of itself, from its source: the first sentence of the comment it opens with
+/// (its lines joined), at most `limit` bytes cut at a word, without a leading "worlds/x.lua:"
+/// naming itself; "" when it opens with code. Any bytes in, valid UTF-8 without control
+/// characters out.
+std::string worldSummary(const std::string& source, size_t limit);
+
 /// `rm3d worlds`: prints the shipped worlds (<root>/worlds/*.lua) with their first comment line.
 int listWorldsCommand(const std::string& root);
 

@@ -25,6 +25,9 @@
 #include <sstream>
 #include <type_traits>
 
+#include "app/data_root.h"
+#include "core/source_files.h"
+
 namespace rm3d {
 
 extern const char kHtmlReplayPage[];  // html_replay/page.html (generated at build time)
@@ -216,6 +219,12 @@ bool writeHtmlReplay(const Recording& rec, const SceneLayout::CameraDef& camera,
 
   nlohmann::json j;
   j["title"] = pageTitle(rec);
+  // What the world shows, in its own words: the first sentence of its opening comment.
+  std::string about;
+  for (const auto& [path, text] : rec.sources())
+    if (!rec.meta().worldFile.empty() && path == SourceFiles::key(rec.meta().worldFile))
+      about = worldSummary(text, 400);
+  j["about"] = about;
   j["dt"] = lay.dt;
   j["recordedFrames"] = recorded;
   j["stride"] = stride;

@@ -78,6 +78,9 @@ check "track_to_snake recorded" test -s "$dir/tts.rec"
 "$rm3d" replay "$dir/tts.rec" --html "$dir/tts.html" > "$dir/tts_html.txt" 2>&1
 cat "$dir/tts_html.txt"
 check "replay --html wrote the page" grep -q "^wrote .*tts.html" "$dir/tts_html.txt"
+# The page says what the world shows: the first sentence of the world's opening comment.
+check "the page carries the world's own description" \
+  grep -q '"about":"Rolling track to snake (the paper.s Fig. 5, middle): six SuperBots docked into a closed loop' "$dir/tts.html"
 frames=$(sed -n 's/.*: \([0-9]*\) frames, .*/\1/p' "$dir/tts_html.txt")
 modules=$(sed -n 's/.* \([0-9]*\) modules, recorded from.*/\1/p' "$dir/tts_html.txt")
 for t in 5 15; do

@@ -1,8 +1,10 @@
-# `cmake --install` and `cpack -G DEB`: rm3d in bin/, its data (module types, meshes, lua/,
-# behaviors/, worlds/) in share/rm3d/, where an installed rm3d looks first (app/data_root.h).
+# `cmake --install` and `cpack -G DEB`: rm3d in bin/, its data (module types, meshes, terrain
+# images, lua/, behaviors/, worlds/, docs/ and its pictures) in share/rm3d/, where an installed rm3d looks first (app/data_root.h).
 install(TARGETS rm3d RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 set(RM3D_DATA_DIR ${CMAKE_INSTALL_DATADIR}/rm3d)
+# terrain: the heightfield images worlds/terrain.lua reads; readme: the pictures docs/ shows.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/assets/modules ${PROJECT_SOURCE_DIR}/assets/meshes
+                  ${PROJECT_SOURCE_DIR}/assets/terrain ${PROJECT_SOURCE_DIR}/assets/readme
         DESTINATION ${RM3D_DATA_DIR}/assets)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/lua ${PROJECT_SOURCE_DIR}/behaviors ${PROJECT_SOURCE_DIR}/worlds
                   ${PROJECT_SOURCE_DIR}/docs DESTINATION ${RM3D_DATA_DIR})

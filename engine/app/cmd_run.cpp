@@ -117,9 +117,9 @@ int watchLoop(const RunArgs& a, const RunOptions& o) {
       if (!w.script()->atEnd(w.time(), err))
         std::fprintf(stderr, "rm3d: world script error: %s\n", err.c_str());
     }
-    std::printf("%s: %lld steps, %.2f s simulated, %zu modules, %d faults%s\n", a.world.c_str(),
-                (long long)w.steps(), w.time(), w.modules().size(), w.faultCount(),
-                interruptSignal() ? " (interrupted)" : "");
+    std::printf("%s: %lld steps, %.2f s simulated, %zu module%s, %d fault%s%s\n", a.world.c_str(),
+                (long long)w.steps(), w.time(), w.modules().size(), w.modules().size() == 1 ? "" : "s",
+                w.faultCount(), w.faultCount() == 1 ? "" : "s", interruptSignal() ? " (interrupted)" : "");
   }
   if (interruptSignal()) return 128 + interruptSignal();
   // The world file as last saved must load (the previous world may have run on meanwhile).
@@ -434,10 +434,11 @@ int runCommand(const RunArgs& a, const std::string& root) {
   if (r.loadError.empty()) {
     const double rtf = r.wallSeconds > 0 ? w.time() / r.wallSeconds : 0;
     std::printf(
-        "%s: %lld steps, %.2f s simulated in %.2f s (%.1fx real time), %zu modules, %d faults, %zu failed "
-        "expectations\n",
+        "%s: %lld steps, %.2f s simulated in %.2f s (%.1fx real time), %zu module%s, %d fault%s, %zu failed "
+        "expectation%s\n",
         a.world.c_str(), (long long)w.steps(), w.time(), r.wallSeconds, rtf, w.modules().size(),
-        w.faultCount(), w.failures().size());
+        w.modules().size() == 1 ? "" : "s", w.faultCount(), w.faultCount() == 1 ? "" : "s", w.failures().size(),
+        w.failures().size() == 1 ? "" : "s");
   }
   if (!a.graph.empty() && r.loadError.empty()) {
     const bool dot = fs::path(a.graph).extension() == ".dot" || fs::path(a.graph).extension() == ".gv";

@@ -411,7 +411,8 @@ class Viewer {
                 m_follow ? "   following" : "");
     if (!w.failures().empty())
       ImGui::TextColored(kErrorColor, "%zu failed expectations", w.failures().size());
-    ImGui::TextDisabled(
+    // The keys in the text colour: the disabled grey was hard to read on the HUD's grey.
+    ImGui::TextUnformatted(
         "Space pause  S step  R reset  +/- speed  F follow  G graph  C colour components  click: inspect  "
         "Esc quit");
     if (!m_notice.empty()) ImGui::TextUnformatted(m_notice.c_str());

@@ -369,7 +369,7 @@ if(NOT hcode EQUAL 3 OR NOT herr MATCHES "hung_hook.lua:3: watchdog")
 endif()
 expect_run("watchdog stops the world script's top level" 3 "hung_load.lua:2: watchdog: the script's top level did not return"
   run ${OUT}/hung_load.lua --watchdog 0.5)
-expect_run("watchdog faults only the stuck module" 0 "2 modules, 1 faults"
+expect_run("watchdog faults only the stuck module" 0 "2 modules, 1 fault,"
   run ${OUT}/hung_module.lua --quiet --watchdog 0.5 --json ${OUT}/hung_module.json)
 read_summary("watchdog faults only the stuck module" ${OUT}/hung_module.json hm)
 string(JSON n ERROR_VARIABLE e LENGTH "${hm}" modules)

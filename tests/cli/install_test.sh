@@ -29,7 +29,8 @@ unset RM3D_ROOT
 cmake --install "$BUILD" --prefix "$tmp/prefix" >"$tmp/install.log" 2>&1 || { cat "$tmp/install.log"; exit 1; }
 prefix=$tmp/prefix
 for f in bin/rm3d share/rm3d/assets/modules/superbot.lua share/rm3d/assets/meshes share/rm3d/lua/noise.lua \
-         share/rm3d/behaviors/snake.lua share/rm3d/worlds/snake.lua; do
+         share/rm3d/behaviors/snake.lua share/rm3d/worlds/snake.lua share/rm3d/assets/terrain/hills_30.png \
+         share/rm3d/assets/readme/snake.png; do
   [ -e "$prefix/$f" ] || fail "not installed: $f"
 done
 mkdir -p "$tmp/elsewhere" && cd "$tmp/elsewhere"
@@ -43,6 +44,8 @@ check "installed rm3d runs worlds/snake.lua from elsewhere" 0 "10 modules, 0 fau
   "$prefix/bin/rm3d" run worlds/snake.lua --seconds 0.2
 check "and says which file it ran" 0 "worlds/snake.lua: not found here; using $prefix/share/rm3d/worlds/snake.lua" -- \
   "$prefix/bin/rm3d" run worlds/snake.lua --seconds 0.1
+check "installed rm3d runs the terrain world (its heightfield image is installed)" 0 "0 faults" -- \
+  "$prefix/bin/rm3d" run worlds/terrain.lua --seconds 0.1 --quiet
 check "installed rm3d tests a shipped world from elsewhere" 0 "1 passed, 0 failed" -- \
   "$prefix/bin/rm3d" test worlds/nodders.lua
 check "rm3d worlds lists the shipped worlds" 0 "^  worlds/snake.lua +[A-Z]" -- \
@@ -58,7 +61,7 @@ check "a world in neither place names both" 2 "worlds/nowhere.lua: not found in 
 check "rm3d init makes a project" 0 "wrote $tmp/proj/worlds/hello.lua" -- "$prefix/bin/rm3d" init "$tmp/proj"
 grep -q "\"$prefix/share/rm3d/lua/meta\"" "$tmp/proj/.luarc.json" || fail ".luarc.json does not name $prefix/share/rm3d/lua/meta"
 [ -f "$prefix/share/rm3d/lua/meta/world.lua" ] || fail "the API definitions are not installed"
-check "the project's world runs" 0 "1 modules, 0 faults" -- bash -c "cd '$tmp/proj' && '$prefix/bin/rm3d' run worlds/hello.lua"
+check "the project's world runs" 0 "1 module, 0 faults" -- bash -c "cd '$tmp/proj' && '$prefix/bin/rm3d' run worlds/hello.lua"
 check "the project's world passes rm3d test" 0 "1 passed, 0 failed" -- bash -c "cd '$tmp/proj' && '$prefix/bin/rm3d' test worlds/hello.lua"
 check "rm3d init never overwrites" 2 "$tmp/proj/worlds/hello.lua already exists" -- "$prefix/bin/rm3d" init "$tmp/proj"
 # Not found: the errors name the installed data's folders.

@@ -437,8 +437,8 @@ int runCommand(const RunArgs& a, const std::string& root) {
         "%s: %lld steps, %.2f s simulated in %.2f s (%.1fx real time), %zu module%s, %d fault%s, %zu failed "
         "expectation%s\n",
         a.world.c_str(), (long long)w.steps(), w.time(), r.wallSeconds, rtf, w.modules().size(),
-        w.modules().size() == 1 ? "" : "s", w.faultCount(), w.faultCount() == 1 ? "" : "s", w.failures().size(),
-        w.failures().size() == 1 ? "" : "s");
+        w.modules().size() == 1 ? "" : "s", w.faultCount(), w.faultCount() == 1 ? "" : "s",
+        w.failures().size(), w.failures().size() == 1 ? "" : "s");
   }
   if (!a.graph.empty() && r.loadError.empty()) {
     const bool dot = fs::path(a.graph).extension() == ".dot" || fs::path(a.graph).extension() == ".gv";

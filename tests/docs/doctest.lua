@@ -125,16 +125,16 @@ for _, page in ipairs(pages) do
         end
       end
       -- A picture the docs show, drawn by these commands: --update copies it in; otherwise the one
-      -- in the repository must look the same (tests/docs/png_same.py: the same size, pixels equal
-      -- to a rounding), so it cannot go stale.
+      -- in the repository must look the same (tests/tools/image_compare.cpp `same`: the same size,
+      -- pixels equal to a rounding), so it cannot go stale.
       if drawn then
         local made, shown = dir .. "/" .. drawn, src .. "/" .. shownPicture
         if update then
           run("cp " .. shellQuote(made) .. " " .. shellQuote(shown))
           print(string.format("ok   %s:%d: wrote %s from %s", page, b.first, shownPicture, drawn))
         else
-          local out, code = run("/usr/bin/python3 " .. shellQuote(src .. "/tests/docs/png_same.py") .. " " ..
-                                shellQuote(shown) .. " " .. shellQuote(made) .. " 2>&1")
+          local out, code = run(shellQuote(binDir .. "/rm3d_image_compare") .. " same " .. shellQuote(shown) ..
+                                " " .. shellQuote(made) .. " 2>&1")
           if code ~= 0 then
             failures = failures + 1
             print(string.format("FAIL %s:%d: the picture %s is not what the commands draw (%s); "

@@ -2,6 +2,9 @@
 //   image_compare count A.png R,G,B           pixels of A whose hue is that of the linear colour
 //   image_compare iou A.png B.png R,G,B       the same mask in A and B: intersection over union
 //   image_compare white A.png                 pixels with every channel at 250 or more (text)
+//   image_compare same SHOWN.png DRAWN.png    exit 0 when they show the same: the same size, and
+//                                             pixels equal to a rounding (what another CPU's
+//                                             software rasteriser may change); 1 saying how not
 // A pixel matches when its channels, divided by the largest, are within 0.08 of those of
 // pow(colour, 1/2.2) (both renderers write colour * light with one scalar light per pixel,
 // gamma-encoded, so shading keeps those ratios) and its largest channel is at least 40 (too dark
@@ -106,6 +109,34 @@ int main(int argc, char** argv) {
     std::printf("%.3f %ld %ld\n", either ? double(both) / double(either) : 0.0, na, nb);
     return 0;
   }
-  std::fprintf(stderr, "usage: image_compare count A.png R,G,B | iou A.png B.png R,G,B | white A.png\n");
+  if (mode == "same" && argc == 4) {
+    Image a, b;
+    if (!load(argv[2], a) || !load(argv[3], b)) return 2;
+    if (a.w != b.w || a.h != b.h) {
+      std::printf("%s is %dx%d, the command drew %dx%d\n", argv[2], a.w, a.h, b.w, b.h);
+      return 1;
+    }
+    // At most 0.5% of the pixels off by more than 24 levels, 2 levels on average.
+    long off = 0;
+    double sum = 0;
+    const size_t n = size_t(a.w) * size_t(a.h);
+    for (size_t i = 0; i < n; ++i) {
+      int d = 0;
+      for (int c = 0; c < 4; ++c) d = std::max(d, std::abs(int(a.rgba[i * 4 + c]) - int(b.rgba[i * 4 + c])));
+      off += d > 24;
+      sum += d;
+    }
+    const double share = double(off) / double(n), mean = sum / double(n);
+    if (share > 0.005 || mean > 2) {
+      std::printf("%s differs from what the command draws now: %.2f%% of the pixels by more than 24 levels, "
+                  "%.2f levels on average\n",
+                  argv[2], 100 * share, mean);
+      return 1;
+    }
+    return 0;
+  }
+  std::fprintf(stderr,
+               "usage: image_compare count A.png R,G,B | iou A.png B.png R,G,B | white A.png | same A.png "
+               "B.png\n");
   return 2;
 }

@@ -128,9 +128,10 @@ int main(int argc, char** argv) {
     }
     const double share = double(off) / double(n), mean = sum / double(n);
     if (share > 0.005 || mean > 2) {
-      std::printf("%s differs from what the command draws now: %.2f%% of the pixels by more than 24 levels, "
-                  "%.2f levels on average\n",
-                  argv[2], 100 * share, mean);
+      std::printf(
+          "%s differs from what the command draws now: %.2f%% of the pixels by more than 24 levels, "
+          "%.2f levels on average\n",
+          argv[2], 100 * share, mean);
       return 1;
     }
     return 0;

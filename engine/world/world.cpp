@@ -289,7 +289,8 @@ bool World::sourceExists(const std::string& path) const {
 std::string World::resolveLookedIn() const {
   const fs::path worldDir = fs::path(m_worldFile).parent_path();
   return "(looked in " + (worldDir / "").lexically_normal().string() + " and " +
-         (fs::path(m_options.projectRoot) / "").lexically_normal().string() + ", the project root)";
+         (fs::path(m_options.projectRoot) / "").lexically_normal().string() +
+         ", the project root: the only folders a world's files may come from, docs/limits.md)";
 }
 
 const ModuleTypeDef& World::moduleType(const std::string& name) {

@@ -69,7 +69,7 @@ printf 'world.spawn("megabot")\n' >unknown_type.lua
 check "unknown type names the installed folder" 2 "unknown module type 'megabot'.*looked in $prefix/share/rm3d/assets/modules/" -- \
   "$prefix/bin/rm3d" run unknown_type.lua
 printf 'world.spawn("superbot", {behavior = "nowhere.lua"})\n' >no_behaviour.lua
-check "missing behaviour names both places" 2 "nowhere.lua' not found \(looked in $tmp/elsewhere/ and $prefix/share/rm3d/, the project root\)" -- \
+check "missing behaviour names both places" 2 "nowhere.lua' not found \(looked in $tmp/elsewhere/ and $prefix/share/rm3d/, the project root: the only folders a world's files may come from" -- \
   "$prefix/bin/rm3d" run no_behaviour.lua
 # A copy of the build's binary outside its build folder finds no data, and says where it looked.
 mkdir -p "$tmp/copy" && cp "$RM3D" "$tmp/copy/rm3d"

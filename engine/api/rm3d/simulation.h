@@ -165,7 +165,8 @@ class Batch {
   /// `interrupted` as for Simulation::step (asked by the calling thread between rounds).
   void step(int64_t n = 1, const std::function<bool()>& interrupted = {});
   /// Brings the worlds where mask[i] (empty: all) back to their start: each restores the snapshot
-  /// taken when it was made (its texts, seed and params then; not the files as they are now).
+  /// taken when it was made (its texts, seed and params then; not the files as they are now). A
+  /// world made with snapshots off or a recording is opened again from its file instead.
   void reset(const std::vector<uint8_t>& mask);
   /// rows = size() x maxModules; refreshed now if any world stepped since.
   std::shared_ptr<AgentArrays> arrays();

@@ -101,6 +101,13 @@ TEST_CASE("Batch::reset restores the start on 2 threads: the worlds then run as 
   for (int i = 0; i < b.size(); ++i) CHECK(b.world(i).steps() == 0);
   CHECK(b.arrays()->obs == start);
   CHECK(drive(b, 20) == want);
+  // Worlds that keep no inputs (no snapshot to restore) are opened again: the same start.
+  for (Options& o : options) o.snapshots = false;
+  Batch noLog(paths, options, 2);
+  drive(noLog, 10);
+  noLog.reset({});
+  CHECK(noLog.world(1).steps() == 0);
+  CHECK(noLog.arrays()->obs == start);
 }
 
 TEST_CASE("a snapshot re-runs to the same bits, at another thread count") {

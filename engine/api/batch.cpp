@@ -156,7 +156,8 @@ void Batch::reset(const std::vector<uint8_t>& mask) {
     }
     auto w = Simulation::open(m->paths[size_t(i)], m->options[size_t(i)], m->meshes);
     w->arrays();
-    if (w->moduleCount() > m->maxModules || w->obsDim() > m->arrays->obsDim || w->actDim() > m->arrays->actDim)
+    if (w->moduleCount() > m->maxModules || w->obsDim() > m->arrays->obsDim ||
+        w->actDim() > m->arrays->actDim)
       throw Error(
           "reset: the world no longer fits the batch's arrays (more modules or longer rows than at the "
           "start)");

@@ -701,7 +701,8 @@ std::unique_ptr<Simulation> Simulation::fromSnapshot(const std::string& bytes, i
                  ? fs::weakly_canonical(root, ec).string()
                  : findRoot(Options{}, m.path);
     m.actData.resize(size_t(nAct));
-    std::memcpy(m.actData.data(), body.data() + p, size_t(nAct) * sizeof(double));
+    // A snapshot taken before any action (a batch's start) has none: no copy from a null pointer.
+    if (nAct > 0) std::memcpy(m.actData.data(), body.data() + p, size_t(nAct) * sizeof(double));
     for (const auto& a : h.at("acts")) {
       const Impl::Act act{a.at(0).get<int64_t>(), a.at(1).get<int>(), a.at(2).get<int>(),
                           a.at(3).get<size_t>()};

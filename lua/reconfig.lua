@@ -22,8 +22,9 @@
 -- this file's.
 local M = {}
 
-local function fail(where, msg)
-  error(where .. ": " .. msg, 3)
+-- Raises at the user's call: `level` 3 is the caller of the function that called fail.
+local function fail(where, msg, level)
+  error(where .. ": " .. msg, level or 3)
 end
 
 local function edgeKey(a, da, b, db)
@@ -95,8 +96,10 @@ function M.from_world(w)
     mods[m.name] = m.type
     names[m.id] = m.name
   end
+  local docksOf = {}  -- type -> its docks (world.module_type builds a table a call)
   for _, m in ipairs(w.modules()) do
-    for _, d in ipairs(w.module_type(m.type).docks) do
+    docksOf[m.type] = docksOf[m.type] or w.module_type(m.type).docks
+    for _, d in ipairs(docksOf[m.type]) do
       local st = m:dock_state(d.name)
       if st.engaged and st.peer_module then
         local peer = names[st.peer_module]
@@ -137,12 +140,11 @@ local function grow(I, G, u, v, takenI, takenG)
   return pairs_
 end
 
---- Gives every module of I a role (a module name) of G: the largest common connected part
---- first (ties: the first in module order). Returns role[module of I] = module of G.
-function M.match(I, G)
+-- M.match's work; errors are raised `level` calls up (the user's call of match or plan).
+local function match(I, G, level)
   if #I.names ~= #G.names then
     fail("reconfig.match", string.format("the shapes hold %d and %d modules; a plan needs the same modules",
-                                         #I.names, #G.names))
+                                         #I.names, #G.names), level)
   end
   local count = {}
   for _, n in ipairs(I.names) do count[I.types[n]] = (count[I.types[n]] or 0) + 1 end
@@ -151,7 +153,9 @@ function M.match(I, G)
   for ty in pairs(count) do types[#types + 1] = ty end
   table.sort(types)  -- the first type that differs, whatever the table's order
   for _, ty in ipairs(types) do
-    if count[ty] ~= 0 then fail("reconfig.match", "the shapes hold different numbers of '" .. ty .. "' modules") end
+    if count[ty] ~= 0 then
+      fail("reconfig.match", "the shapes hold different numbers of '" .. ty .. "' modules", level)
+    end
   end
   local role, takenI, takenG, left = {}, {}, {}, #I.names
   while left > 0 do
@@ -172,6 +176,12 @@ function M.match(I, G)
     left = left - #best
   end
   return role
+end
+
+--- Gives every module of I a role (a module name) of G: the largest common connected part
+--- first (ties: the first in module order). Returns role[module of I] = module of G.
+function M.match(I, G)
+  return match(I, G, 4)
 end
 
 --- The fewest dock operations any plan needs: connections of each kind (the pair of dock names)
@@ -195,7 +205,7 @@ end
 --- that G does not have), then every dock (a connection of G, its modules named as in I), each
 --- in the order of the shapes' connections.
 function M.plan(I, G)
-  local role = M.match(I, G)
+  local role = match(I, G, 4)
   local moduleOf = {}
   for m, r in pairs(role) do moduleOf[r] = m end
   local want = {}

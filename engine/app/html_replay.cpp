@@ -221,9 +221,11 @@ bool writeHtmlReplay(const Recording& rec, const SceneLayout::CameraDef& camera,
   j["title"] = pageTitle(rec);
   // What the world shows, in its own words: the first sentence of its opening comment.
   std::string about;
-  for (const auto& [path, text] : rec.sources())
-    if (!rec.meta().worldFile.empty() && path == SourceFiles::key(rec.meta().worldFile))
-      about = worldSummary(text, 400);
+  if (!rec.meta().worldFile.empty()) {
+    const std::string key = SourceFiles::key(rec.meta().worldFile);
+    for (const auto& [path, text] : rec.sources())
+      if (path == key) about = worldSummary(text, 400);
+  }
   j["about"] = about;
   j["dt"] = lay.dt;
   j["recordedFrames"] = recorded;

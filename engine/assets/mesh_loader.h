@@ -28,7 +28,9 @@ bool loadMesh(const std::string& path, double scale, MeshData& out, std::string&
 /// is not parsed again. Parsing is the cost of making a world: assimp's OBJ reader fills a 16 MiB
 /// buffer for every file, about 2.7 ms, so a SuperBot world spent 8 ms of its 8.5 ms there. Owned by
 /// whoever makes worlds again and again (a Simulation across restores, a Batch for its worlds),
-/// never process-wide; safe to share between threads. Results are the same as loadMesh's.
+/// never process-wide; safe to share between threads. Results are the same as loadMesh's. Only
+/// the named file's bytes are compared: a change in a file it refers to alone (a glTF's .bin) is
+/// not seen until the named file changes too.
 class MeshCache {
  public:
   /// loadMesh, or a copy of what it returned for a file with the same bytes and scale.

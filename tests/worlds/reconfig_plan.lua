@@ -57,9 +57,11 @@ local same = reconfig.plan(s8, reconfig.shape{modules = names, connections = con
 expect(#same.ops == 0 and same.kept == 7, "a snake to itself: no operation, got " .. #same.ops)
 
 -- Refusals.
-local ok, err = pcall(reconfig.plan, snake(7, "s"), walker8)
+local ok, err = pcall(function() local q = reconfig.plan(snake(7, "s"), walker8); return q end)
 expect(not ok and err:find("the shapes hold 7 and 8 modules; a plan needs the same modules", 1, true),
        "different sizes refused: " .. tostring(err))
+-- The error names this file and line (the call of plan), not the library's.
+expect(err:find("reconfig_plan%.lua:%d+: reconfig%.match") ~= nil, "the error names the caller: " .. tostring(err))
 ok, err = pcall(reconfig.plan, reconfig.shape{modules = {a = "superbot", b = "atron"}},
                 reconfig.shape{modules = {a = "superbot", b = "superbot"}})
 expect(not ok and err:find("different numbers of 'atron' modules", 1, true), "types must match: " .. tostring(err))

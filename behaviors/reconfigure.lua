@@ -1,11 +1,11 @@
--- Self-reconfiguration, the agreement stage: the modules of a robot learn its shape from dock
--- messages (lua/linkstate.lua), agree that every one of them holds the same map (lua/agree.lua,
--- an echo wave from the module with the smallest id), and then each computes the same plan from
--- that map to the target shape (lua/reconfig.lua), with no global state and no further messages.
--- Each module knows its role in the target and the operations it takes part in.
---
--- Not yet: carrying the plan out (the moves, undocks and docks, with physics checks); this
--- behaviour holds its pose.
+-- Self-reconfiguration: the modules of a robot learn its shape from dock messages
+-- (lua/linkstate.lua), agree that every one of them holds the same map (lua/agree.lua, an echo
+-- wave from the module with the smallest id), and then each computes the same plan from that map
+-- to the target shape (lua/reconfig.lua) and the same steps that carry it out
+-- (lua/lay_retrieve.lua: from a snake on the ground to a chain with one-module legs), with no
+-- global state. The steps run by messages through the docks; each is checked as it runs (a joint
+-- that cannot reach its angle, a crawl that does not bring a socket to its leg, a connection
+-- that breaks) and a failure stops every module that hears of it, with the reason.
 --
 -- Published (module.publish, for the world script and the HTML page):
 --   plan        the plan as text (reconfig.format), the same on every module
@@ -13,27 +13,38 @@
 --   role        this module's role in the target
 --   ops         the numbers of the plan's operations this module takes part in
 --   committed   the time this module committed (s)
+--   steps       the steps as text (lay_retrieve.format), the same on every module
+--   reconfigured  the time this module saw the last step finish (s)
+--   failed      why the steps stopped (the first failure heard of)
 --   messages    messages this module has sent
 --   error       why no plan could be made from the committed map (its part of the robot has other
---               modules than the target: a different number, or of other types)
+--               modules than the target: a different number, or of other types), or why the
+--               plan cannot be carried out (the shapes are not a snake and a legged chain)
 --
 -- params:
 --   target   the target shape: {modules = {...}, connections = {...}} as reconfig.shape takes it
 --   quiet    steps the leader's map must be unchanged before it asks (default: the modules in it + 2)
+--   execute  false: agree and plan only, move nothing (default true)
 --   leave_at, leave_dock   seconds, and a dock (default "back"): this module undocks there at that
 --            time (to try the agreement with the shape changing under it)
 local linkstate = require("linkstate")
 local agree = require("agree")
 local reconfig = require("reconfig")
+local layRetrieve = require("lay_retrieve")
 
 if type(params.target) ~= "table" then
   error("params.target: expected a shape {modules = ..., connections = ...} (lua/reconfig.lua), got " ..
         type(params.target))
 end
+-- The docks' IR-style proximity (dock:<name>: {enabled, engaged, proximity}), read while a crawl
+-- brings a socket to its leg.
+percepts = {}
+for _, d in ipairs(module.docks()) do percepts["dock:" .. d] = {sensor = "dock:" .. d} end
+
 local target = reconfig.shape(params.target)  -- checked here, before any step
 local net = linkstate.new()
 local agreement = agree.new(net, {quiet = params.quiet})
-local plan, sentPublished
+local plan, sentPublished, exec
 
 -- The shape of a committed map, by module name.
 local function shapeOf(map)
@@ -50,10 +61,51 @@ end
 
 function on_dock(dock, event)
   net:on_dock(dock, event)
+  if exec then exec:on_dock(dock, event) end
 end
 
 function init()
   net:init()
+end
+
+-- On commit: the plan, and (unless params.execute is false) the steps that carry it out.
+local function commit()
+  module.publish("digest", agreement.digest)
+  module.publish("committed", sim.time())
+  local now = shapeOf(agreement.map)
+  local ok, result = pcall(reconfig.plan, now, target)
+  if not ok then
+    -- The robot this module is part of cannot become the target (another size, other types).
+    plan = false
+    module.publish("error", tostring(result))
+    log("cannot plan: " .. tostring(result))
+    return
+  end
+  plan = result
+  local mine = {}
+  for i, o in ipairs(plan.ops) do
+    if o[1] == module.name or o[3] == module.name then mine[#mine + 1] = i end
+  end
+  module.publish("plan", reconfig.format(plan))
+  module.publish("role", plan.role[module.name])
+  module.publish("ops", mine)
+  log(string.format("committed to map %s: role %s, %d of %d operations", agreement.digest,
+                    plan.role[module.name], #mine, #plan.ops))
+  if params.execute == false or #plan.ops == 0 then return end
+  -- The moves: lay and retrieve (lua/lay_retrieve.lua). Legs are interchangeable, so the steps may
+  -- give the legs other roles than the plan's; what they build must be the target all the same.
+  local steps, built = layRetrieve.compile(now, target)
+  if steps then
+    local check = reconfig.plan(reconfig.shape(built), target)
+    if #check.ops > 0 then steps, built = nil, "the steps would not build the target" end
+  end
+  if not steps then
+    module.publish("error", "cannot carry the plan out: " .. built)
+    log("cannot carry the plan out: " .. built)
+    return
+  end
+  module.publish("steps", layRetrieve.format(steps))
+  exec = layRetrieve.new(net, steps, {size = #agreement.map.members})
 end
 
 function step(dt)
@@ -62,30 +114,11 @@ function step(dt)
     module.dock(params.leave_dock or "back"):disable()
     log("undocking " .. (params.leave_dock or "back"))
   end
-  agreement:step(net:receive())
+  local parts = net:receive()
+  agreement:step(parts)
+  if exec then exec:step(parts) end
+  if agreement.committed and plan == nil then commit() end
   net:send()
-  if agreement.committed and plan == nil then
-    module.publish("digest", agreement.digest)
-    module.publish("committed", sim.time())
-    local ok, result = pcall(reconfig.plan, shapeOf(agreement.map), target)
-    if not ok then
-      -- The robot this module is part of cannot become the target (another size, other types).
-      plan = false
-      module.publish("error", tostring(result))
-      log("cannot plan: " .. tostring(result))
-      return
-    end
-    plan = result
-    local mine = {}
-    for i, o in ipairs(plan.ops) do
-      if o[1] == module.name or o[3] == module.name then mine[#mine + 1] = i end
-    end
-    module.publish("plan", reconfig.format(plan))
-    module.publish("role", plan.role[module.name])
-    module.publish("ops", mine)
-    log(string.format("committed to map %s: role %s, %d of %d operations", agreement.digest,
-                      plan.role[module.name], #mine, #plan.ops))
-  end
   if net.sent ~= sentPublished then
     module.publish("messages", net.sent)
     sentPublished = net.sent

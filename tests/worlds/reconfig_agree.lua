@@ -43,7 +43,7 @@ target.modules = typed
 
 local mods = {}
 for i = 1, n do
-  local p = {target = target}
+  local p = {target = target, execute = false}
   if churn and i == 3 then p.leave_at = 2.5 / 60 end
   mods[i] = world.spawn("superbot", {name = "s" .. i, at = i == 1 and {0, 0, 0.05} or nil,
                                      behavior = "behaviors/reconfigure.lua", params = p})

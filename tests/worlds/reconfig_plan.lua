@@ -111,3 +111,23 @@ world.at(0.02, function()
   expect(#r.ops == 1 and r.ops[1].op == "dock" and r.ops[1][1] == "c" and r.ops[1][3] == "d",
          "joining d to the tail is one dock operation: " .. reconfig.format(r))
 end)
+
+-- The steps that carry a plan out on the ground (lua/lay_retrieve.lua): the snake lays its last
+-- four modules in two rounds, each followed by a crawl; what they build is walker8.
+local layRetrieve = require("lay_retrieve")
+local steps, built = layRetrieve.compile(s8, walker8)
+expect(steps ~= nil and #steps == 14, "snake to walker8: 14 steps, got " .. tostring(steps and #steps or built))
+local crawls = {}
+for _, st in ipairs(steps or {}) do
+  if st.kind == "crawl" then crawls[#crawls + 1] = st.owner .. ":" .. #st.chain end
+end
+expect(table.concat(crawls, " ") == "s2:6 s4:4", "two crawls, s1..s6 for s2's legs and s1..s4 for s4's: " ..
+       table.concat(crawls, " "))
+expect(steps and #reconfig.plan(reconfig.shape(built), walker8).ops == 0, "the steps build walker8")
+-- Shapes it cannot build say why.
+local none, why = layRetrieve.compile(walker8, s8)
+expect(none == nil and why:find("not a snake", 1, true), "from a walker: " .. tostring(why))
+local ring = reconfig.shape{modules = {"a", "b", "c", "d"}, connections = {{"a", "back", "b", "front"},
+                             {"b", "left", "c", "back"}, {"c", "front", "d", "back"}}}
+none, why = layRetrieve.compile(snake(4, "s"), ring)
+expect(none == nil and why:find("one-module legs", 1, true), "to a shape without legs: " .. tostring(why))

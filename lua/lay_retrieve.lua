@@ -1,0 +1,392 @@
+-- Carrying out a reconfiguration plan on the ground, for chain-type modules (SuperBot): "lay and
+-- retrieve". From a snake lying on the ground to a shape made of a chain (its head and body) and
+-- one-module legs docked by their front faces to the chain's side docks, with moves that stay
+-- inside a SuperBot's torque limits (no joint lifts or drags more than one module):
+--
+-- 1. lay: the snake's last module is swung a quarter turn by its neighbour's yaw joint, so that it
+--    lies across the chain's side with its front face looking at the chain; the neighbour lets go
+--    of it (a cut) and turns its yaw back. A right leg first, then a left one.
+-- 2. retrieve: the rest of the chain crawls backwards (the caterpillar wave run tail first) with
+--    only the two side docks that must take the legs enabled, until both have captured and
+--    latched their legs.
+--
+-- Socket pairs are served from the front of the chain backwards, so a leg already docked never
+-- passes a deposit. Each module computes the same steps from the same committed map and target
+-- (lua/agree.lua), and runs them by messages through its docks (lua/linkstate.lua's fields):
+--
+--   local exec = require("lay_retrieve").new(net, steps, module.name)
+--   function step(dt) local parts = net:receive(); exec:step(parts); net:send() end
+--   function on_dock(dock, event) net:on_dock(dock, event); exec:on_dock(dock, event) end
+--
+-- Each step has an owner, the module that sees it finish: the joint's module for a sweep, the
+-- cutting module for a cut, the socket module for a crawl. The owner floods {k = the next step,
+-- at = when it starts}; a module that hears of a later step than its own adopts it and passes it
+-- on. The start time is far enough ahead for the news to cross the robot, so every module of a
+-- crawl starts its wave at the same time, in phase. A deposited module is out of touch until it is
+-- captured; it has nothing to do meanwhile, and catches up from the first message it gets.
+--
+-- Physics is checked as it runs: a step not finished in its time (a sweep that cannot reach its
+-- angle, a crawl that does not capture), a connection that breaks, or a socket that latches the
+-- wrong module stops the run; the module that saw it floods the reason, and every module publishes
+-- it (`failed`) and holds its pose.
+local M = {}
+
+local kQuarter = math.pi / 2
+local kSettle = 0.05        -- rad: a sweep is done within this of its angle...
+local kSettleSpeed = 0.05   -- rad/s: ...and this slow
+-- rad: the wave, until a socket senses its leg: 6 modules crawl 6 cm/s backwards (at 0.6, 7.7 cm/s,
+-- but a 10-module chain's docks then peak at 74 N instead of 55)
+M.crawl_amplitude = 0.5
+M.creep_amplitude = 0.2     -- rad: then a lower one, which keeps the socket within capture height (1.8 cm/s)
+M.crawl_period = 1.5        -- s
+M.crawl_lag = -2 * math.pi / 5  -- rad between neighbours: negative runs the wave tail first (backwards)
+
+-- The snake's modules in order from its head (the module whose front dock is free), or nil and why.
+local function chainOrder(s)
+  local backOf, hasFront = {}, {}
+  for _, e in ipairs(s.edges) do
+    if e.da == "back" and e.db == "front" then
+      backOf[e.a], hasFront[e.b] = e.b, true
+    elseif e.da == "front" and e.db == "back" then
+      backOf[e.b], hasFront[e.a] = e.a, true
+    else
+      return nil, "the shape is not a snake: " .. e.a .. "." .. e.da .. " - " .. e.b .. "." .. e.db
+    end
+  end
+  local head
+  for _, n in ipairs(s.names) do
+    if not hasFront[n] then
+      if head then return nil, "the shape is not one snake: " .. head .. " and " .. n .. " both lead" end
+      head = n
+    end
+  end
+  local order = {}
+  while head do
+    order[#order + 1] = head
+    head = backOf[head]
+  end
+  if #order ~= #s.names then return nil, "the shape is not one snake" end
+  return order
+end
+
+-- The target as a chain and its legs: {chain = names from the head, sockets = {{p = chain index,
+-- side = "left"|"right"}}}, or nil and why.
+local function legged(t)
+  local degree = {}
+  for _, n in ipairs(t.names) do degree[n] = 0 end
+  for _, e in ipairs(t.edges) do
+    degree[e.a], degree[e.b] = degree[e.a] + 1, degree[e.b] + 1
+  end
+  local chainEdges, legs = {}, {}
+  for _, e in ipairs(t.edges) do
+    if e.da == "back" and e.db == "front" then
+      chainEdges[#chainEdges + 1] = {e.a, e.b}
+    elseif e.da == "front" and e.db == "back" then
+      chainEdges[#chainEdges + 1] = {e.b, e.a}
+    elseif (e.da == "left" or e.da == "right") and e.db == "front" and degree[e.b] == 1 then
+      legs[#legs + 1] = {body = e.a, side = e.da, leg = e.b}
+    elseif (e.db == "left" or e.db == "right") and e.da == "front" and degree[e.a] == 1 then
+      legs[#legs + 1] = {body = e.b, side = e.db, leg = e.a}
+    else
+      return nil, "lay and retrieve builds a chain with one-module legs on side docks; the target has " ..
+             e.a .. "." .. e.da .. " - " .. e.b .. "." .. e.db
+    end
+  end
+  local backOf, hasFront, isLeg = {}, {}, {}
+  for _, c in ipairs(chainEdges) do backOf[c[1]], hasFront[c[2]] = c[2], true end
+  for _, l in ipairs(legs) do isLeg[l.leg] = true end
+  local head
+  for _, n in ipairs(t.names) do
+    if not isLeg[n] and not hasFront[n] then
+      if head then return nil, "the target's chain has two heads: " .. head .. " and " .. n end
+      head = n
+    end
+  end
+  local chain, index = {}, {}
+  while head do
+    chain[#chain + 1] = head
+    index[head] = #chain
+    head = backOf[head]
+  end
+  if #chain + #legs ~= #t.names then return nil, "the target is not one chain with legs" end
+  local sockets = {}
+  for _, l in ipairs(legs) do
+    if not index[l.body] then return nil, "leg " .. l.leg .. " is docked to another leg" end
+    sockets[#sockets + 1] = {p = index[l.body], side = l.side}
+  end
+  -- Front first; at one body module the right side first (it is laid first).
+  table.sort(sockets, function(a, b)
+    if a.p ~= b.p then return a.p < b.p end
+    return a.side == "right" and b.side == "left"
+  end)
+  return {chain = chain, sockets = sockets}
+end
+
+--- The steps that turn the snake `from` into the legged shape `to` (reconfig shapes of the same
+--- modules), and the shape they make; or nil and why (the shapes are not of that kind).
+--- Steps: {kind = "sweep", owner = module, joint =, angle =} | {kind = "cut", owner =, dock =}
+--- | {kind = "crawl", owner = socket module, chain = names from the head, sockets = {{dock, leg}}}.
+function M.compile(from, to)
+  local order, why = chainOrder(from)
+  if not order then return nil, why end
+  local target
+  target, why = legged(to)
+  if not target then return nil, why end
+  local n, c = #order, #target.chain
+  if c < 3 then return nil, "the target's chain is shorter than 3 modules: it could not crawl" end
+  -- Rounds: the socket pairs at one chain index.
+  local rounds = {}
+  for _, s in ipairs(target.sockets) do
+    local r = rounds[#rounds]
+    if not r or r.p ~= s.p then
+      r = {p = s.p, sides = {}}
+      rounds[#rounds + 1] = r
+    end
+    r.sides[#r.sides + 1] = s.side
+  end
+  local steps, m, conns = {}, n, {}
+  for i = 1, c - 1 do conns[#conns + 1] = {order[i], "back", order[i + 1], "front"} end
+  for _, r in ipairs(rounds) do
+    local sockets = {}
+    for _, side in ipairs(r.sides) do
+      local leg, mover = order[m], order[m - 1]
+      if m <= c then return nil, "the snake has too few modules left to lay a leg for " .. order[r.p] end
+      steps[#steps + 1] = {kind = "sweep", owner = mover, joint = "yaw", angle = side == "right" and kQuarter or -kQuarter,
+                           leg = leg}
+      steps[#steps + 1] = {kind = "cut", owner = mover, dock = "back", leg = leg}
+      steps[#steps + 1] = {kind = "sweep", owner = mover, joint = "yaw", angle = 0}
+      sockets[#sockets + 1] = {side, leg}
+      conns[#conns + 1] = {order[r.p], side, leg, "front"}
+      m = m - 1
+    end
+    local chain = {}
+    for i = 1, m do chain[i] = order[i] end
+    steps[#steps + 1] = {kind = "crawl", owner = order[r.p], chain = chain, sockets = sockets}
+  end
+  if m ~= c then return nil, string.format("the snake has %d modules beyond the target's chain and legs", m - c) end
+  local mods = {}
+  for _, name in ipairs(from.names) do mods[name] = from.types[name] end
+  return steps, {modules = mods, connections = conns}
+end
+
+--- The steps as text, one a line.
+function M.format(steps)
+  local lines = {}
+  for k, s in ipairs(steps) do
+    local what
+    if s.kind == "sweep" then
+      what = string.format("%s turns %s to %+.0f deg%s", s.owner, s.joint, math.deg(s.angle),
+                           s.leg and (" (laying " .. s.leg .. ")") or "")
+    elseif s.kind == "cut" then
+      what = string.format("%s lets go of %s (%s)", s.owner, s.leg, s.dock)
+    else
+      local got = {}
+      for _, x in ipairs(s.sockets) do got[#got + 1] = s.owner .. "." .. x[1] .. " takes " .. x[2] end
+      what = string.format("%s..%s crawl back until %s", s.chain[1], s.chain[#s.chain], table.concat(got, ", "))
+    end
+    lines[#lines + 1] = string.format("%2d. %-5s %s", k, s.kind, what)
+  end
+  return table.concat(lines, "\n")
+end
+
+local Exec = {}
+Exec.__index = Exec
+
+--- The runner of `steps` on this module (`net` from lua/linkstate.lua).
+function M.new(net, steps, opts)
+  opts = opts or {}
+  local self = setmetatable({
+    net = net, steps = steps, name = module.name,
+    k = 1, at = sim.time() + (opts.delay or 0.5),  -- the step under way, and when it starts
+    began = nil,           -- the step this module last began
+    news = nil,            -- {k, at} to pass on this step
+    captured = {},         -- dock name -> true: a socket of the current crawl latched its leg
+    amp = M.crawl_amplitude, ampFrom = 0, ampBefore = M.crawl_amplitude,  -- the wave's amplitude from a time
+    creeping = false,      -- (a crawl's owner) a socket has sensed its leg
+    failed = nil, done = false,
+    timeout = {sweep = opts.sweep_timeout or 3, cut = 1, crawl = opts.crawl_timeout or 60},
+    hop = sim.dt() * 1.0,
+    size = opts.size or 32,  -- modules: the news' lead time is this many hops
+  }, Exec)
+  return self
+end
+
+-- Posts a field on every engaged dock but `except` (a neighbour whose hello has not arrived yet
+-- gets it too: a leg captured this step must hear that the crawl is over).
+local function flood(self, field, except)
+  for i, d in ipairs(self.net.docks) do
+    if i ~= except and d:engaged() then self.net:post(i, "exec", field) end
+  end
+end
+
+local function fail(self, why)
+  if self.failed then return end
+  self.failed = why
+  module.publish("failed", why)
+  log("reconfiguration failed: " .. why)
+  flood(self, {fail = why})
+end
+
+-- The owner saw step k finish: the next starts after the news has crossed the robot.
+local function advance(self)
+  self.k = self.k + 1
+  self.at = sim.time() + self.size * self.hop
+  flood(self, {k = self.k, at = self.at})
+end
+
+local function indexOf(list, x)
+  for i, v in ipairs(list) do
+    if v == x then return i end
+  end
+  return nil
+end
+
+-- Starts step k on this module (once): sets docks and joints for it.
+local function begin(self, s)
+  self.began = self.k
+  self.captured = {}
+  self.amp, self.ampFrom, self.ampBefore, self.creeping = M.crawl_amplitude, 0, M.crawl_amplitude, false
+  self.started = sim.time()
+  if s.kind == "sweep" and s.owner == self.name then
+    module.joint(s.joint):set_target(s.angle)
+  elseif s.kind == "sweep" and s.leg == self.name then
+    -- About to be laid: only the front dock stays willing (the one a socket will take).
+    for _, d in ipairs(module.docks()) do
+      if d ~= "front" and not module.dock(d):engaged() then module.dock(d):disable() end
+    end
+  elseif s.kind == "cut" and s.owner == self.name then
+    module.dock(s.dock):disable()
+  elseif s.kind == "crawl" and indexOf(s.chain, self.name) then
+    -- Only the sockets take anything while the chain passes the deposits.
+    for _, d in ipairs(module.docks()) do
+      local dock = module.dock(d)
+      local socket = false
+      for _, x in ipairs(s.sockets) do
+        if s.owner == self.name and x[1] == d then socket = true end
+      end
+      if socket then dock:enable() elseif not dock:engaged() then dock:disable() end
+    end
+  end
+end
+
+--- Call from on_dock(dock, event) (after net:on_dock).
+function Exec:on_dock(dock, event)
+  if self.failed or self.done then return end
+  local s = self.steps[self.k]
+  if event == "broken" then
+    fail(self, string.format("%s.%s broke", self.name, dock:name()))
+    return
+  end
+  if event == "engaged" then
+    -- A module just joined (a captured leg): tell it where the run is.
+    self.net:post(self.net.index[dock:name()], "exec", {k = self.k, at = self.at})
+  end
+  if not s or self.began ~= self.k then return end
+  if event == "disengaged" and s.kind == "cut" and s.owner == self.name and dock:name() == s.dock then
+    advance(self)
+  elseif event == "engaged" and s.kind == "crawl" and s.owner == self.name then
+    for _, x in ipairs(s.sockets) do
+      if x[1] == dock:name() then self.captured[x[1]] = true end
+    end
+  end
+end
+
+--- Call once a step with what net:receive() returned (the "exec" fields), before net:send().
+function Exec:step(parts)
+  for _, p in ipairs(parts) do
+    local e = p.fields.exec
+    if type(e) == "table" then
+      if type(e.fail) == "string" and not self.failed then
+        self.failed = e.fail
+        module.publish("failed", e.fail)
+        flood(self, {fail = e.fail}, p.dock)
+      elseif type(e.k) == "number" and e.k > self.k then
+        self.k, self.at = e.k, e.at
+        flood(self, {k = e.k, at = e.at}, p.dock)
+      elseif type(e.amp) == "number" and e.step == self.k and (e.amp ~= self.amp or e.from ~= self.ampFrom) then
+        self.ampBefore, self.amp, self.ampFrom = self.amp, e.amp, e.from
+        flood(self, {step = e.step, amp = e.amp, from = e.from}, p.dock)
+      end
+    end
+  end
+  if self.failed or self.done then return end
+  local t = sim.time()
+  local s = self.steps[self.k]
+  -- A crawl that has ended for this module: lie flat.
+  if self.wasCrawling and (not s or s.kind ~= "crawl" or t < self.at) then
+    module.joint("pitch"):set_target(0)
+    self.wasCrawling = false
+  end
+  if self.k > #self.steps then
+    self.done = true
+    module.publish("reconfigured", sim.time())
+    return
+  end
+  if t < self.at then return end
+  if self.began ~= self.k then begin(self, s) end
+  if s.kind == "sweep" and s.owner == self.name then
+    local j = module.joint(s.joint)
+    if math.abs(j:angle() - s.angle) < kSettle and math.abs(j:velocity()) < kSettleSpeed then
+      advance(self)
+    elseif t - self.started > self.timeout.sweep then
+      fail(self, string.format("step %d: %s's %s did not reach %+.0f deg in %.0f s (at %+.1f deg)", self.k,
+                               self.name, s.joint, math.deg(s.angle), self.timeout.sweep, math.deg(j:angle())))
+    end
+  elseif s.kind == "cut" and s.owner == self.name then
+    if t - self.started > self.timeout.cut then
+      fail(self, string.format("step %d: %s could not let go of its %s dock", self.k, self.name, s.dock))
+    end
+  elseif s.kind == "crawl" then
+    local i = indexOf(s.chain, self.name)
+    if i then
+      self.wasCrawling = true
+      local a = (t >= self.ampFrom and self.amp or self.ampBefore) * math.sin(2 * math.pi * (t - self.at) / M.crawl_period + (i - 1) * M.crawl_lag)
+      module.joint("pitch"):set_target(a)
+    end
+    if s.owner == self.name then
+      local all = true
+      for _, x in ipairs(s.sockets) do
+        local d = module.dock(x[1])
+        if not self.captured[x[1]] then all = false end
+        if d:engaged() then
+          local peer = d:peer()
+          if self.net.db[peer] and self.net.db[peer].name ~= x[2] then
+            fail(self, string.format("step %d: %s.%s took %s, not %s", self.k, self.name, x[1],
+                                     self.net.db[peer].name, x[2]))
+            return
+          end
+        end
+      end
+      -- Creep once a socket still free senses its leg (an IR-style proximity within 0.1 m), until
+      -- it has it; the news reaches the whole chain before the wave changes.
+      local near = false
+      -- (From the second step on: the docks the chain disabled at its first are read the step after.)
+      for _, x in ipairs(t > self.at + 1.5 * self.hop and s.sockets or {}) do
+        local sense = module.sense("dock:" .. x[1])
+        if not self.captured[x[1]] and sense and sense.proximity then near = true end
+      end
+      local creep = near or (self.creeping and not self.captured[self.creepFor or ""])
+      if near and not self.creeping then
+        for _, x in ipairs(s.sockets) do
+          local sense = module.sense("dock:" .. x[1])
+          if not self.captured[x[1]] and sense and sense.proximity then self.creepFor = x[1] end
+        end
+      end
+      if creep ~= self.creeping then
+        self.creeping = creep
+        log(creep and (self.creepFor .. " senses its leg: creeping") or (self.creepFor .. " has its leg: crawling"))
+        local amp, from = creep and M.creep_amplitude or M.crawl_amplitude, t + self.size * self.hop
+        self.ampBefore, self.amp, self.ampFrom = self.amp, amp, from
+        flood(self, {step = self.k, amp = amp, from = from})
+      end
+      if all then
+        advance(self)
+      elseif t - self.started > self.timeout.crawl then
+        fail(self, string.format("step %d: the crawl did not bring %s's sockets to their legs in %.0f s",
+                                 self.k, self.name, self.timeout.crawl))
+      end
+    end
+  end
+end
+
+return M

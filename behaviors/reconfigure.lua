@@ -25,6 +25,7 @@
 --   target   the target shape: {modules = {...}, connections = {...}} as reconfig.shape takes it
 --   quiet    steps the leader's map must be unchanged before it asks (default: the modules in it + 2)
 --   execute  false: agree and plan only, move nothing (default true)
+--   walk     metres: once built, the walker trots this far forward (lua/walker_gait.lua)
 --   leave_at, leave_dock   seconds, and a dock (default "back"): this module undocks there at that
 --            time (to try the agreement with the shape changing under it)
 local linkstate = require("linkstate")
@@ -38,10 +39,15 @@ if type(params.target) ~= "table" then
 end
 -- The docks' IR-style proximity (dock:<name>: {enabled, engaged, proximity}), read while a crawl
 -- brings a socket to its leg.
-percepts = {}
+-- The heading (a leg steers its trot by it) and the position (the head measures the walk) are the
+-- SuperBot's oracle sensors.
+percepts = {heading = {sensor = "orientation"}, position = {sensor = "position"}}
 for _, d in ipairs(module.docks()) do percepts["dock:" .. d] = {sensor = "dock:" .. d} end
 
-local target = reconfig.shape(params.target)  -- checked here, before any step
+local target = reconfig.shape(params.target)
+if params.walk ~= nil and (type(params.walk) ~= "number" or params.walk < 0) then
+  error("params.walk: expected metres (a number, at least 0), got " .. tostring(params.walk))
+end  -- checked here, before any step
 local net = linkstate.new()
 local agreement = agree.new(net, {quiet = params.quiet})
 local plan, sentPublished, exec
@@ -94,7 +100,7 @@ local function commit()
   if params.execute == false or #plan.ops == 0 then return end
   -- The moves: lay and retrieve (lua/lay_retrieve.lua). Legs are interchangeable, so the steps may
   -- give the legs other roles than the plan's; what they build must be the target all the same.
-  local steps, built = layRetrieve.compile(now, target)
+  local steps, built = layRetrieve.compile(now, target, {walk = params.walk})
   if steps then
     local check = reconfig.plan(reconfig.shape(built), target)
     if #check.ops > 0 then steps, built = nil, "the steps would not build the target" end

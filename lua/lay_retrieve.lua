@@ -29,6 +29,7 @@
 -- angle, a crawl that does not capture), a connection that breaks, or a socket that latches the
 -- wrong module stops the run; the module that saw it floods the reason, and every module publishes
 -- it (`failed`) and holds its pose.
+local gait = require("walker_gait")
 local M = {}
 
 local kQuarter = math.pi / 2
@@ -37,6 +38,7 @@ local kSettleSpeed = 0.05   -- rad/s: ...and this slow
 -- rad: the wave, until a socket senses its leg: 6 modules crawl 6 cm/s backwards (at 0.6, 7.7 cm/s,
 -- but a 10-module chain's docks then peak at 74 N instead of 55)
 M.crawl_amplitude = 0.5
+M.carry_hip = -0.8          -- rad: a docked leg's hip while the chain crawls (its foot off the ground)
 M.creep_amplitude = 0.2     -- rad: then a lower one, which keeps the socket within capture height (1.8 cm/s)
 M.crawl_period = 1.5        -- s
 M.crawl_lag = -2 * math.pi / 5  -- rad between neighbours: negative runs the wave tail first (backwards)
@@ -125,8 +127,11 @@ end
 --- The steps that turn the snake `from` into the legged shape `to` (reconfig shapes of the same
 --- modules), and the shape they make; or nil and why (the shapes are not of that kind).
 --- Steps: {kind = "sweep", owner = module, joint =, angle =} | {kind = "cut", owner =, dock =}
---- | {kind = "crawl", owner = socket module, chain = names from the head, sockets = {{dock, leg}}}.
-function M.compile(from, to)
+--- | {kind = "crawl", owner = socket module, chain = names from the head, sockets = {{dock, leg}}}
+--- | {kind = "walk", owner = the head, distance = m, legs = {{name, side, phase}}} (with opts.walk,
+--- metres: once built, the walker trots that far; lua/walker_gait.lua).
+function M.compile(from, to, opts)
+  opts = opts or {}
   local order, why = chainOrder(from)
   if not order then return nil, why end
   local target
@@ -164,6 +169,19 @@ function M.compile(from, to)
     steps[#steps + 1] = {kind = "crawl", owner = order[r.p], chain = chain, sockets = sockets}
   end
   if m ~= c then return nil, string.format("the snake has %d modules beyond the target's chain and legs", m - c) end
+  if opts.walk and opts.walk > 0 then
+    -- Walk: the legs trot, diagonal pairs together (lua/walker_gait.lua); the head measures the way.
+    local legs = {}
+    for j, r in ipairs(rounds) do
+      for _, x in ipairs(conns) do
+        if x[1] == order[r.p] and (x[2] == "left" or x[2] == "right") then
+          local first = (x[2] == "left") == (j % 2 == 1)
+          legs[#legs + 1] = {x[3], x[2], first and 0 or 0.5}
+        end
+      end
+    end
+    steps[#steps + 1] = {kind = "walk", owner = order[1], distance = opts.walk, legs = legs}
+  end
   local mods = {}
   for _, name in ipairs(from.names) do mods[name] = from.types[name] end
   return steps, {modules = mods, connections = conns}
@@ -179,6 +197,10 @@ function M.format(steps)
                            s.leg and (" (laying " .. s.leg .. ")") or "")
     elseif s.kind == "cut" then
       what = string.format("%s lets go of %s (%s)", s.owner, s.leg, s.dock)
+    elseif s.kind == "walk" then
+      local names = {}
+      for _, l in ipairs(s.legs) do names[#names + 1] = l[1] end
+      what = string.format("%s walk %.2f m forward (%s trot)", s.owner, s.distance, table.concat(names, ", "))
     else
       local got = {}
       for _, x in ipairs(s.sockets) do got[#got + 1] = s.owner .. "." .. x[1] .. " takes " .. x[2] end
@@ -204,10 +226,14 @@ function M.new(net, steps, opts)
     amp = M.crawl_amplitude, ampFrom = 0, ampBefore = M.crawl_amplitude,  -- the wave's amplitude from a time
     creeping = false,      -- (a crawl's owner) a socket has sensed its leg
     failed = nil, done = false,
-    timeout = {sweep = opts.sweep_timeout or 3, cut = 1, crawl = opts.crawl_timeout or 60},
+    timeout = {sweep = opts.sweep_timeout or 3, cut = 1, crawl = opts.crawl_timeout or 60, walk = opts.walk_timeout or 60},
     hop = sim.dt() * 1.0,
     size = opts.size or 32,  -- modules: the news' lead time is this many hops
+    isLeg = false,         -- this module is laid and retrieved as a leg
   }, Exec)
+  for _, s in ipairs(steps) do
+    if s.leg == self.name then self.isLeg = true end
+  end
   return self
 end
 
@@ -256,6 +282,9 @@ local function begin(self, s)
     end
   elseif s.kind == "cut" and s.owner == self.name then
     module.dock(s.dock):disable()
+  elseif s.kind == "walk" then
+    self.from = s.owner == self.name and module.sense("position") or nil
+    self.heading0 = nil
   elseif s.kind == "crawl" and indexOf(s.chain, self.name) then
     -- Only the sockets take anything while the chain passes the deposits.
     for _, d in ipairs(module.docks()) do
@@ -317,6 +346,12 @@ function Exec:step(parts)
     module.joint("pitch"):set_target(0)
     self.wasCrawling = false
   end
+  if self.walking and (not s or s.kind ~= "walk" or t < self.at) then
+    -- Lie down: the hip and the foot straight.
+    module.joint("pitch"):set_target(0)
+    module.joint("yaw"):set_target(0)
+    self.walking = false
+  end
   if self.k > #self.steps then
     self.done = true
     module.publish("reconfigured", sim.time())
@@ -336,8 +371,35 @@ function Exec:step(parts)
     if t - self.started > self.timeout.cut then
       fail(self, string.format("step %d: %s could not let go of its %s dock", self.k, self.name, s.dock))
     end
+  elseif s.kind == "walk" then
+    for _, l in ipairs(s.legs) do
+      if l[1] == self.name then
+        local h = gait.heading(module.sense("heading"))
+        self.heading0 = self.heading0 or h
+        local pitch, yaw = gait.leg(t - self.at, l[2], l[3], gait.wrap(h - self.heading0))
+        module.joint("pitch"):set_target(pitch)
+        module.joint("yaw"):set_target(yaw)
+        self.walking = true
+      end
+    end
+    if s.owner == self.name then
+      local p = module.sense("position")
+      local d = math.sqrt((p[1] - self.from[1]) ^ 2 + (p[2] - self.from[2]) ^ 2)
+      if d >= s.distance then
+        log(string.format("walked %.3f m in %.1f s", d, t - self.at))
+        advance(self)
+      elseif t - self.started > self.timeout.walk then
+        fail(self, string.format("step %d: walked only %.3f m of %.2f in %.0f s", self.k, d, s.distance,
+                                 self.timeout.walk))
+      end
+    end
   elseif s.kind == "crawl" then
     local i = indexOf(s.chain, self.name)
+    if self.isLeg and module.dock("front"):engaged() then
+      -- A leg already docked rides along lifted (its hip up), not dragged through the crawl.
+      module.joint("pitch"):set_target(M.carry_hip)
+      self.wasCrawling = true
+    end
     if i then
       self.wasCrawling = true
       local a = (t >= self.ampFrom and self.amp or self.ampBefore) * math.sin(2 * math.pi * (t - self.at) / M.crawl_period + (i - 1) * M.crawl_lag)

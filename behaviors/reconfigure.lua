@@ -2,8 +2,8 @@
 -- (lua/linkstate.lua), agree that every one of them holds the same map (lua/agree.lua, an echo
 -- wave from the module with the smallest id), and then each computes the same plan from that map
 -- to the target shape (lua/reconfig.lua) and the same steps that carry it out
--- (lua/lay_retrieve.lua: from a snake on the ground to a chain with one-module legs), with no
--- global state. The steps run by messages through the docks; each is checked as it runs (a joint
+-- (lua/lay_retrieve.lua: from a snake on the ground to a chain with one-module legs, and back),
+-- with no global state. The steps run by messages through the docks; each is checked as it runs (a joint
 -- that cannot reach its angle, a crawl that does not bring a socket to its leg, a connection
 -- that breaks) and a failure stops every module that hears of it, with the reason.
 --
@@ -14,7 +14,8 @@
 --   ops         the numbers of the plan's operations this module takes part in
 --   committed   the time this module committed (s)
 --   steps       the steps as text (lay_retrieve.format), the same on every module
---   reconfigured  the time this module saw the last step finish (s)
+--   reconfigured  the time this module saw the last step of a target's steps finish (s)
+--   stage       the target under way (1, 2, ...), and finished: the last target whose steps finished
 --   failed      why the steps stopped (the first failure heard of)
 --   messages    messages this module has sent
 --   error       why no plan could be made from the committed map (its part of the robot has other
@@ -23,6 +24,8 @@
 --
 -- params:
 --   target   the target shape: {modules = {...}, connections = {...}} as reconfig.shape takes it
+--   targets  shapes to become one after another (after `target`, if given): snake to walker to
+--            snake is {targets = {walker, snake}}; before each, the modules agree on the map again
 --   quiet    steps the leader's map must be unchanged before it asks (default: the modules in it + 2)
 --   execute  false: agree and plan only, move nothing (default true)
 --   walk     metres: once built, the walker trots this far forward (lua/walker_gait.lua)
@@ -33,24 +36,38 @@ local agree = require("agree")
 local reconfig = require("reconfig")
 local layRetrieve = require("lay_retrieve")
 
-if type(params.target) ~= "table" then
-  error("params.target: expected a shape {modules = ..., connections = ...} (lua/reconfig.lua), got " ..
-        type(params.target))
+-- The targets, one after another: params.target, then each of params.targets.
+local targets = {}
+if params.target ~= nil then
+  if type(params.target) ~= "table" then
+    error("params.target: expected a shape {modules = ..., connections = ...} (lua/reconfig.lua), got " ..
+          type(params.target))
+  end
+  targets[1] = reconfig.shape(params.target)  -- checked here, before any step
 end
+if params.targets ~= nil and type(params.targets) ~= "table" then
+  error("params.targets: expected a list of shapes, got " .. type(params.targets))
+end
+for i, t in ipairs(params.targets or {}) do
+  if type(t) ~= "table" then error("params.targets[" .. i .. "]: expected a shape, got " .. type(t)) end
+  targets[#targets + 1] = reconfig.shape(t)
+end
+if #targets == 0 then error("params.target: expected a shape {modules = ..., connections = ...} (lua/reconfig.lua)") end
+if params.walk ~= nil and (type(params.walk) ~= "number" or params.walk < 0) then
+  error("params.walk: expected metres (a number, at least 0), got " .. tostring(params.walk))
+end
+local stage = 1  -- the target under way
+
 -- The docks' IR-style proximity (dock:<name>: {enabled, engaged, proximity}), read while a crawl
--- brings a socket to its leg.
--- The heading (a leg steers its trot by it) and the position (the head measures the walk) are the
--- SuperBot's oracle sensors.
+-- brings a socket to its leg or a tail to one. The heading (a leg steers its trot by it) and the
+-- position (the head measures the walk) are the SuperBot's oracle sensors.
 percepts = {heading = {sensor = "orientation"}, position = {sensor = "position"}}
 for _, d in ipairs(module.docks()) do percepts["dock:" .. d] = {sensor = "dock:" .. d} end
 
-local target = reconfig.shape(params.target)
-if params.walk ~= nil and (type(params.walk) ~= "number" or params.walk < 0) then
-  error("params.walk: expected metres (a number, at least 0), got " .. tostring(params.walk))
-end  -- checked here, before any step
 local net = linkstate.new()
 local agreement = agree.new(net, {quiet = params.quiet})
 local plan, sentPublished, exec
+local target = targets[1]
 
 -- The shape of a committed map, by module name.
 local function shapeOf(map)
@@ -97,7 +114,12 @@ local function commit()
   module.publish("ops", mine)
   log(string.format("committed to map %s: role %s, %d of %d operations", agreement.digest,
                     plan.role[module.name], #mine, #plan.ops))
-  if params.execute == false or #plan.ops == 0 then return end
+  if params.execute == false then return end
+  if #plan.ops == 0 then
+    -- Already the target: nothing to move.
+    exec = {done = true, step = function() end, on_dock = function() end}
+    return
+  end
   -- The moves: lay and retrieve (lua/lay_retrieve.lua). Legs are interchangeable, so the steps may
   -- give the legs other roles than the plan's; what they build must be the target all the same.
   local steps, built = layRetrieve.compile(now, target, {walk = params.walk})
@@ -122,7 +144,22 @@ function step(dt)
   end
   local parts = net:receive()
   agreement:step(parts)
-  if exec then exec:step(parts) end
+  if exec then
+    exec:step(parts)
+    if exec.done and stage < #targets then
+      -- On to the next target: agree again on the map the steps made, and plan from it.
+      module.publish("finished", stage)
+      module.publish("plan", nil)
+      module.publish("steps", nil)
+      stage = stage + 1
+      target, plan, exec = targets[stage], nil, nil
+      agreement:reset()
+      module.publish("stage", stage)
+    elseif exec.done and not state.finished then
+      state.finished = true
+      module.publish("finished", stage)
+    end
+  end
   if agreement.committed and plan == nil then commit() end
   net:send()
   if net.sent ~= sentPublished then

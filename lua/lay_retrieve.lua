@@ -1,7 +1,8 @@
--- Carrying out a reconfiguration plan on the ground, for chain-type modules (SuperBot): "lay and
--- retrieve". From a snake lying on the ground to a shape made of a chain (its head and body) and
--- one-module legs docked by their front faces to the chain's side docks, with moves that stay
--- inside a SuperBot's torque limits (no joint lifts or drags more than one module):
+-- Carrying out a reconfiguration plan on the ground, for chain-type modules (SuperBot). From a
+-- snake lying on the ground to a shape made of a chain (its head and body) and one-module legs
+-- docked by their front faces to the chain's side docks, and back, with moves that stay inside a
+-- SuperBot's torque limits (no joint lifts or drags more than one module). To the legs, "lay and
+-- retrieve":
 --
 -- 1. lay: the snake's last module is swung a quarter turn by its neighbour's yaw joint, so that it
 --    lies across the chain's side with its front face looking at the chain; the neighbour lets go
@@ -10,11 +11,16 @@
 --    only the two side docks that must take the legs enabled, until both have captured and
 --    latched their legs.
 --
+-- Back to a snake, "release and take": a leg lifts its hip and is let go (it tips out, clear of the
+-- chain); the tail turns its back bracket towards the leg and the chain crawls forward until that
+-- dock takes it; the tail turns back, drawing the leg into line as the new tail.
+--
 -- Socket pairs are served from the front of the chain backwards, so a leg already docked never
 -- passes a deposit. Each module computes the same steps from the same committed map and target
 -- (lua/agree.lua), and runs them by messages through its docks (lua/linkstate.lua's fields):
 --
---   local exec = require("lay_retrieve").new(net, steps, module.name)
+--   local steps = require("lay_retrieve").compile(now, target)   -- the same on every module
+--   local exec = require("lay_retrieve").new(net, steps, {size = modules})
 --   function step(dt) local parts = net:receive(); exec:step(parts); net:send() end
 --   function on_dock(dock, event) net:on_dock(dock, event); exec:on_dock(dock, event) end
 --
@@ -38,6 +44,9 @@ local kSettleSpeed = 0.05   -- rad/s: ...and this slow
 -- rad: the wave, until a socket senses its leg: 6 modules crawl 6 cm/s backwards (at 0.6, 7.7 cm/s,
 -- but a 10-module chain's docks then peak at 74 N instead of 55)
 M.crawl_amplitude = 0.5
+M.forward_amplitude = 0.4   -- rad: forward, to a leg (at 0.5, a 7-module chain's docks peaked at 69 N)
+M.tip_hip = -0.5            -- rad: a leg's hip as it is let go (it tips out 2.2 cm as it flattens)
+M.tip_wait = 0.7            -- s: a let-go leg flattens its hip this long after it is free
 M.carry_hip = -0.8          -- rad: a docked leg's hip while the chain crawls (its foot off the ground)
 M.creep_amplitude = 0.2     -- rad: then a lower one, which keeps the socket within capture height (1.8 cm/s)
 M.crawl_period = 1.5        -- s
@@ -114,7 +123,7 @@ local function legged(t)
   local sockets = {}
   for _, l in ipairs(legs) do
     if not index[l.body] then return nil, "leg " .. l.leg .. " is docked to another leg" end
-    sockets[#sockets + 1] = {p = index[l.body], side = l.side}
+    sockets[#sockets + 1] = {p = index[l.body], side = l.side, leg = l.leg}
   end
   -- Front first; at one body module the right side first (it is laid first).
   table.sort(sockets, function(a, b)
@@ -124,36 +133,33 @@ local function legged(t)
   return {chain = chain, sockets = sockets}
 end
 
---- The steps that turn the snake `from` into the legged shape `to` (reconfig shapes of the same
---- modules), and the shape they make; or nil and why (the shapes are not of that kind).
---- Steps: {kind = "sweep", owner = module, joint =, angle =} | {kind = "cut", owner =, dock =}
---- | {kind = "crawl", owner = socket module, chain = names from the head, sockets = {{dock, leg}}}
---- | {kind = "walk", owner = the head, distance = m, legs = {{name, side, phase}}} (with opts.walk,
---- metres: once built, the walker trots that far; lua/walker_gait.lua).
-function M.compile(from, to, opts)
-  opts = opts or {}
-  local order, why = chainOrder(from)
-  if not order then return nil, why end
-  local target
-  target, why = legged(to)
+-- Rounds: the sockets (sorted, front first) grouped by their chain index.
+local function roundsOf(sockets)
+  local rounds = {}
+  for _, x in ipairs(sockets) do
+    local r = rounds[#rounds]
+    if not r or r.p ~= x.p then
+      r = {p = x.p, sockets = {}}
+      rounds[#rounds + 1] = r
+    end
+    r.sockets[#r.sockets + 1] = x
+  end
+  return rounds
+end
+
+-- Lay and retrieve: from the snake `order` (names from its head) to the legged shape `to`.
+local function layAndRetrieve(from, order, to, opts)
+  local target, why = legged(to)
   if not target then return nil, why end
   local n, c = #order, #target.chain
   if c < 3 then return nil, "the target's chain is shorter than 3 modules: it could not crawl" end
-  -- Rounds: the socket pairs at one chain index.
-  local rounds = {}
-  for _, s in ipairs(target.sockets) do
-    local r = rounds[#rounds]
-    if not r or r.p ~= s.p then
-      r = {p = s.p, sides = {}}
-      rounds[#rounds + 1] = r
-    end
-    r.sides[#r.sides + 1] = s.side
-  end
+  local rounds = roundsOf(target.sockets)
   local steps, m, conns = {}, n, {}
   for i = 1, c - 1 do conns[#conns + 1] = {order[i], "back", order[i + 1], "front"} end
   for _, r in ipairs(rounds) do
     local sockets = {}
-    for _, side in ipairs(r.sides) do
+    for _, x in ipairs(r.sockets) do
+      local side = x.side
       local leg, mover = order[m], order[m - 1]
       if m <= c then return nil, "the snake has too few modules left to lay a leg for " .. order[r.p] end
       steps[#steps + 1] = {kind = "sweep", owner = mover, joint = "yaw", angle = side == "right" and kQuarter or -kQuarter,
@@ -204,11 +210,68 @@ function M.format(steps)
     else
       local got = {}
       for _, x in ipairs(s.sockets) do got[#got + 1] = s.owner .. "." .. x[1] .. " takes " .. x[2] end
-      what = string.format("%s..%s crawl back until %s", s.chain[1], s.chain[#s.chain], table.concat(got, ", "))
+      what = string.format("%s..%s crawl %s until %s", s.chain[1], s.chain[#s.chain], s.forward and "forward" or "back",
+                           table.concat(got, ", "))
     end
     lines[#lines + 1] = string.format("%2d. %-5s %s", k, s.kind, what)
   end
   return table.concat(lines, "\n")
+end
+
+-- From a chain with one-module legs back to a snake (release and take): the legs of the last
+-- socket module first. Each leg lifts its hip (M.tip_hip) and is let go: it tips outwards and,
+-- once it has flattened its hip again, lies with its front face 2.2 cm out from the chain's side,
+-- so the chain passes it without touching. Then, a leg at a time (left first), the tail turns its
+-- back bracket a quarter towards the leg's side and the chain crawls forward until that back dock
+-- has taken the leg; the tail turns back, drawing the leg into line as the new tail.
+local function releaseAndTake(from, order)
+  local src, why = legged(from)
+  if not src then return nil, why end
+  local chain = {}
+  for i, name in ipairs(src.chain) do chain[i] = name end
+  if #chain < 3 then return nil, "the chain is shorter than 3 modules: it could not crawl" end
+  local rounds = roundsOf(src.sockets)
+  local steps = {}
+  for ri = #rounds, 1, -1 do
+    local r = rounds[ri]
+    table.sort(r.sockets, function(a, b) return a.side == "left" and b.side == "right" end)
+    for _, x in ipairs(r.sockets) do
+      steps[#steps + 1] = {kind = "sweep", owner = x.leg, joint = "pitch", angle = M.tip_hip}
+      steps[#steps + 1] = {kind = "cut", owner = chain[r.p], dock = x.side, leg = x.leg, release = true}
+    end
+    for _, x in ipairs(r.sockets) do
+      local tail, list = chain[#chain], {}
+      for i, name in ipairs(chain) do list[i] = name end
+      steps[#steps + 1] = {kind = "sweep", owner = tail, joint = "yaw", angle = x.side == "right" and kQuarter or -kQuarter}
+      steps[#steps + 1] = {kind = "crawl", owner = tail, chain = list, sockets = {{"back", x.leg}}, forward = true}
+      steps[#steps + 1] = {kind = "sweep", owner = tail, joint = "yaw", angle = 0}
+      chain[#chain + 1] = x.leg
+    end
+  end
+  if #chain ~= #order then return nil, "the target snake has other modules than the chain and its legs" end
+  local mods, conns = {}, {}
+  for _, name in ipairs(from.names) do mods[name] = from.types[name] end
+  for i = 1, #chain - 1 do conns[i] = {chain[i], "back", chain[i + 1], "front"} end
+  return steps, {modules = mods, connections = conns}
+end
+
+--- The steps from `from` to `to` (reconfig shapes of the same modules), and the shape they make;
+--- or nil and why. From a snake to a chain with one-module legs on side docks (lay and retrieve;
+--- with opts.walk, metres, the walker then trots that far), or back (release and take).
+--- Steps: {kind = "sweep", owner = module, joint =, angle =} | {kind = "cut", owner =, dock =}
+--- | {kind = "crawl", owner = socket module, chain = names from the head, sockets = {{dock, leg}},
+--- forward = true or nil}
+--- | {kind = "walk", owner = the head, distance = m, legs = {{name, side, phase}}}.
+function M.compile(from, to, opts)
+  opts = opts or {}
+  local order, why = chainOrder(from)
+  if order then return layAndRetrieve(from, order, to, opts) end
+  if legged(from) then
+    local target, whyTo = chainOrder(to)
+    if target then return releaseAndTake(from, target) end
+    return nil, "from a chain with one-module legs, steps are made to a snake only: " .. whyTo
+  end
+  return nil, why .. ", nor a chain with one-module legs on side docks"
 end
 
 local Exec = {}
@@ -271,7 +334,8 @@ end
 local function begin(self, s)
   self.began = self.k
   self.captured = {}
-  self.amp, self.ampFrom, self.ampBefore, self.creeping = M.crawl_amplitude, 0, M.crawl_amplitude, false
+  local amp = s.forward and M.forward_amplitude or M.crawl_amplitude
+  self.amp, self.ampFrom, self.ampBefore, self.creeping = amp, 0, amp, false
   self.started = sim.time()
   if s.kind == "sweep" and s.owner == self.name then
     module.joint(s.joint):set_target(s.angle)
@@ -282,6 +346,12 @@ local function begin(self, s)
     end
   elseif s.kind == "cut" and s.owner == self.name then
     module.dock(s.dock):disable()
+  elseif s.kind == "cut" and s.release and s.leg == self.name then
+    -- About to be let go: only the front dock stays willing (the one the tail will take).
+    for _, d in ipairs(module.docks()) do
+      if not module.dock(d):engaged() then module.dock(d):disable() end
+    end
+    module.dock("front"):enable()
   elseif s.kind == "walk" then
     self.from = s.owner == self.name and module.sense("position") or nil
     self.heading0 = nil
@@ -305,6 +375,10 @@ function Exec:on_dock(dock, event)
   if event == "broken" then
     fail(self, string.format("%s.%s broke", self.name, dock:name()))
     return
+  end
+  if event == "disengaged" and self.isLeg and dock:name() == "front" then
+    -- Let go (or laid): out of touch from now on, so it flattens its hip by itself.
+    self.flattenAt = sim.time() + M.tip_wait
   end
   if event == "engaged" then
     -- A module just joined (a captured leg): tell it where the run is.
@@ -352,6 +426,10 @@ function Exec:step(parts)
     module.joint("yaw"):set_target(0)
     self.walking = false
   end
+  if self.flattenAt and t >= self.flattenAt then
+    module.joint("pitch"):set_target(0)
+    self.flattenAt = nil
+  end
   if self.k > #self.steps then
     self.done = true
     module.publish("reconfigured", sim.time())
@@ -395,14 +473,15 @@ function Exec:step(parts)
     end
   elseif s.kind == "crawl" then
     local i = indexOf(s.chain, self.name)
-    if self.isLeg and module.dock("front"):engaged() then
+    if self.isLeg and not i and module.dock("front"):engaged() then
       -- A leg already docked rides along lifted (its hip up), not dragged through the crawl.
       module.joint("pitch"):set_target(M.carry_hip)
       self.wasCrawling = true
     end
     if i then
       self.wasCrawling = true
-      local a = (t >= self.ampFrom and self.amp or self.ampBefore) * math.sin(2 * math.pi * (t - self.at) / M.crawl_period + (i - 1) * M.crawl_lag)
+      local a = (t >= self.ampFrom and self.amp or self.ampBefore) * math.sin(2 * math.pi * (t - self.at) / M.crawl_period +
+                                                                      (i - 1) * (s.forward and -M.crawl_lag or M.crawl_lag))
       module.joint("pitch"):set_target(a)
     end
     if s.owner == self.name then
@@ -437,7 +516,8 @@ function Exec:step(parts)
       if creep ~= self.creeping then
         self.creeping = creep
         log(creep and (self.creepFor .. " senses its leg: creeping") or (self.creepFor .. " has its leg: crawling"))
-        local amp, from = creep and M.creep_amplitude or M.crawl_amplitude, t + self.size * self.hop
+        local amp = creep and M.creep_amplitude or (s.forward and M.forward_amplitude or M.crawl_amplitude)
+        local from = t + self.size * self.hop
         self.ampBefore, self.amp, self.ampFrom = self.amp, amp, from
         flood(self, {step = self.k, amp = amp, from = from})
       end

@@ -13,7 +13,7 @@
 --   local gait = require("walker_gait")
 --   local pitch, yaw = gait.leg(t - t0, "left", 0, headingError)
 --
--- Measured (2026-11-30) at dt 1/60: the 8-module walker of worlds/snake_to_walker.lua walks
+-- Measured (2026-11-30) at dt 1/60: the 8-module walker of worlds/snake_walker_snake.lua walks
 -- 0.51 m in 19.3 s, 2 s of it standing up; built directly, 0.61 m in 19 s with its heading within
 -- 1.6 deg and its body 10 cm up (5.6 cm clear of the ground).
 local M = {

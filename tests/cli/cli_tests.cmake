@@ -184,8 +184,8 @@ expect_run("cars 2 threads" 0 "" run ${SRC}/worlds/atron_cars.lua --steps 300 --
 expect_run("wheelbots 1 thread" 0 "" run ${SRC}/worlds/wheelbot.lua --steps 600 --quiet --json ${OUT}/wheel1.json)
 expect_run("wheelbots 2 threads" 0 "" run ${SRC}/worlds/wheelbot.lua --steps 600 --quiet --threads 2 --json ${OUT}/wheel2.json)
 # Self-reconfiguration (messages, captures, undocks) too.
-expect_run("walker 1 thread" 0 "" run ${SRC}/worlds/snake_to_walker.lua --seconds 60 --quiet --json ${OUT}/walker1.json)
-expect_run("walker 2 threads" 0 "" run ${SRC}/worlds/snake_to_walker.lua --seconds 60 --quiet --threads 2 --json ${OUT}/walker2.json)
+expect_run("walker 1 thread" 0 "" run ${SRC}/worlds/snake_walker_snake.lua --seconds 60 --quiet --json ${OUT}/walker1.json)
+expect_run("walker 2 threads" 0 "" run ${SRC}/worlds/snake_walker_snake.lua --seconds 60 --quiet --threads 2 --json ${OUT}/walker2.json)
 summary_without_wall(${OUT}/wheel1.json one)
 summary_without_wall(${OUT}/wheel2.json two)
 if(NOT one STREQUAL two)

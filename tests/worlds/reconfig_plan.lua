@@ -124,9 +124,23 @@ end
 expect(table.concat(crawls, " ") == "s2:6 s4:4", "two crawls, s1..s6 for s2's legs and s1..s4 for s4's: " ..
        table.concat(crawls, " "))
 expect(steps and #reconfig.plan(reconfig.shape(built), walker8).ops == 0, "the steps build walker8")
+-- And back: walker8 to a snake lets the legs go and takes them at the tail, rear pair first (20
+-- steps, two crawls forward per pair), and what the steps build is the snake.
+local backSteps, backBuilt = layRetrieve.compile(walker8, s8)
+expect(backSteps ~= nil and #backSteps == 20, "walker8 to a snake: 20 steps, got " ..
+       tostring(backSteps and #backSteps or backBuilt))
+local forward = {}
+for _, st in ipairs(backSteps or {}) do
+  if st.kind == "crawl" and st.forward then forward[#forward + 1] = st.owner .. "." .. st.sockets[1][1] .. ":" .. st.sockets[1][2] end
+end
+expect(table.concat(forward, " ") == "b3.back:lr lr.back:rr rr.back:lf lf.back:rf",
+       "four crawls forward, each ending when the tail (the last leg taken) takes the next: " ..
+       table.concat(forward, " "))
+expect(backSteps and #reconfig.plan(reconfig.shape(backBuilt), s8).ops == 0, "the steps build a snake")
 -- Shapes it cannot build say why.
-local none, why = layRetrieve.compile(walker8, s8)
-expect(none == nil and why:find("not a snake", 1, true), "from a walker: " .. tostring(why))
+local none, why = layRetrieve.compile(reconfig.shape{modules = {"a", "b", "c", "d"},
+                                                     connections = {{"a", "left", "b", "back"}}}, s8)
+expect(none == nil and why:find("not a snake", 1, true), "from neither a snake nor a walker: " .. tostring(why))
 local ring = reconfig.shape{modules = {"a", "b", "c", "d"}, connections = {{"a", "back", "b", "front"},
                              {"b", "left", "c", "back"}, {"c", "front", "d", "back"}}}
 none, why = layRetrieve.compile(snake(4, "s"), ring)

@@ -29,6 +29,8 @@
 --   quiet    steps the leader's map must be unchanged before it asks (default: the modules in it + 2)
 --   execute  false: agree and plan only, move nothing (default true)
 --   walk     metres: once built, the walker trots this far forward (lua/walker_gait.lua)
+--   noise    true (or {proximity = m, heading = per quaternion element, position = m, joints = rad}):
+--            gaussian noise on the sensors the steps read and on every joint target
 --   leave_at, leave_dock   seconds, and a dock (default "back"): this module undocks there at that
 --            time (to try the agreement with the shape changing under it)
 local linkstate = require("linkstate")
@@ -58,11 +60,48 @@ if params.walk ~= nil and (type(params.walk) ~= "number" or params.walk < 0) the
 end
 local stage = 1  -- the target under way
 
+-- Sensor and actuator noise (params.noise: true for the defaults below, or a table of them).
+local kNoise = {proximity = 0.005, heading = 0.01, position = 0.005, joints = 0.02}
+local sigma = {}
+if params.noise ~= nil and params.noise ~= false then
+  if params.noise ~= true and type(params.noise) ~= "table" then
+    error("params.noise: expected true or a table {proximity =, heading =, position =, joints =}, got " ..
+          type(params.noise))
+  end
+  for _, k in ipairs({"heading", "joints", "position", "proximity"}) do  -- (in order: the first bad one is named)
+    local default = kNoise[k]
+    local v = params.noise == true and default or params.noise[k]
+    if v ~= nil and (type(v) ~= "number" or v < 0) then
+      error("params.noise." .. k .. ": expected a standard deviation (a number, at least 0), got " .. tostring(v))
+    end
+    sigma[k] = v or 0
+  end
+end
+
 -- The docks' IR-style proximity (dock:<name>: {enabled, engaged, proximity}), read while a crawl
--- brings a socket to its leg or a tail to one. The heading (a leg steers its trot by it) and the
--- position (the head measures the walk) are the SuperBot's oracle sensors.
-percepts = {heading = {sensor = "orientation"}, position = {sensor = "position"}}
-for _, d in ipairs(module.docks()) do percepts["dock:" .. d] = {sensor = "dock:" .. d} end
+-- brings a socket to its leg or a tail to one, with sigma.proximity m of noise on the distance
+-- (each dock its own stream). The heading (a leg steers its trot by it: the orientation, with
+-- sigma.heading on each quaternion element) and the position (the head measures the walk) are
+-- the SuperBot's oracle sensors. Joint targets get sigma.joints rad (lua/noise.lua models).
+percepts = {
+  heading = {sensor = "orientation", noise = noise.gaussian(sigma.heading or 0)},
+  position = {sensor = "position", noise = noise.gaussian(sigma.position or 0)},
+}
+for _, d in ipairs(module.docks()) do
+  local rng = sim.stream("proximity:" .. d)
+  percepts["dock:" .. d] = {sensor = "dock:" .. d, map = function(r)
+    if r.proximity and (sigma.proximity or 0) > 0 then r.proximity = math.max(0, r.proximity + rng.gaussian(0, sigma.proximity)) end
+    return r
+  end}
+end
+actions = {}
+for _, j in ipairs(module.joints()) do actions[j] = {joint = j, noise = noise.gaussian(sigma.joints or 0)} end
+local io = {
+  target = function(joint, rad) module.act(joint, rad) end,
+  proximity = function(dock) return module.sense("dock:" .. dock).proximity end,
+  heading = function() return require("walker_gait").heading(module.sense("heading")) end,
+  position = function() return module.sense("position") end,
+}
 
 local net = linkstate.new()
 local agreement = agree.new(net, {quiet = params.quiet})
@@ -133,7 +172,7 @@ local function commit()
     return
   end
   module.publish("steps", layRetrieve.format(steps))
-  exec = layRetrieve.new(net, steps, {size = #agreement.map.members})
+  exec = layRetrieve.new(net, steps, {size = #agreement.map.members, io = io})
 end
 
 function step(dt)

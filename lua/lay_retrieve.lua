@@ -39,7 +39,7 @@ local gait = require("walker_gait")
 local M = {}
 
 local kQuarter = math.pi / 2
-local kSettle = 0.05        -- rad: a sweep is done within this of its angle...
+local kSettle = 0.1         -- rad: a sweep is done within this of its angle (joint noise, a joint limit)...
 local kSettleSpeed = 0.05   -- rad/s: ...and this slow
 -- rad: the wave, until a socket senses its leg: 6 modules crawl 6 cm/s backwards (at 0.6, 7.7 cm/s,
 -- but a 10-module chain's docks then peak at 74 N instead of 55)
@@ -48,6 +48,9 @@ M.forward_amplitude = 0.4   -- rad: forward, to a leg (at 0.5, a 7-module chain'
 M.tip_hip = -0.5            -- rad: a leg's hip as it is let go (it tips out 2.2 cm as it flattens)
 M.tip_wait = 0.7            -- s: a let-go leg flattens its hip this long after it is free
 M.carry_hip = -0.8          -- rad: a docked leg's hip while the chain crawls (its foot off the ground)
+M.lost_after = 1.5          -- s: a socket that has sensed its leg and then not for this long has passed it
+M.return_time = 12         -- s: after turning round, the socket has this long to sense its leg again
+M.max_turns = 6             -- times a crawl turns round to pass its leg again before it fails
 M.creep_amplitude = 0.2     -- rad: then a lower one, which keeps the socket within capture height (1.8 cm/s)
 M.crawl_period = 1.5        -- s
 M.crawl_lag = -2 * math.pi / 5  -- rad between neighbours: negative runs the wave tail first (backwards)
@@ -277,7 +280,24 @@ end
 local Exec = {}
 Exec.__index = Exec
 
---- The runner of `steps` on this module (`net` from lua/linkstate.lua).
+-- What the runner senses and commands, unless opts.io gives its own (with noise, say): the
+-- percepts "dock:<name>" (the docks' proximity), "heading" (the orientation sensor) and "position"
+-- must be declared by the behaviour.
+local function defaultIo()
+  return {
+    target = function(joint, rad) module.joint(joint):set_target(rad) end,
+    proximity = function(dock)
+      local r = module.sense("dock:" .. dock)
+      return r and r.proximity
+    end,
+    heading = function() return gait.heading(module.sense("heading")) end,
+    position = function() return module.sense("position") end,
+  }
+end
+
+--- The runner of `steps` on this module (`net` from lua/linkstate.lua). opts: size (modules in
+--- the robot: the news' lead), io ({target(joint, rad), proximity(dock), heading(), position()}),
+--- timeouts (sweep_timeout, crawl_timeout, walk_timeout, s).
 function M.new(net, steps, opts)
   opts = opts or {}
   local self = setmetatable({
@@ -289,10 +309,11 @@ function M.new(net, steps, opts)
     amp = M.crawl_amplitude, ampFrom = 0, ampBefore = M.crawl_amplitude,  -- the wave's amplitude from a time
     creeping = false,      -- (a crawl's owner) a socket has sensed its leg
     failed = nil, done = false,
-    timeout = {sweep = opts.sweep_timeout or 3, cut = 1, crawl = opts.crawl_timeout or 60, walk = opts.walk_timeout or 60},
+    timeout = {sweep = opts.sweep_timeout or 3, cut = 1, crawl = opts.crawl_timeout or 90, walk = opts.walk_timeout or 60},
     hop = sim.dt() * 1.0,
     size = opts.size or 32,  -- modules: the news' lead time is this many hops
     isLeg = false,         -- this module is laid and retrieved as a leg
+    io = opts.io or defaultIo(),
   }, Exec)
   for _, s in ipairs(steps) do
     if s.leg == self.name then self.isLeg = true end
@@ -336,9 +357,10 @@ local function begin(self, s)
   self.captured = {}
   local amp = s.forward and M.forward_amplitude or M.crawl_amplitude
   self.amp, self.ampFrom, self.ampBefore, self.creeping = amp, 0, amp, false
+  self.dir, self.dirBefore, self.turns, self.lastNear = 1, 1, 0, nil
   self.started = sim.time()
   if s.kind == "sweep" and s.owner == self.name then
-    module.joint(s.joint):set_target(s.angle)
+    self.io.target(s.joint, s.angle)
   elseif s.kind == "sweep" and s.leg == self.name then
     -- About to be laid: only the front dock stays willing (the one a socket will take).
     for _, d in ipairs(module.docks()) do
@@ -353,7 +375,7 @@ local function begin(self, s)
     end
     module.dock("front"):enable()
   elseif s.kind == "walk" then
-    self.from = s.owner == self.name and module.sense("position") or nil
+    self.from = s.owner == self.name and self.io.position() or nil
     self.heading0 = nil
   elseif s.kind == "crawl" and indexOf(s.chain, self.name) then
     -- Only the sockets take anything while the chain passes the deposits.
@@ -406,9 +428,10 @@ function Exec:step(parts)
       elseif type(e.k) == "number" and e.k > self.k then
         self.k, self.at = e.k, e.at
         flood(self, {k = e.k, at = e.at}, p.dock)
-      elseif type(e.amp) == "number" and e.step == self.k and (e.amp ~= self.amp or e.from ~= self.ampFrom) then
+      elseif type(e.amp) == "number" and e.step == self.k and e.from ~= self.ampFrom then
         self.ampBefore, self.amp, self.ampFrom = self.amp, e.amp, e.from
-        flood(self, {step = e.step, amp = e.amp, from = e.from}, p.dock)
+        self.dirBefore, self.dir = self.dir, e.dir == -1 and -1 or 1
+        flood(self, {step = e.step, amp = e.amp, dir = self.dir, from = e.from}, p.dock)
       end
     end
   end
@@ -417,17 +440,17 @@ function Exec:step(parts)
   local s = self.steps[self.k]
   -- A crawl that has ended for this module: lie flat.
   if self.wasCrawling and (not s or s.kind ~= "crawl" or t < self.at) then
-    module.joint("pitch"):set_target(0)
+    self.io.target("pitch", 0)
     self.wasCrawling = false
   end
   if self.walking and (not s or s.kind ~= "walk" or t < self.at) then
     -- Lie down: the hip and the foot straight.
-    module.joint("pitch"):set_target(0)
-    module.joint("yaw"):set_target(0)
+    self.io.target("pitch", 0)
+    self.io.target("yaw", 0)
     self.walking = false
   end
   if self.flattenAt and t >= self.flattenAt then
-    module.joint("pitch"):set_target(0)
+    self.io.target("pitch", 0)
     self.flattenAt = nil
   end
   if self.k > #self.steps then
@@ -452,16 +475,16 @@ function Exec:step(parts)
   elseif s.kind == "walk" then
     for _, l in ipairs(s.legs) do
       if l[1] == self.name then
-        local h = gait.heading(module.sense("heading"))
+        local h = self.io.heading()
         self.heading0 = self.heading0 or h
         local pitch, yaw = gait.leg(t - self.at, l[2], l[3], gait.wrap(h - self.heading0))
-        module.joint("pitch"):set_target(pitch)
-        module.joint("yaw"):set_target(yaw)
+        self.io.target("pitch", pitch)
+        self.io.target("yaw", yaw)
         self.walking = true
       end
     end
     if s.owner == self.name then
-      local p = module.sense("position")
+      local p = self.io.position()
       local d = math.sqrt((p[1] - self.from[1]) ^ 2 + (p[2] - self.from[2]) ^ 2)
       if d >= s.distance then
         log(string.format("walked %.3f m in %.1f s", d, t - self.at))
@@ -475,14 +498,15 @@ function Exec:step(parts)
     local i = indexOf(s.chain, self.name)
     if self.isLeg and not i and module.dock("front"):engaged() then
       -- A leg already docked rides along lifted (its hip up), not dragged through the crawl.
-      module.joint("pitch"):set_target(M.carry_hip)
+      self.io.target("pitch", M.carry_hip)
       self.wasCrawling = true
     end
     if i then
       self.wasCrawling = true
-      local a = (t >= self.ampFrom and self.amp or self.ampBefore) * math.sin(2 * math.pi * (t - self.at) / M.crawl_period +
-                                                                      (i - 1) * (s.forward and -M.crawl_lag or M.crawl_lag))
-      module.joint("pitch"):set_target(a)
+      local now = t >= self.ampFrom
+      local lag = (s.forward and -M.crawl_lag or M.crawl_lag) * (now and self.dir or self.dirBefore)
+      local a = (now and self.amp or self.ampBefore) * math.sin(2 * math.pi * (t - self.at) / M.crawl_period + (i - 1) * lag)
+      self.io.target("pitch", a)
     end
     if s.owner == self.name then
       local all = true
@@ -503,23 +527,40 @@ function Exec:step(parts)
       local near = false
       -- (From the second step on: the docks the chain disabled at its first are read the step after.)
       for _, x in ipairs(t > self.at + 1.5 * self.hop and s.sockets or {}) do
-        local sense = module.sense("dock:" .. x[1])
-        if not self.captured[x[1]] and sense and sense.proximity then near = true end
+        if not self.captured[x[1]] and self.io.proximity(x[1]) then near = true end
       end
       local creep = near or (self.creeping and not self.captured[self.creepFor or ""])
       if near and not self.creeping then
         for _, x in ipairs(s.sockets) do
-          local sense = module.sense("dock:" .. x[1])
-          if not self.captured[x[1]] and sense and sense.proximity then self.creepFor = x[1] end
+          if not self.captured[x[1]] and self.io.proximity(x[1]) then self.creepFor = x[1] end
         end
       end
+      local amp, dir = self.amp, self.dir
       if creep ~= self.creeping then
         self.creeping = creep
         log(creep and (self.creepFor .. " senses its leg: creeping") or (self.creepFor .. " has its leg: crawling"))
-        local amp = creep and M.creep_amplitude or (s.forward and M.forward_amplitude or M.crawl_amplitude)
+        amp, dir = creep and M.creep_amplitude or (s.forward and M.forward_amplitude or M.crawl_amplitude), 1
+        self.lastNear, self.seenSinceTurn = t, true
+      elseif creep and self.io.proximity(self.creepFor) then
+        self.lastNear, self.seenSinceTurn = t, true
+      elseif creep and t >= self.ampFrom and
+          t - self.lastNear > (self.seenSinceTurn and M.lost_after or M.return_time) then
+        -- Sensed, then lost while creeping: the socket has passed its leg. Turn the wave round and
+        -- pass it again (a retry), at most M.max_turns times.
+        self.turns = self.turns + 1
+        if self.turns > M.max_turns then
+          fail(self, string.format("step %d: %s.%s passed its leg %d times without taking it", self.k, self.name,
+                                   self.creepFor, self.turns))
+          return
+        end
+        log(string.format("%s passed its leg: turning the wave round (%d)", self.creepFor, self.turns))
+        dir, self.lastNear, self.seenSinceTurn = -self.dir, t, false
+      end
+      if amp ~= self.amp or dir ~= self.dir then
         local from = t + self.size * self.hop
         self.ampBefore, self.amp, self.ampFrom = self.amp, amp, from
-        flood(self, {step = self.k, amp = amp, from = from})
+        self.dirBefore, self.dir = self.dir, dir
+        flood(self, {step = self.k, amp = amp, dir = dir, from = from})
       end
       if all then
         advance(self)

@@ -304,7 +304,6 @@ function M.new(net, steps, opts)
     net = net, steps = steps, name = module.name,
     k = 1, at = sim.time() + (opts.delay or 0.5),  -- the step under way, and when it starts
     began = nil,           -- the step this module last began
-    news = nil,            -- {k, at} to pass on this step
     captured = {},         -- dock name -> true: a socket of the current crawl latched its leg
     amp = M.crawl_amplitude, ampFrom = 0, ampBefore = M.crawl_amplitude,  -- the wave's amplitude from a time
     creeping = false,      -- (a crawl's owner) a socket has sensed its leg

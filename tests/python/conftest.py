@@ -22,3 +22,14 @@ def root():
 @pytest.fixture
 def bin():
     return rm3d_bin()
+
+
+@pytest.fixture
+def sigint():
+    """Python's own Ctrl-C handler for the test: a suite started in the background (nohup, a CI
+    runner, `cmd &` in a script) inherits SIGINT ignored, and then a test that sends itself
+    SIGINT would never see KeyboardInterrupt (it waited forever on a step of 10**7)."""
+    import signal
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)

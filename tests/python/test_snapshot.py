@@ -149,7 +149,7 @@ def test_a_size_field_past_what_zlib_can_hold_is_refused_before_allocating():
         rm3d.World.from_snapshot(bytes(snap))
 
 
-def test_ctrl_c_stops_a_long_restore_and_leaves_the_world_as_it_was():
+def test_ctrl_c_stops_a_long_restore_and_leaves_the_world_as_it_was(sigint):
     import signal
     import threading
     w = rm3d.World(SNAKE, params={"modules": 20})

@@ -270,7 +270,7 @@ def test_record_replays_with_rm3d_replay(tmp_path):
     assert out.stat().st_size > 1000
 
 
-def test_ctrl_c_ends_a_long_step_at_a_step_boundary():
+def test_ctrl_c_ends_a_long_step_at_a_step_boundary(sigint):
     import os
     import signal
     import threading

@@ -37,6 +37,7 @@ local linkstate = require("linkstate")
 local agree = require("agree")
 local reconfig = require("reconfig")
 local layRetrieve = require("lay_retrieve")
+local gait = require("walker_gait")
 
 -- The targets, one after another: params.target, then each of params.targets.
 local targets = {}
@@ -57,6 +58,12 @@ end
 if #targets == 0 then error("params.target: expected a shape {modules = ..., connections = ...} (lua/reconfig.lua)") end
 if params.walk ~= nil and (type(params.walk) ~= "number" or params.walk < 0) then
   error("params.walk: expected metres (a number, at least 0), got " .. tostring(params.walk))
+end
+if params.quiet ~= nil and (math.type(params.quiet) ~= "integer" or params.quiet < 1) then
+  error("params.quiet: expected steps (a whole number, at least 1), got " .. tostring(params.quiet))
+end
+if params.leave_at ~= nil and type(params.leave_at) ~= "number" then
+  error("params.leave_at: expected seconds (a number), got " .. tostring(params.leave_at))
 end
 local stage = 1  -- the target under way
 
@@ -99,7 +106,7 @@ for _, j in ipairs(module.joints()) do actions[j] = {joint = j, noise = noise.ga
 local io = {
   target = function(joint, rad) module.act(joint, rad) end,
   proximity = function(dock) return module.sense("dock:" .. dock).proximity end,
-  heading = function() return require("walker_gait").heading(module.sense("heading")) end,
+  heading = function() return gait.heading(module.sense("heading")) end,
   position = function() return module.sense("position") end,
 }
 

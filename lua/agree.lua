@@ -53,8 +53,13 @@ function M.new(net, opts)
     started_at = 0,        -- (leader) the step its wave began
     waves = 0,             -- (leader) waves started
     committed = false,
-    committed_step = nil,  -- the step this module committed
   }, Agree)
+end
+
+-- A wave as it arrives in a message: {leader = id, n = count}, or nil for anything else.
+local function wave(w)
+  if type(w) == "table" and type(w.leader) == "number" and type(w.n) == "number" then return w end
+  return nil
 end
 
 local function sameWave(a, b)
@@ -84,7 +89,7 @@ local function finish(self)
     end
   elseif self.ok then
     -- The leader: everyone agreed. Commit here, and flood the commit.
-    self.committed, self.committed_step = true, self.steps
+    self.committed = true
     for _, i in ipairs(net:links()) do net:post(i, "agree", {commit = self.wave, digest = self.digest}) end
   else
     -- Someone's map differed: wait for quiet again.
@@ -130,17 +135,17 @@ function Agree:step(parts)
   for _, p in ipairs(parts) do
     local a = p.fields.agree
     if type(a) == "table" then
-      if type(a.probe) == "table" then
+      if wave(a.probe) then
         if sameWave(a.probe, self.wave) then
           answered(self, p.dock, true)  -- a link across the tree: the sender answers through its own parent
         elseif newer(a.probe, self.wave) and self.map and inMap(self.map, a.probe.leader) then
           probe(self, {leader = a.probe.leader, n = a.probe.n}, a.digest, p.dock)
         end
-      elseif type(a.echo) == "table" then
+      elseif wave(a.echo) then
         if sameWave(a.echo, self.wave) then answered(self, p.dock, a.ok == true) end
-      elseif type(a.commit) == "table" then
+      elseif wave(a.commit) then
         if sameWave(a.commit, self.wave) and a.digest == self.digest and not self.committed then
-          self.committed, self.committed_step = true, self.steps
+          self.committed = true
           for _, i in ipairs(net:links()) do
             if i ~= p.dock then net:post(i, "agree", {commit = a.commit, digest = a.digest}) end
           end
@@ -166,7 +171,7 @@ end
 
 --- Forgets the commit (to agree on a new map: a re-plan).
 function Agree:reset()
-  self.committed, self.committed_step, self.wave, self.stable_since = false, nil, nil, self.steps
+  self.committed, self.wave, self.stable_since = false, nil, self.steps
 end
 
 return M

@@ -424,10 +424,10 @@ function Exec:step(parts)
         self.failed = e.fail
         module.publish("failed", e.fail)
         flood(self, {fail = e.fail}, p.dock)
-      elseif type(e.k) == "number" and e.k > self.k then
+      elseif type(e.k) == "number" and type(e.at) == "number" and e.k > self.k then
         self.k, self.at = e.k, e.at
         flood(self, {k = e.k, at = e.at}, p.dock)
-      elseif type(e.amp) == "number" and e.step == self.k and e.from ~= self.ampFrom then
+      elseif type(e.amp) == "number" and type(e.from) == "number" and e.step == self.k and e.from ~= self.ampFrom then
         self.ampBefore, self.amp, self.ampFrom = self.amp, e.amp, e.from
         self.dirBefore, self.dir = self.dir, e.dir == -1 and -1 or 1
         flood(self, {step = e.step, amp = e.amp, dir = self.dir, from = e.from}, p.dock)
@@ -523,17 +523,13 @@ function Exec:step(parts)
       end
       -- Creep once a socket still free senses its leg (an IR-style proximity within 0.1 m), until
       -- it has it; the news reaches the whole chain before the wave changes.
-      local near = false
       -- (From the second step on: the docks the chain disabled at its first are read the step after.)
+      local near
       for _, x in ipairs(t > self.at + 1.5 * self.hop and s.sockets or {}) do
-        if not self.captured[x[1]] and self.io.proximity(x[1]) then near = true end
+        if not self.captured[x[1]] and self.io.proximity(x[1]) then near = x[1] end
       end
-      local creep = near or (self.creeping and not self.captured[self.creepFor or ""])
-      if near and not self.creeping then
-        for _, x in ipairs(s.sockets) do
-          if not self.captured[x[1]] and self.io.proximity(x[1]) then self.creepFor = x[1] end
-        end
-      end
+      local creep = near ~= nil or (self.creeping and not self.captured[self.creepFor or ""])
+      if near and not self.creeping then self.creepFor = near end
       local amp, dir = self.amp, self.dir
       if creep ~= self.creeping then
         self.creeping = creep

@@ -100,6 +100,11 @@ local function learn(net, rec)
       type(rec.links) ~= "table" then
     return false
   end
+  for _, l in ipairs(rec.links) do  -- (another behaviour's messages on the same docks are not records)
+    if type(l) ~= "table" or type(l[1]) ~= "string" or type(l[2]) ~= "number" or type(l[3]) ~= "string" then
+      return false
+    end
+  end
   local old = net.db[rec.origin]
   if rec.origin == net.me or (old and old.seq >= rec.seq) then return false end
   net.db[rec.origin] = rec

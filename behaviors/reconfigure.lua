@@ -30,7 +30,9 @@
 --   execute  false: agree and plan only, move nothing (default true)
 --   walk     metres: once built, the walker trots this far forward (lua/walker_gait.lua)
 --   noise    true (or {proximity = m, heading = per quaternion element, position = m, joints = rad}):
---            gaussian noise on the sensors the steps read and on every joint target
+--            gaussian noise on the sensors the steps read and on every joint target; the table may
+--            add joint_offset = rad (a calibration error per joint, drawn once) and joint_wander =
+--            rad with joint_wander_tau = s (a tracking error that wanders, default 1 s)
 --   leave_at, leave_dock   seconds, and a dock (default "back"): this module undocks there at that
 --            time (to try the agreement with the shape changing under it)
 local linkstate = require("linkstate")
@@ -75,21 +77,27 @@ if params.noise ~= nil and params.noise ~= false then
     error("params.noise: expected true or a table {proximity =, heading =, position =, joints =}, got " ..
           type(params.noise))
   end
-  for _, k in ipairs({"heading", "joints", "position", "proximity"}) do  -- (in order: the first bad one is named)
+  for _, k in ipairs({"heading", "joint_offset", "joint_wander", "joint_wander_tau", "joints", "position",
+                      "proximity"}) do  -- (in order: the first bad one is named)
     local default = kNoise[k]
     local v = params.noise == true and default or params.noise[k]
+    if k == "joint_wander_tau" and v ~= nil and not (type(v) == "number" and v > 0) then
+      error("params.noise.joint_wander_tau: expected seconds (a number, more than 0), got " .. tostring(v))
+    end
     if v ~= nil and (type(v) ~= "number" or v < 0) then
       error("params.noise." .. k .. ": expected a standard deviation (a number, at least 0), got " .. tostring(v))
     end
     sigma[k] = v or 0
   end
+  if sigma.joint_wander_tau == 0 then sigma.joint_wander_tau = 1 end
 end
 
 -- The docks' IR-style proximity (dock:<name>: {enabled, engaged, proximity}), read while a crawl
 -- brings a socket to its leg or a tail to one, with sigma.proximity m of noise on the distance
 -- (each dock its own stream). The heading (a leg steers its trot by it: the orientation, with
 -- sigma.heading on each quaternion element) and the position (the head measures the walk) are
--- the SuperBot's oracle sensors. Joint targets get sigma.joints rad (lua/noise.lua models).
+-- the SuperBot's oracle sensors. Joint targets get sigma.joints rad of white noise, a calibration
+-- offset and a wandering error (lua/noise.lua models).
 percepts = {
   heading = {sensor = "orientation", noise = noise.gaussian(sigma.heading or 0)},
   position = {sensor = "position", noise = noise.gaussian(sigma.position or 0)},
@@ -102,7 +110,10 @@ for _, d in ipairs(module.docks()) do
   end}
 end
 actions = {}
-for _, j in ipairs(module.joints()) do actions[j] = {joint = j, noise = noise.gaussian(sigma.joints or 0)} end
+for _, j in ipairs(module.joints()) do
+  actions[j] = {joint = j, noise = {noise.gaussian(sigma.joints or 0), noise.offset(sigma.joint_offset or 0),
+                                    noise.wander(sigma.joint_wander or 0, sigma.joint_wander_tau or 1)}}
+end
 local io = {
   target = function(joint, rad) module.act(joint, rad) end,
   proximity = function(dock) return module.sense("dock:" .. dock).proximity end,

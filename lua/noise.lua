@@ -99,6 +99,54 @@ function noise.drift(sigma)
   end, {sigma = sigma})
 end
 
+--- A calibration error: an offset drawn once from N(0, sigma) (one per element) and kept.
+function noise.offset(sigma)
+  number(sigma, "sigma", "offset")
+  check(sigma >= 0, "noise.offset: sigma must not be negative, got " .. sigma)
+  return model("offset", function(r)
+    local rng = r or sim
+    local offset = {}
+    return function(v)
+      return each(v, function(x, i)
+        if offset[i] == nil then offset[i] = rng.gaussian(0, sigma) end
+        return x + offset[i]
+      end)
+    end
+  end, {sigma = sigma})
+end
+
+--- A slowly wandering error: a first-order Gauss-Markov (Ornstein-Uhlenbeck) offset with standard
+--- deviation `sigma` that forgets itself over `tau` seconds (correlation exp(-t / tau)); it
+--- starts drawn from that spread. A servo's tracking error, a gyro's bias instability.
+function noise.wander(sigma, tau)
+  number(sigma, "sigma", "wander")
+  number(tau, "tau", "wander")
+  check(sigma >= 0, "noise.wander: sigma must not be negative, got " .. sigma)
+  check(tau > 0, "noise.wander: tau must be a positive number of seconds, got " .. tau)
+  return model("wander", function(r)
+    local rng = r or sim
+    local offset, last = {}, nil
+    return function(v)
+      local t = sim.time()
+      if last ~= t then
+        -- exact discretisation over the time since the last read: a = exp(-span / tau)
+        local span = last and (t - last) or nil
+        local n = type(v) == "table" and #v or 1
+        for i = 1, n do
+          if offset[i] == nil or span == nil then
+            offset[i] = rng.gaussian(0, sigma)
+          else
+            local a = math.exp(-span / tau)
+            offset[i] = a * offset[i] + rng.gaussian(0, sigma * math.sqrt(1 - a * a))
+          end
+        end
+        last = t
+      end
+      return each(v, function(x, i) return x + (offset[i] or 0) end)
+    end
+  end, {sigma = sigma, tau = tau})
+end
+
 --- Reads nothing (nil) with probability p.
 function noise.dropout(p)
   number(p, "p", "dropout")

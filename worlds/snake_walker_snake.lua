@@ -15,7 +15,9 @@
 -- walked 0.5 m, the robot is a snake again, no connection broke, and no dock carried more than
 -- 70% of its strength (100 N, 10 N m).
 -- Try: --param noise=1 (noise on the proximity, heading and position sensors and on every joint
--- target; --seed N draws other noise), --param noise=sensors (the sensors only), --param walk=1 (metres), --param back=0 (stay a walker), --param modules=12 --param back=0
+-- target; --seed N draws other noise), --param noise=sensors (the sensors only; add joint errors with
+-- --param joint_offset=RAD, a calibration error per joint, or joint_wander=RAD, a tracking error
+-- that wanders over 1 s), --param walk=1 (metres), --param back=0 (stay a walker), --param modules=12 --param back=0
 -- (a six-legged walker; it does not get back to a snake yet: its 6-module chain crawls forward at
 -- 0.35 cm/s carrying four legs, and the first take times out).
 local reconfig = require("reconfig")
@@ -35,6 +37,15 @@ if args.noise ~= nil and not noisy and args.noise ~= 0 then
   error("--param noise: 1 (sensors and joints), sensors, or 0, got " .. tostring(args.noise))
 end
 local noise = args.noise == "sensors" and {proximity = 0.005, heading = 0.01, position = 0.005} or noisy
+for _, k in ipairs({"joint_offset", "joint_wander"}) do
+  if args[k] ~= nil then
+    if type(args[k]) ~= "number" or args[k] < 0 then
+      error("--param " .. k .. ": radians (a number, at least 0), got " .. tostring(args[k]))
+    end
+    if type(noise) ~= "table" then error("--param " .. k .. ": goes with --param noise=sensors") end
+    noise[k] = args[k]
+  end
+end
 local duration = 80 + 60 * walk + (back and 130 or 0) + (n - 8) * 20
 world.set{dt = 1 / 60, duration = duration}
 world.ground{friction = 0.8}

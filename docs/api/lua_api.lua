@@ -638,7 +638,10 @@ end
 ```
 
 Models (each percept or action gets its own instance, so drift and delay lines are not shared):
-`gaussian(sigma)`, `uniform(half_width)`, `bias(b)`, `drift(sigma)` (random walk, sigma per √s),
+`gaussian(sigma)`, `uniform(half_width)`, `bias(b)`, `offset(sigma)` (a calibration error: drawn once
+from N(0, sigma) per element, then kept), `drift(sigma)` (random walk, sigma per √s), `wander(sigma,
+tau)` (a first-order Gauss–Markov error: spread sigma, correlation exp(−t/tau); a servo's tracking
+error, a gyro's bias instability),
 `dropout(p)` (nil with probability p), `quantise(step)`, `saturate(lo, hi)`, `delay(k)` (the
 value k steps earlier), `stuck{at = t}` or `stuck{rate = p}` (the value freezes), `compose(...)`.
 They act on numbers and element by element on vectors. Each percept and each action draws

@@ -4,13 +4,14 @@
 -- module disables its "back" dock, which the world reads as "all checks ran".
 --
 -- Most models are sampled directly (model.make() gives one instance, a function of the clean
--- value), one model per step to stay well inside the per-call instruction budget. Drift and
+-- value), one model per step to stay well inside the per-call instruction budget. Drift, wander and
 -- stuck depend on time, so they are sampled once per step over `kDriftT` seconds. Percepts and
 -- actions then check that a list of models is applied in order, on vectors too.
 local kN = 40000          -- samples per model
 local kDriftN = 400       -- independent drift instances
 local kDriftT = 2.0       -- seconds of drift
 local kDriftSigma = 0.5   -- per sqrt(second)
+local kWanderSigma, kWanderTau = 0.3, 2.0  -- wander: spread and seconds
 
 -- A percept list is applied in order: saturate then bias differs from bias then saturate (the
 -- chassis rides at z = 0.04; both clamp it into [0, 0.01]).
@@ -87,6 +88,24 @@ local stages = {
     check(v.x == v[1] and v.y == v[2] and v.z == v[3], "bias: a vector's keys follow its elements")
     ok("bias", "exact")
   end,
+  function()  -- offset: drawn once per instance and kept; across instances N(0, sigma); per element
+    local sigma, n, xs = 0.2, 4000, {}
+    for i = 1, n do
+      local f = noise.offset(sigma).make()
+      local a = f(1)
+      check(f(1) == a and math.abs(f(5) - (a + 4)) < 1e-12, "offset: instance %d did not keep its offset", i)
+      xs[i] = a - 1
+    end
+    local mean, std = stats(xs)
+    check(math.abs(std / sigma - 1) < 0.05, "offset: std %.4f across %d instances, sigma %.2f", std, n, sigma)
+    check(math.abs(mean) < 4 * sigma / math.sqrt(n), "offset: mean %.4f", mean)
+    local g = noise.offset(sigma).make()
+    local v = g({0, 0, 0})
+    local w = g({1, 1, 1})
+    check(v[1] ~= v[2] and w[1] == v[1] + 1 and w[2] == v[2] + 1 and w[3] == v[3] + 1, "offset: one kept offset per element")
+    check(noise.offset(0).make()(3) == 3, "offset(0) changed a value")
+    ok("offset", "%d instances: std %.4f (sigma %.2f), mean %+.4f; kept, one per element", n, std, sigma, mean)
+  end,
   function()  -- dropout: nil fraction p within 1%; p = 0 never, p = 1 always
     local p = 0.2
     local f, lost = noise.dropout(p).make(), 0
@@ -157,6 +176,7 @@ local stages = {
 }
 
 -- Time-dependent models, sampled once per step.
+local wander, wander0 = {}, {}
 local drift, drift_f, stuck_at, stuck_value, stuck_one, stuck_never = {}, nil, nil, nil, nil, nil
 local kStuckAt = 0.5
 local stuck_seen = {}
@@ -164,6 +184,7 @@ local stuck_seen = {}
 function init()
   for i = 1, kDriftN do drift[i] = noise.drift(kDriftSigma).make() end
   drift_f = noise.drift(kDriftSigma).make()
+  for i = 1, kDriftN do wander[i] = noise.wander(kWanderSigma, kWanderTau).make() end
   stuck_at = noise.stuck({at = kStuckAt}).make()
   stuck_value = noise.stuck({at = kStuckAt, value = -7}).make()
   stuck_one = noise.stuck({rate = 1}).make()
@@ -195,6 +216,29 @@ function step(dt)
     end
   end
 
+  -- wander: stationary (std sigma at the first read and the last), correlated exp(-T / tau)
+  if t <= kDriftT + 1e-9 then
+    local now = {}
+    for i = 1, kDriftN do now[i] = wander[i](0) end
+    check(wander[1](0) == now[1], "wander: a second read in the same step should not move it")
+    if step_no == 1 then
+      wander0 = now
+      local _, std = stats(now)
+      check(math.abs(std / kWanderSigma - 1) < 0.15, "wander: std %.4f at the start, sigma %.2f", std, kWanderSigma)
+    elseif t + dt > kDriftT + 1e-9 then
+      local m0, s0 = stats(wander0)
+      local m1, s1 = stats(now)
+      local c = 0
+      for i = 1, kDriftN do c = c + (wander0[i] - m0) * (now[i] - m1) end
+      c = c / (kDriftN * s0 * s1)
+      local want = math.exp(-(t - dt) / kWanderTau)  -- (the first read was at one step)
+      check(math.abs(s1 / kWanderSigma - 1) < 0.15, "wander: std %.4f after %.2f s, sigma %.2f", s1, t, kWanderSigma)
+      check(math.abs(c - want) < 0.15, "wander: correlation %.3f over %.2f s, expected %.3f", c, t - dt, want)
+      ok("wander", "%d instances: std %.4f then %.4f (sigma %.2f); correlation %.3f over %.2f s (exp(-T/tau) %.3f)",
+         kDriftN, s0, s1, kWanderSigma, c, t - dt, want)
+    end
+  end
+
   -- stuck: the input is the step number; frozen from the first step at t >= kStuckAt
   local a, b, c, d = stuck_at(step_no), stuck_value(step_no), stuck_one(step_no), stuck_never(step_no)
   if t < kStuckAt - 1e-9 then
@@ -223,7 +267,7 @@ function step(dt)
   check(module.joint("wheel_rl"):target() == before, "action with dropout(1) changed the joint")
 
   if t > kDriftT + 1e-9 and step_no > #stages then
-    check(checks == #stages + 1, "%d of %d model checks ran", checks, #stages + 1)
+    check(checks == #stages + 2, "%d of %d model checks ran", checks, #stages + 2)
     ok("stuck", "at = %g froze step %d's value; value = -7; rate = 1 froze the first; rate = 0 never", kStuckAt, stuck_seen.first)
     ok("percepts", "lists apply in order (1.01 vs 0.01); actions: map, noise, dropout")
     module.dock("back"):disable()

@@ -1,6 +1,6 @@
 -- Noise models (lua/noise.lua) and percept/action declarations on a Wheelbot:
 --   * statistics and exact behaviour of every model, checked from inside a behaviour with a fixed
---     seed (tests/behaviors/noise_stats.lua: gaussian, uniform, bias, drift, dropout, quantise,
+--     seed (tests/behaviors/noise_stats.lua: gaussian, uniform, bias, offset, drift, wander, dropout, quantise,
 --     saturate, delay, stuck, compose, and lists of models in percepts and actions); it errors on
 --     any failed check and disables its "back" dock when all of them ran;
 --   * bad declarations fail at load, each with the behaviour's file and the declaring line: a

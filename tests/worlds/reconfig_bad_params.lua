@@ -1,6 +1,6 @@
 -- behaviors/reconfigure.lua refuses bad params when it loads: the module faults alone, with a
 -- message naming the behaviour's line and the parameter, and the rest of the world runs on.
-world.set{duration = 0.1, expect_faults = 7}  -- one a case
+world.set{duration = 0.1, expect_faults = 9}  -- one a case
 world.ground{}
 local shape = {modules = {"a", "b"}, connections = {{"a", "back", "b", "front"}}}
 local cases = {
@@ -9,6 +9,9 @@ local cases = {
   {{targets = {shape, "snake"}}, "params.targets[2]: expected a shape, got string"},
   {{target = shape, walk = -1}, "params.walk: expected metres (a number, at least 0), got -1"},
   {{target = shape, noise = {joints = "a lot"}}, "params.noise.joints: expected a standard deviation"},
+  {{target = shape, noise = {joint_offset = -0.1}}, "params.noise.joint_offset: expected a standard deviation"},
+  {{target = shape, noise = {joint_wander = 0.01, joint_wander_tau = 0}},
+   "params.noise.joint_wander_tau: expected seconds (a number, more than 0), got 0"},
   {{target = shape, leave_at = "later"}, "params.leave_at: expected seconds (a number), got later"},
   {{target = {modules = {"a"}, connections = {{"a", "back", "c", "front"}}}}, "connections[1]: unknown module 'c'"},
 }

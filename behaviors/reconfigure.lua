@@ -80,7 +80,8 @@ if params.noise ~= nil and params.noise ~= false then
   for _, k in ipairs({"heading", "joint_offset", "joint_wander", "joint_wander_tau", "joints", "position",
                       "proximity"}) do  -- (in order: the first bad one is named)
     local default = kNoise[k]
-    local v = params.noise == true and default or params.noise[k]
+    local v = default
+    if params.noise ~= true then v = params.noise[k] end
     if k == "joint_wander_tau" and v ~= nil and not (type(v) == "number" and v > 0) then
       error("params.noise.joint_wander_tau: expected seconds (a number, more than 0), got " .. tostring(v))
     end
@@ -111,8 +112,11 @@ for _, d in ipairs(module.docks()) do
 end
 actions = {}
 for _, j in ipairs(module.joints()) do
-  actions[j] = {joint = j, noise = {noise.gaussian(sigma.joints or 0), noise.offset(sigma.joint_offset or 0),
-                                    noise.wander(sigma.joint_wander or 0, sigma.joint_wander_tau or 1)}}
+  -- (Only the kinds asked for: each draws from the action's stream.)
+  local models = {noise.gaussian(sigma.joints or 0)}
+  if (sigma.joint_offset or 0) > 0 then models[#models + 1] = noise.offset(sigma.joint_offset) end
+  if (sigma.joint_wander or 0) > 0 then models[#models + 1] = noise.wander(sigma.joint_wander, sigma.joint_wander_tau) end
+  actions[j] = {joint = j, noise = models}
 end
 local io = {
   target = function(joint, rad) module.act(joint, rad) end,

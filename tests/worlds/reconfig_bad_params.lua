@@ -21,6 +21,13 @@ for i, c in ipairs(cases) do
                                      params = c[1]})
 end
 local fine = world.spawn("superbot", {name = "fine", at = {1, 0, 0.05}})
+-- Good params load: noise = true (every default) and a table of some kinds.
+local good = {
+  world.spawn("superbot", {name = "g1", at = {2, 0, 0.05}, behavior = "behaviors/reconfigure.lua",
+                           params = {target = shape, noise = true}}),
+  world.spawn("superbot", {name = "g2", at = {2, 1, 0.05}, behavior = "behaviors/reconfigure.lua",
+                           params = {target = shape, noise = {joint_offset = 0.01, joint_wander = 0.01}}}),
+}
 world.on_end(function()
   for i, c in ipairs(cases) do
     local e = mods[i]:error() or ""
@@ -28,4 +35,5 @@ world.on_end(function()
            "case " .. i .. " refused with '" .. c[2] .. "': " .. e)
   end
   expect(fine:error() == nil, "the other module runs on")
+  for _, g in ipairs(good) do expect(g:error() == nil, g.name .. " loads: " .. tostring(g:error())) end
 end)

@@ -93,9 +93,9 @@ if params.noise ~= nil and params.noise ~= false then
   if sigma.joint_wander_tau == 0 then sigma.joint_wander_tau = 1 end
 end
 
--- The docks' IR-style proximity (dock:<name>: {enabled, engaged, proximity}), read while a crawl
--- brings a socket to its leg or a tail to one, with sigma.proximity m of noise on the distance
--- (each dock its own stream). The heading (a leg steers its trot by it: the orientation, with
+-- The docks' IR-style proximity and bearing (dock:<name>: {enabled, engaged, proximity, bearing}),
+-- read while a crawl brings a socket to its leg or a tail to one (and steers it there), with
+-- sigma.proximity m of noise on the distance (each dock its own stream; the bearing is exact). The heading (a leg steers its trot by it: the orientation, with
 -- sigma.heading on each quaternion element) and the position (the head measures the walk) are
 -- the SuperBot's oracle sensors. Joint targets get sigma.joints rad of white noise, a calibration
 -- offset and a wandering error (lua/noise.lua models).
@@ -121,6 +121,7 @@ end
 local io = {
   target = function(joint, rad) module.act(joint, rad) end,
   proximity = function(dock) return module.sense("dock:" .. dock).proximity end,
+  bearing = function(dock) return module.sense("dock:" .. dock).bearing end,
   heading = function() return gait.heading(module.sense("heading")) end,
   position = function() return module.sense("position") end,
 }

@@ -51,6 +51,12 @@ M.carry_hip = -0.8          -- rad: a docked leg's hip while the chain crawls (i
 M.lost_after = 1.5          -- s: a socket that has sensed its leg and then not for this long has passed it
 M.return_time = 12         -- s: after turning round, the socket has this long to sense its leg again
 M.max_turns = 6             -- times a crawl turns round to pass its leg again before it fails
+-- While a socket senses its leg, a yaw joint bends it sideways until the gap along its normal
+-- (the proximity times the bearing's x) is within [0, bend_gap]: the socket module's own yaw,
+-- or, for the chain's last module, the yaw of the module ahead (the lighter end swings).
+M.bend_gain = 8             -- rad per second per metre of gap outside [0, bend_gap]
+M.bend_gap = 0.025          -- m (the capture radius is 3 cm)
+M.bend_max = 0.4            -- rad
 M.creep_amplitude = 0.2     -- rad: then a lower one, which keeps the socket within capture height (1.8 cm/s)
 M.crawl_period = 1.5        -- s
 M.crawl_lag = -2 * math.pi / 5  -- rad between neighbours: negative runs the wave tail first (backwards)
@@ -246,7 +252,8 @@ local function releaseAndTake(from, order)
       local tail, list = chain[#chain], {}
       for i, name in ipairs(chain) do list[i] = name end
       steps[#steps + 1] = {kind = "sweep", owner = tail, joint = "yaw", angle = x.side == "right" and kQuarter or -kQuarter}
-      steps[#steps + 1] = {kind = "crawl", owner = tail, chain = list, sockets = {{"back", x.leg}}, forward = true}
+      steps[#steps + 1] = {kind = "crawl", owner = tail, chain = list, sockets = {{"back", x.leg}}, forward = true,
+                           side = x.side}
       steps[#steps + 1] = {kind = "sweep", owner = tail, joint = "yaw", angle = 0}
       chain[#chain + 1] = x.leg
     end
@@ -290,13 +297,18 @@ local function defaultIo()
       local r = module.sense("dock:" .. dock)
       return r and r.proximity
     end,
+    bearing = function(dock)
+      local r = module.sense("dock:" .. dock)
+      return r and r.bearing
+    end,
     heading = function() return gait.heading(module.sense("heading")) end,
     position = function() return module.sense("position") end,
   }
 end
 
 --- The runner of `steps` on this module (`net` from lua/linkstate.lua). opts: size (modules in
---- the robot: the news' lead), io ({target(joint, rad), proximity(dock), heading(), position()}),
+--- the robot: the news' lead), io ({target(joint, rad), proximity(dock), bearing(dock), heading(),
+--- position()}),
 --- timeouts (sweep_timeout, crawl_timeout, walk_timeout, s).
 function M.new(net, steps, opts)
   opts = opts or {}
@@ -357,6 +369,7 @@ local function begin(self, s)
   local amp = s.forward and M.forward_amplitude or M.crawl_amplitude
   self.amp, self.ampFrom, self.ampBefore, self.creeping = amp, 0, amp, false
   self.dir, self.dirBefore, self.turns, self.lastNear = 1, 1, 0, nil
+  self.bendI, self.bendSent, self.bendFor = 0, 0, nil
   self.started = sim.time()
   if s.kind == "sweep" and s.owner == self.name then
     self.io.target(s.joint, s.angle)
@@ -427,6 +440,10 @@ function Exec:step(parts)
       elseif type(e.k) == "number" and type(e.at) == "number" and e.k > self.k then
         self.k, self.at = e.k, e.at
         flood(self, {k = e.k, at = e.at}, p.dock)
+      elseif type(e.bend) == "number" and e.step == self.k then
+        -- The socket behind asks this module to bend it towards its leg.
+        self.io.target("yaw", math.max(-M.bend_max, math.min(M.bend_max, e.bend)))
+        self.bent = true
       elseif type(e.amp) == "number" and type(e.from) == "number" and e.step == self.k and e.from ~= self.ampFrom then
         self.ampBefore, self.amp, self.ampFrom = self.amp, e.amp, e.from
         self.dirBefore, self.dir = self.dir, e.dir == -1 and -1 or 1
@@ -441,6 +458,10 @@ function Exec:step(parts)
   if self.wasCrawling and (not s or s.kind ~= "crawl" or t < self.at) then
     self.io.target("pitch", 0)
     self.wasCrawling = false
+    if self.bent then
+      self.io.target("yaw", 0)  -- straight again
+      self.bent = false
+    end
   end
   if self.walking and (not s or s.kind ~= "walk" or t < self.at) then
     -- Lie down: the hip and the foot straight.
@@ -530,6 +551,29 @@ function Exec:step(parts)
       end
       local creep = near ~= nil or (self.creeping and not self.captured[self.creepFor or ""])
       if near and not self.creeping then self.creepFor = near end
+      -- Steer the sensing socket to its leg by the bearing (the IR receivers around its face).
+      local sock = self.creepFor
+      local b = creep and sock and not self.captured[sock] and self.io.bearing and self.io.bearing(sock)
+      local prox = b and self.io.proximity(sock)
+      if b and prox then
+        local gap = prox * b[1]
+        if self.bendFor ~= sock then self.bendI, self.bendFor = 0, sock end
+        local err = gap > M.bend_gap and gap - M.bend_gap or (gap < 0 and gap or 0)
+        self.bendI = math.max(-M.bend_max, math.min(M.bend_max, self.bendI + M.bend_gain * err * sim.dt()))
+        local last = s.chain[#s.chain] == self.name
+        local side = sock == "back" and s.side or sock
+        -- (a positive yaw turns what lies behind the joint to the right)
+        local angle = ((side == "right") == last and 1 or -1) * self.bendI
+        if math.abs(angle - self.bendSent) > 0.01 then
+          self.bendSent = angle
+          if last then
+            self.net:post(self.net.index.front, "exec", {step = self.k, bend = angle})
+          else
+            self.io.target("yaw", angle)
+            self.bent = true
+          end
+        end
+      end
       local amp, dir = self.amp, self.dir
       if creep ~= self.creeping then
         self.creeping = creep

@@ -600,8 +600,10 @@ forward kinematics.]]}
 
 section{"Sensors", md = [[Read lazily (only when asked) and at most once per step (a second read in the step returns the
 same value). Every module has `joint:<name>` (angle, rad; `"velocity"` as the second argument
-gives rad/s) and `dock:<name>` (`{enabled=, engaged=, proximity=}`: proximity is the distance to
-the nearest compatible free dock of another module within 0.1 m, an IR-style reading, or nil).
+gives rad/s) and `dock:<name>` (`{enabled=, engaged=, proximity=, bearing=}`: proximity is the
+distance to the nearest compatible free dock of another module within 0.1 m, an IR-style reading,
+or nil; bearing is the unit direction `{x,y,z}` to that dock in this dock's frame: x out of the
+face, z its `up` reference, y = z × x; nil with the proximity).
 Module types declare the rest (`sensors = {...}`, format in `assets/modules/superbot.lua`):
 
 | sensor | reading |

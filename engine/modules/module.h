@@ -42,9 +42,10 @@ struct DockState {
 struct SensorReading {
   enum class Kind : uint8_t { Nil, Number, Vector, Quaternion, Boolean, Dock } kind = Kind::Nil;
   double v[4] = {0, 0, 0, 0};
-  bool flag = false;      ///< Boolean; Dock: enabled
-  bool engaged = false;   ///< Dock
-  double proximity = -1;  ///< Dock: distance to the nearest free partner, < 0: none
+  bool flag = false;        ///< Boolean; Dock: enabled
+  bool engaged = false;     ///< Dock
+  double proximity = -1;    ///< Dock: distance to the nearest free partner, < 0: none
+  bool hasBearing = false;  ///< Dock: v[0..2] is the unit direction to it, in the dock's frame
 };
 
 /// module.publish limits: distinct keys per module, and bytes per value (as a message payload).

@@ -142,7 +142,8 @@ int moduleReceive(lua_State* L) {
 
 /// module.sensor(name [, "velocity"]) -> the raw reading this step: a number (joint angle or
 /// speed, range distance), {x,y,z} (accelerometer, gyro, position), {w,x,y,z} (orientation), a
-/// boolean (contact), {enabled=, engaged=, proximity=} (dock), or nil (nothing in range, dead)
+/// boolean (contact), {enabled=, engaged=, proximity=, bearing=} (dock), or nil (nothing in range,
+/// dead)
 int moduleSensor(lua_State* L) {
   luaL_checkstring(L, 1);
   bool velocity = false;

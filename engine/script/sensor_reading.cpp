@@ -27,7 +27,7 @@ void pushSensorReading(lua_State* L, const SensorReading& r) {
       pushQuat(L, Quat(r.v[0], r.v[1], r.v[2], r.v[3]));
       break;
     case SensorReading::Kind::Dock:
-      lua_createtable(L, 0, 3);
+      lua_createtable(L, 0, 4);
       lua_pushboolean(L, r.flag);
       lua_setfield(L, -2, "enabled");
       lua_pushboolean(L, r.engaged);
@@ -35,6 +35,10 @@ void pushSensorReading(lua_State* L, const SensorReading& r) {
       if (r.proximity >= 0) {
         lua_pushnumber(L, r.proximity);
         lua_setfield(L, -2, "proximity");
+      }
+      if (r.hasBearing) {
+        pushVec3(L, Vec3(r.v[0], r.v[1], r.v[2]));
+        lua_setfield(L, -2, "bearing");
       }
       break;
   }

@@ -8,7 +8,7 @@ namespace rm3d {
 struct SensorReading;
 
 /// Pushes a sensor reading as the Lua value behaviours see: nil, a number, a boolean, {x,y,z},
-/// {w,x,y,z} or a dock's {enabled=, engaged=, proximity=}.
+/// {w,x,y,z} or a dock's {enabled=, engaged=, proximity=, bearing=}.
 void pushSensorReading(lua_State* L, const SensorReading& r);
 
 }  // namespace rm3d

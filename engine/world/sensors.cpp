@@ -111,18 +111,30 @@ SensorReading World::readSensor(Module& m, int mi, int code, bool velocity) cons
         m_proximityWanted.store(true, std::memory_order_relaxed);
         buildProximity();
       }
-      const Vec3 p = dockPose(mi, d).pos;
+      const Pose self = dockPose(mi, d);
+      const Vec3& p = self.pos;
       const Gender g = t.docks[size_t(d)].gender;
       auto it = std::lower_bound(m_proximityDocks.begin(), m_proximityDocks.end(), p.x() - kProximityRange,
                                  [](const FreeDock& f, double x) { return f.pose.pos.x() < x; });
       double best = -1;
+      Vec3 toward = Vec3::Zero();
       for (; it != m_proximityDocks.end() && it->pose.pos.x() <= p.x() + kProximityRange; ++it) {
         if (it->module == mi) continue;
         if (!gendersMate(g, m_modules[size_t(it->module)].type->docks[size_t(it->dock)].gender)) continue;
         const double dist = (it->pose.pos - p).norm();
-        if (dist <= kProximityRange && (best < 0 || dist < best)) best = dist;
+        if (dist <= kProximityRange && (best < 0 || dist < best)) {
+          best = dist;
+          toward = it->pose.pos - p;
+        }
       }
       r.proximity = best;
+      // The bearing: the unit direction to that dock in this dock's frame (x its outward normal,
+      // z its up reference), as the IR receivers around a real dock face give it.
+      if (best > 1e-9) {
+        const Vec3 b = self.rot.conjugate() * (toward / best);
+        for (int k = 0; k < 3; ++k) r.v[k] = b[k];
+        r.hasBearing = true;
+      }
     }
   } else {
     const SensorDef& sd = t.sensors[size_t(code - joints - docks)];

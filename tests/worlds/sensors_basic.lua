@@ -1,6 +1,7 @@
 -- Raw sensors: the accelerometer reads gravity at rest within 0.05 m/s^2, the gyro reads no
 -- rotation, position and orientation match the module, contact sees the ground, a dock's
--- IR proximity reads the distance to a facing free dock within 0.1 m (nil beyond), and
+-- IR proximity reads the distance to a facing free dock within 0.1 m (nil beyond) and its bearing
+-- the direction to it in the dock's frame (x out of the face, z its up, y = z x x), and
 -- injected faults kill a sensor, stall a joint and stop a dock latching.
 world.set{duration = 2}
 world.ground{}
@@ -10,6 +11,10 @@ local a1 = world.spawn("superbot", {at = {2, 0, 1}, fixed = true})
 local b1 = world.spawn("superbot", {at = {2 - 0.19 - 0.05, 0, 1}, fixed = true})
 local a2 = world.spawn("superbot", {at = {2, 1, 1}, fixed = true})
 local b2 = world.spawn("superbot", {at = {2 - 0.19 - 0.15, 1, 1}, fixed = true})
+-- A pair off to one side: b3's front dock 4 cm out from a3's back dock and 3 cm to world +y
+-- (the back dock's frame: x is world -x, y is world -y): bearing (0.8, -0.6, 0) at 5 cm.
+local a3 = world.spawn("superbot", {at = {2, 2, 1}, fixed = true})
+local b3 = world.spawn("superbot", {at = {2 - 0.19 - 0.04, 2.03, 1}, fixed = true})
 local stall = world.spawn("superbot", {at = {0, 1, 0.043}, behavior = "behaviors/sweep.lua"})
 local reader = world.spawn("superbot", {at = {0, -1, 0.043}, behavior = "../behaviors/sensor_reader.lua"})
 
@@ -35,6 +40,17 @@ world.at(1, function()
   expect(s1.proximity ~= nil and math.abs(s1.proximity - 0.05) < 0.001,
          "proximity 5 cm, got " .. tostring(s1.proximity))
   expect(a2:sensor("dock:back").proximity == nil, "nothing within 10 cm: nil")
+  local bb = s1.bearing
+  expect(bb ~= nil and math.abs(bb.x - 1) < 1e-3 and math.abs(bb.y) < 1e-3 and math.abs(bb.z) < 1e-3,
+         "bearing of a facing dock: (1, 0, 0), got " .. (bb and string.format("(%.4f, %.4f, %.4f)", bb.x, bb.y, bb.z) or "nil"))
+  expect(a2:sensor("dock:back").bearing == nil, "nothing within 10 cm: no bearing")
+  local s3 = a3:sensor("dock:back")
+  local b = s3.bearing
+  expect(math.abs(s3.proximity - 0.05) < 1e-3, "the side pair is 5 cm apart, got " .. tostring(s3.proximity))
+  expect(b ~= nil and math.abs(b.x - 0.8) < 1e-3 and math.abs(b.y + 0.6) < 1e-3 and math.abs(b.z) < 1e-3,
+         "bearing to a dock off to one side: (0.8, -0.6, 0), got " ..
+         (b and string.format("(%.4f, %.4f, %.4f)", b.x, b.y, b.z) or "nil"))
+  expect(b[1] == b.x and b[2] == b.y and b[3] == b.z, "a bearing is a vector: [1..3] and x, y, z")
   rest:inject_fault{sensor = "accelerometer"}
   stall:inject_fault{joint = "pitch"}
 end)

@@ -95,9 +95,10 @@ end
 
 -- The docks' IR-style proximity and bearing (dock:<name>: {enabled, engaged, proximity, bearing}),
 -- read while a crawl brings a socket to its leg or a tail to one (and steers it there), with
--- sigma.proximity m of noise on the distance (each dock its own stream; the bearing is exact). The heading (a leg steers its trot by it: the orientation, with
--- sigma.heading on each quaternion element) and the position (the head measures the walk) are
--- the SuperBot's oracle sensors. Joint targets get sigma.joints rad of white noise, a calibration
+-- sigma.proximity m of noise on the distance (each dock its own stream; the bearing is exact).
+-- The heading (a leg steers its trot by it: the orientation, with sigma.heading on each
+-- quaternion element) and the position (the head measures the walk) are the SuperBot's oracle
+-- sensors. Joint targets get sigma.joints rad of white noise, a calibration
 -- offset and a wandering error (lua/noise.lua models).
 percepts = {
   heading = {sensor = "orientation", noise = noise.gaussian(sigma.heading or 0)},

@@ -1,28 +1,52 @@
-# Self-reconfiguration under sensor noise: worlds/snake_walker_snake.lua (snake, walker, 0.5 m,
-# snake) with noise on the docks' proximity, the heading and the position sensors, over 20 seeds
-# (rm3d sweep, 2 at a time). At least 18 of the 20 runs must pass every check of the world.
+# Self-reconfiguration under noise: worlds/snake_walker_snake.lua (snake, walker, 0.5 m, snake)
+# over 20 seeds (rm3d sweep, 2 at a time), counting the runs that pass every check of the world:
+#   - noise on the docks' proximity, the heading and the position sensors: at least 18 of 20;
+#   - the same and white noise on every joint target (noise=1): at least 8 of 20. Measured 9; 4
+#     before the sockets steered to their legs by the docks' bearing, so a crawl that no longer
+#     steers fails here.
 # Run as: cmake -DRM3D=<rm3d> -DSRC=<source dir> -DOUT=<folder> -P reconfig_noise.cmake
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
-execute_process(COMMAND ${RM3D} sweep ${SRC}/worlds/snake_walker_snake.lua --param noise=sensors --seeds 1-20
-                        --jobs 2 --watchdog 300 --out ${OUT}/runs.jsonl
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT EXISTS ${OUT}/runs.jsonl)
-  message(FATAL_ERROR "the sweep wrote nothing (exit ${rc}):\n${out}${err}")
-endif()
-file(STRINGS ${OUT}/runs.jsonl lines)
-list(LENGTH lines runs)
-set(passed 0)
-foreach(line IN LISTS lines)
-  string(JSON code GET "${line}" exit_code)
-  string(JSON seed GET "${line}" seed)
-  if(code EQUAL 0)
-    math(EXPR passed "${passed} + 1")
-  else()
-    message(STATUS "seed ${seed} failed (exit ${code})")
+
+function(noisy_runs noise minimum)
+  execute_process(COMMAND ${RM3D} sweep ${SRC}/worlds/snake_walker_snake.lua --param noise=${noise} --seeds 1-20
+                          --jobs 2 --watchdog 300 --out ${OUT}/runs_${noise}.jsonl
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT EXISTS ${OUT}/runs_${noise}.jsonl)
+    message(FATAL_ERROR "noise=${noise}: the sweep wrote nothing (exit ${rc}):\n${out}${err}")
   endif()
-endforeach()
-message(STATUS "${passed} of ${runs} noisy runs passed")
-if(NOT runs EQUAL 20 OR passed LESS 18)
-  message(FATAL_ERROR "expected at least 18 of 20 noisy runs to pass, got ${passed} of ${runs}")
-endif()
+  # One JSON line a run, taken apart by hand: a run's output holds ';' and '[' that would split
+  # or join the elements of a CMake list.
+  file(READ ${OUT}/runs_${noise}.jsonl content)
+  set(runs 0)
+  set(passed 0)
+  while(NOT content STREQUAL "")
+    string(FIND "${content}" "\n" nl)
+    if(nl EQUAL -1)
+      set(line "${content}")
+      set(content "")
+    else()
+      string(SUBSTRING "${content}" 0 ${nl} line)
+      math(EXPR next "${nl} + 1")
+      string(SUBSTRING "${content}" ${next} -1 content)
+    endif()
+    if(line STREQUAL "")
+      continue()
+    endif()
+    math(EXPR runs "${runs} + 1")
+    string(JSON code GET "${line}" exit_code)
+    string(JSON seed GET "${line}" seed)
+    if(code EQUAL 0)
+      math(EXPR passed "${passed} + 1")
+    else()
+      message(STATUS "noise=${noise}: seed ${seed} failed (exit ${code})")
+    endif()
+  endwhile()
+  message(STATUS "noise=${noise}: ${passed} of ${runs} runs passed")
+  if(NOT runs EQUAL 20 OR passed LESS minimum)
+    message(FATAL_ERROR "noise=${noise}: expected at least ${minimum} of 20 runs to pass, got ${passed} of ${runs}")
+  endif()
+endfunction()
+
+noisy_runs(sensors 18)
+noisy_runs(1 8)

@@ -37,7 +37,7 @@ class{"DockSettings",
 
 class{"world",
   table = "world = {}"}
-fn{"world.set", doc = [[Settings, all optional (seed before the first spawn); `solver` is `"exact"` (default: 2 substeps x 10 iterations) or `"pgs"` (default: 4 x 30; substeps and iterations given are kept; see [Physics](../physics.md)); `max_speed`, `max_angular_speed` and `bounds` are the divergence limits; `expect_faults = true` (or a number: exactly that many faulted modules) declares that the world faults modules on purpose, which `rm3d test` otherwise fails.]],
+fn{"world.set", doc = [[Settings, all optional (seed before the first spawn); `solver` is `"exact"` (default: 1 substep x 15 iterations, 2 x 15 in a world with cloth) or `"pgs"` (default: 4 x 30; substeps and iterations given are kept; see [Physics](../physics.md)); `max_speed`, `max_angular_speed` and `bounds` are the divergence limits; `expect_faults = true` (or a number: exactly that many faulted modules) declares that the world faults modules on purpose, which `rm3d test` otherwise fails.]],
   params = {{"s", [[{dt: number?, substeps: integer?, gravity: number[]?, seed: integer?, duration: number?, solver: ("pgs"|"exact")?, solver_iterations: integer?, joint_iterations: integer?, erp: number?, max_speed: number?, max_angular_speed: number?, bounds: number?, expect_faults: (boolean|integer)?}]]}}}
 fn{"world.ground", doc = "Infinite plane z = 0.",
   params = {{"g?", "{friction: number?, restitution: number?}"}}}

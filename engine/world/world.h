@@ -66,12 +66,14 @@ struct RunOptions {
 };
 
 /// The substeps and solver iterations each joint solver runs at unless world.set gives them:
-/// "exact" 2 x 10, "pgs" 4 x 30 (its hinges need both; README, Joint solvers).
+/// "exact" 1 x 15, "pgs" 4 x 30 (its hinges need both; docs/physics.md, Joint solvers).
 constexpr int defaultSubsteps(SolverKind k) {
-  return k == SolverKind::Exact ? 2 : 4;
+  return k == SolverKind::Exact ? 1 : 4;
 }
+/// The substeps a world with cloth runs at unless world.set gives them (World::start).
+constexpr int kClothSubsteps = 2;
 constexpr int defaultIterations(SolverKind k) {
-  return k == SolverKind::Exact ? 10 : 30;
+  return k == SolverKind::Exact ? 15 : 30;
 }
 
 /// world.set{...}: fixed before the first step.

@@ -64,7 +64,7 @@ expect_run("--seconds 1e300" 2 "--seconds 1e\\+300: expected simulated seconds" 
 expect_run("unknown bench scene" 2 "unknown scene 'nope'" bench nope)
 # Bench scenes run at the world's defaults unless told, and say so; each of the paper's scenes
 # carries its figure. Structure only: no timings are asserted.
-expect_run("bench at the defaults" 0 "settings: solver exact \\(world default\\), dt 0.01667 s \\(world default\\), substeps 2 \\(world default\\)"
+expect_run("bench at the defaults" 0 "settings: solver exact \\(world default\\), dt 0.01667 s \\(world default\\), substeps 1 \\(world default\\)"
            bench atrons_275 snake_150 docking_1000 --modules 3 --steps 2 --json ${OUT}/bench.json)
 file(READ ${OUT}/bench.json bench)
 string(JSON bench_substeps GET "${bench}" substeps)
@@ -83,8 +83,8 @@ foreach(field steps_per_second realtime_factor ms quality connections messages_s
     message(SEND_ERROR "bench JSON scene lacks '${field}'")
   endif()
 endforeach()
-if(NOT bench_substeps EQUAL 2 OR NOT bench_given STREQUAL "OFF" OR NOT bench_n EQUAL 3
-   OR NOT bench_name STREQUAL "atrons_275" OR NOT bench_mods EQUAL 3 OR NOT bench_iters EQUAL 10
+if(NOT bench_substeps EQUAL 1 OR NOT bench_given STREQUAL "OFF" OR NOT bench_n EQUAL 3
+   OR NOT bench_name STREQUAL "atrons_275" OR NOT bench_mods EQUAL 3 OR NOT bench_iters EQUAL 15
    OR NOT bench_dt MATCHES "^0\\.01666" OR NOT bench_paper_fps MATCHES "^30(\\.0*)?$" OR NOT bench_paper_rtf MATCHES "^1(\\.0*)?$"
    OR NOT bench_paper_none STREQUAL "NULL")
   message(SEND_ERROR "bench JSON: substeps ${bench_substeps} (given ${bench_given}), ${bench_n} scenes, "
@@ -426,8 +426,8 @@ else()
 endif()
 
 # Each solver's own substeps and iterations where world.set does not give them, recorded in the
-# summary: the default "exact" at 2 x 10, "pgs" alone at its 4 x 30, given values kept across a
-# change of solver.
+# summary: the default "exact" at 1 x 15 (2 x 15 in a world with cloth), "pgs" alone at its 4 x 30,
+# given values kept across a change of solver.
 function(check_solver_defaults name set want)
   file(WRITE ${OUT}/solver_${name}.lua "${set}\nworld.set{duration = 0.05}\nworld.ground{}\n")
   execute_process(COMMAND ${RM3D} run ${OUT}/solver_${name}.lua --headless --quiet --json ${OUT}/solver_${name}.json
@@ -442,7 +442,9 @@ function(check_solver_defaults name set want)
     message(STATUS "ok: solver defaults (${name}): ${want}")
   endif()
 endfunction()
-check_solver_defaults(default "" "exact,2,10")
+check_solver_defaults(default "" "exact,1,15")
+check_solver_defaults(cloth "world.cloth{corners = {{0, 0, 1}, {0.2, 0, 1}, {0.2, 0.2, 1}, {0, 0.2, 1}}, resolution = {4, 4}}" "exact,2,15")
+check_solver_defaults(cloth_given "world.set{substeps = 1}\nworld.cloth{corners = {{0, 0, 1}, {0.2, 0, 1}, {0.2, 0.2, 1}, {0, 0.2, 1}}, resolution = {4, 4}}" "exact,1,15")
 check_solver_defaults(pgs "world.set{solver = 'pgs'}" "pgs,4,30")
 check_solver_defaults(kept "world.set{substeps = 3}\nworld.set{solver = 'pgs', solver_iterations = 12}" "pgs,3,12")
 

@@ -220,7 +220,16 @@ int World::addCloth(const ClothDesc& desc, const std::array<float, 4>& color) {
   ensurePhysics();
   const int c = m_physics->addCloth(desc);
   m_cloths.push_back({desc.nx, desc.ny, color});
+  // Before the first step world.set may still change the solver (and its default substeps): start()
+  // applies it then.
+  if (m_started) keepClothSubsteps();
   return c;
+}
+
+void World::keepClothSubsteps() {
+  // Cloth keeps two substeps unless the world gives its own: its nodes meet bodies only where they
+  // end a substep, so at one substep a sheet falling 1.8 m (5 cm a substep) went through a 2 cm plate.
+  if (!m_settings.substepsGiven) m_settings.substeps = std::max(m_settings.substeps, kClothSubsteps);
 }
 
 World::ClothStats World::clothStats(int c) const {
@@ -459,10 +468,7 @@ void World::start() {
   if (m_started) return;
   ensurePhysics();
   m_started = true;
-  // Cloth keeps two substeps unless the world gives its own: its nodes meet bodies only where they
-  // end a substep, so at one substep a sheet falling 1.8 m (5 cm a substep) went through a 2 cm plate.
-  if (!m_cloths.empty() && !m_settings.substepsGiven)
-    m_settings.substeps = std::max(m_settings.substeps, kClothSubsteps);
+  if (!m_cloths.empty()) keepClothSubsteps();
   m_router.seed(m_settings.seed);
   double capture = 0.03;
   for (const auto* types : {&m_types, &m_dockVariants})

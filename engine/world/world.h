@@ -359,6 +359,8 @@ class World {
   DockingScene dockingScene() { return {m_modules, *m_physics, m_time, m_started}; }
   /// Drops the messages in flight at docks that docking released.
   void dropReleased();
+  /// A world with cloth runs at least kClothSubsteps unless world.set gave its substeps.
+  void keepClothSubsteps();
   struct FreeDock {
     int module, dock;
     Pose pose;

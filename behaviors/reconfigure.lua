@@ -121,6 +121,7 @@ for _, j in ipairs(module.joints()) do
 end
 local io = {
   target = function(joint, rad) module.act(joint, rad) end,
+  free = function(joint) module.joint(joint):free() end,  -- (the motor off: no command, no noise)
   proximity = function(dock) return module.sense("dock:" .. dock).proximity end,
   bearing = function(dock) return module.sense("dock:" .. dock).bearing end,
   heading = function() return gait.heading(module.sense("heading")) end,

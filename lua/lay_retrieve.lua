@@ -31,6 +31,12 @@
 -- crawl starts its wave at the same time, in phase. A deposited module is out of touch until it is
 -- captured; it has nothing to do meanwhile, and catches up from the first message it gets.
 --
+-- Moves made to survive joint errors (docs/self-reconfiguration.md, Noise): a sweep's target
+-- moves at M.sweep_speed, and while a yaw sweep drags a module over the ground every module's
+-- pitch is limp, so the robot lies on the ground as it is rather than on a few points; a crawl's
+-- change of amplitude or direction blends in over M.wave_blend; the walk's way is measured from
+-- averaged positions.
+--
 -- Physics is checked as it runs: a step not finished in its time (a sweep that cannot reach its
 -- angle, a crawl that does not capture), a connection that breaks, or a socket that latches the
 -- wrong module stops the run; the module that saw it floods the reason, and every module publishes
@@ -59,6 +65,9 @@ M.bend_gap = 0.025          -- m (the capture radius is 3 cm)
 M.bend_max = 0.4            -- rad
 M.creep_amplitude = 0.2     -- rad: then a lower one, which keeps the socket within capture height (1.8 cm/s)
 M.crawl_period = 1.5        -- s
+M.walk_readings = 30        -- positions the walk's way is averaged over (0.5 s at dt 1/60)
+M.wave_blend = 0.75         -- s: a change of the wave's amplitude or direction blends in over this
+M.sweep_speed = 1.0         -- rad/s: a sweep's target moves at most this fast
 M.crawl_lag = -2 * math.pi / 5  -- rad between neighbours: negative runs the wave tail first (backwards)
 
 -- The snake's modules in order from its head (the module whose front dock is free), or nil and why.
@@ -293,6 +302,7 @@ Exec.__index = Exec
 local function defaultIo()
   return {
     target = function(joint, rad) module.joint(joint):set_target(rad) end,
+    free = function(joint) module.joint(joint):free() end,
     proximity = function(dock)
       local r = module.sense("dock:" .. dock)
       return r and r.proximity
@@ -307,7 +317,8 @@ local function defaultIo()
 end
 
 --- The runner of `steps` on this module (`net` from lua/linkstate.lua). opts: size (modules in
---- the robot: the news' lead), io ({target(joint, rad), proximity(dock), bearing(dock), heading(),
+--- the robot: the news' lead), io ({target(joint, rad), free(joint) (optional: the motor off),
+--- proximity(dock), bearing(dock), heading(),
 --- position()}),
 --- timeouts (sweep_timeout, crawl_timeout, walk_timeout, s).
 function M.new(net, steps, opts)
@@ -371,8 +382,15 @@ local function begin(self, s)
   self.dir, self.dirBefore, self.turns, self.lastNear = 1, 1, 0, nil
   self.bendI, self.bendSent, self.bendFor = 0, 0, nil
   self.started = sim.time()
+  if s.kind == "sweep" and s.joint == "yaw" then
+    -- A yaw sweep drags a module over the ground: every module lets its pitch go limp, so the robot
+    -- lies on the ground as it is. (Held at 0 with actuator noise, a chain lay on a few points, the
+    -- swung module pressed on the ground and its drag buckled the chain 10 deg at the next yaw ahead.)
+    if self.io.free then self.io.free("pitch") else module.joint("pitch"):free() end
+  end
   if s.kind == "sweep" and s.owner == self.name then
-    self.io.target(s.joint, s.angle)
+    self.sweepFrom = module.joint(s.joint):angle()
+    self.sweepRamp = math.abs(s.angle - self.sweepFrom) / M.sweep_speed
   elseif s.kind == "sweep" and s.leg == self.name then
     -- About to be laid: only the front dock stays willing (the one a socket will take).
     for _, d in ipairs(module.docks()) do
@@ -387,7 +405,7 @@ local function begin(self, s)
     end
     module.dock("front"):enable()
   elseif s.kind == "walk" then
-    self.from = s.owner == self.name and self.io.position() or nil
+    self.readings = {n = 0, x = 0, y = 0}
     self.heading0 = nil
   elseif s.kind == "crawl" and indexOf(s.chain, self.name) then
     -- Only the sockets take anything while the chain passes the deposits.
@@ -482,11 +500,17 @@ function Exec:step(parts)
   if self.began ~= self.k then begin(self, s) end
   if s.kind == "sweep" and s.owner == self.name then
     local j = module.joint(s.joint)
-    if math.abs(j:angle() - s.angle) < kSettle and math.abs(j:velocity()) < kSettleSpeed then
+    if self.sweepFrom then
+      local f = self.sweepRamp > 0 and math.min(1, (t - self.started) / self.sweepRamp) or 1
+      self.io.target(s.joint, self.sweepFrom + f * (s.angle - self.sweepFrom))
+      if f >= 1 then self.sweepFrom = nil end
+    end
+    if not self.sweepFrom and math.abs(j:angle() - s.angle) < kSettle and math.abs(j:velocity()) < kSettleSpeed then
       advance(self)
-    elseif t - self.started > self.timeout.sweep then
+    elseif t - self.started > self.sweepRamp + self.timeout.sweep then
       fail(self, string.format("step %d: %s's %s did not reach %+.0f deg in %.0f s (at %+.1f deg)", self.k,
-                               self.name, s.joint, math.deg(s.angle), self.timeout.sweep, math.deg(j:angle())))
+                               self.name, s.joint, math.deg(s.angle), self.sweepRamp + self.timeout.sweep,
+                               math.deg(j:angle())))
     end
   elseif s.kind == "cut" and s.owner == self.name then
     if t - self.started > self.timeout.cut then
@@ -504,8 +528,16 @@ function Exec:step(parts)
       end
     end
     if s.owner == self.name then
-      local p = self.io.position()
-      local d = math.sqrt((p[1] - self.from[1]) ^ 2 + (p[2] - self.from[2]) ^ 2)
+      -- The way walked, from the mean of the last M.walk_readings positions (one reading, with
+      -- 5 mm of noise on each, stopped the walker 2 cm short).
+      local p, r = self.io.position(), self.readings
+      r.n = r.n + 1
+      local slot = (r.n - 1) % M.walk_readings + 1
+      r.x, r.y = r.x + p[1] - (r[2 * slot - 1] or 0), r.y + p[2] - (r[2 * slot] or 0)
+      r[2 * slot - 1], r[2 * slot] = p[1], p[2]
+      local m = math.min(r.n, M.walk_readings)
+      if r.n <= M.walk_readings then self.from = {r.x / m, r.y / m} end  -- (the start, averaged too)
+      local d = math.sqrt((r.x / m - self.from[1]) ^ 2 + (r.y / m - self.from[2]) ^ 2)
       if d >= s.distance then
         log(string.format("walked %.3f m in %.1f s", d, t - self.at))
         advance(self)
@@ -523,9 +555,13 @@ function Exec:step(parts)
     end
     if i then
       self.wasCrawling = true
-      local now = t >= self.ampFrom
-      local lag = (s.forward and -M.crawl_lag or M.crawl_lag) * (now and self.dir or self.dirBefore)
-      local a = (now and self.amp or self.ampBefore) * math.sin(2 * math.pi * (t - self.at) / M.crawl_period + (i - 1) * lag)
+      -- (From the wave before to the new one over M.wave_blend s: a jump in every joint's target
+      -- at once loaded the docks 50-75 N.)
+      local lag = (s.forward and -M.crawl_lag or M.crawl_lag) * (i - 1)
+      local phase = 2 * math.pi * (t - self.at) / M.crawl_period
+      local w = math.max(0, math.min(1, (t - self.ampFrom) / M.wave_blend))
+      local a = w * self.amp * math.sin(phase + lag * self.dir)
+      if w < 1 then a = a + (1 - w) * self.ampBefore * math.sin(phase + lag * self.dirBefore) end
       self.io.target("pitch", a)
     end
     if s.owner == self.name then

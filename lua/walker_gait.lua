@@ -14,8 +14,9 @@
 --   local pitch, yaw = gait.leg(t - t0, "left", 0, headingError)
 --
 -- Measured (2026-11-30) at dt 1/60: the 8-module walker of worlds/snake_walker_snake.lua walks
--- 0.51 m in 19.3 s, 2 s of it standing up; built directly, 0.61 m in 19 s with its heading within
--- 1.6 deg and its body 10 cm up (5.6 cm clear of the ground).
+-- 0.518 m in 22.3 s, 2 s of it standing up (one substep; 0.51 m in 19.3 s at two); built
+-- directly, 0.61 m in 19 s with its heading within 1.6 deg and its body 10 cm up (5.6 cm clear of
+-- the ground; two substeps).
 local M = {
   period = 2.0,   -- s a stride
   stand = 0.5,    -- rad of hip: the feet down, the body up

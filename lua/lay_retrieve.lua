@@ -34,8 +34,9 @@
 -- Moves made to survive joint errors (docs/self-reconfiguration.md, Noise): a sweep's target
 -- moves at M.sweep_speed, and while a yaw sweep drags a module over the ground every module's
 -- pitch is limp, so the robot lies on the ground as it is rather than on a few points; a crawl's
--- change of amplitude or direction blends in over M.wave_blend; the walk's way is measured from
--- averaged positions.
+-- change of amplitude or direction blends in over M.wave_blend; a socket whose capture stalls
+-- lets go and takes again after M.retake_after; the walk's way is measured from averaged
+-- positions.
 --
 -- Physics is checked as it runs: a step not finished in its time (a sweep that cannot reach its
 -- angle, a crawl that does not capture), a connection that breaks, or a socket that latches the
@@ -67,6 +68,7 @@ M.creep_amplitude = 0.2     -- rad: then a lower one, which keeps the socket wit
 M.crawl_period = 1.5        -- s
 M.walk_readings = 30        -- positions the walk's way is averaged over (0.5 s at dt 1/60)
 M.wave_blend = 0.75         -- s: a change of the wave's amplitude or direction blends in over this
+M.retake_after = 1.0        -- s: a socket whose capture stalled lets go this long, then takes again
 M.sweep_speed = 1.0         -- rad/s: a sweep's target moves at most this fast
 M.crawl_lag = -2 * math.pi / 5  -- rad between neighbours: negative runs the wave tail first (backwards)
 
@@ -443,6 +445,17 @@ function Exec:on_dock(dock, event)
     for _, x in ipairs(s.sockets) do
       if x[1] == dock:name() then self.captured[x[1]] = true end
     end
+  elseif event == "stalled" and s.kind == "crawl" and s.owner == self.name then
+    -- A capture that has not latched in its time (the faces met askew): let go, and take the leg
+    -- again once the crawl has moved on a little.
+    for _, x in ipairs(s.sockets) do
+      if x[1] == dock:name() and not self.captured[x[1]] then
+        dock:disable()
+        self.retake = self.retake or {}
+        self.retake[x[1]] = sim.time() + M.retake_after
+        log(string.format("%s stalled taking %s: letting go, taking it again in %.1f s", x[1], x[2], M.retake_after))
+      end
+    end
   end
 end
 
@@ -565,6 +578,12 @@ function Exec:step(parts)
       self.io.target("pitch", a)
     end
     if s.owner == self.name then
+      for d, at in pairs(self.retake or {}) do
+        if t >= at then
+          module.dock(d):enable()
+          self.retake[d] = nil
+        end
+      end
       local all = true
       for _, x in ipairs(s.sockets) do
         local d = module.dock(x[1])

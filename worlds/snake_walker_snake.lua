@@ -18,8 +18,8 @@
 -- target; --seed N draws other noise), --param noise=sensors (the sensors only; add joint errors with
 -- --param joint_offset=RAD, a calibration error per joint, or joint_wander=RAD, a tracking error
 -- that wanders over 1 s), --param walk=1 (metres), --param back=0 (stay a walker), --param modules=12 --param back=0
--- (a six-legged walker; it is not built yet: its 10-module chain passes its first leg 3 to 6 cm
--- out until its crawl times out; docs/self-reconfiguration.md).
+-- (a six-legged walker; it does not get back to a snake yet: its 6-module chain crawls forward at
+-- 0.35 cm/s carrying four legs, and the first take times out).
 local reconfig = require("reconfig")
 local n = args.modules or 8
 if type(n) ~= "number" or n < 8 or n % 4 ~= 0 then

@@ -962,12 +962,22 @@ void ExactSolver::finishJoints() {
     };
     // Swept again until the contacts settle (the largest impulse change of a sweep under
     // kResweepSettled) or kResweeps sweeps: mass splitting in the first only, as in the
-    // substep's own iterations.
+    // substep's own iterations. A sweep whose solve fixes more motors at their rating splits the
+    // groups again before the next: swept with the groups of before, the impulse that stops a
+    // group lands on a link whose hinge no longer holds it, and the sweeps grew (changes of 0.001,
+    // 0.015, 0.07, 0.9 N s squared; a walker's leg spun at 74 rad/s, 74 deg in a step, and loaded
+    // its dock 93 N; with 12 sweeps the walker diverged).
     for (int k = 0; k < kResweeps; ++k) {
       m_useSplit = k == 0;
       const double change = contactSweep();
       exactIterationWhere(true, swept);
       if (change < kResweepSettled) break;
+      bool dirty = false;
+      for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) dirty |= m_clusters[size_t(ci)].dirty;
+      if (dirty) {
+        settle();
+        buildGroups(m_groupFirstBody);
+      }
     }
     m_sweepIsland.clear();
   }

@@ -3,7 +3,7 @@
 #   - noise on the docks' proximity, the heading and the position sensors: at least 18 of 20
 #     (measured 20);
 #   - the same and a servo tracking error that wanders (joint_wander=0.005 rad over 1 s): at least
-#     18 of 20. Measured 20; 1 with the sockets' steering to their legs by the docks' bearing
+#     18 of 20. Measured 20; 2 with the sockets' steering to their legs by the docks' bearing
 #     switched off, so a crawl that no longer steers fails here. (White noise on every joint target,
 #     noise=1, passes 15 of 20: docs/self-reconfiguration.md.)
 # Run as: cmake -DRM3D=<rm3d> -DSRC=<source dir> -DOUT=<folder> -P reconfig_noise.cmake

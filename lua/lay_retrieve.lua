@@ -13,7 +13,9 @@
 --
 -- Back to a snake, "release and take": a leg lifts its hip and is let go (it tips out, clear of the
 -- chain); the tail turns its back bracket towards the leg and the chain crawls forward until that
--- dock takes it; the tail turns back, drawing the leg into line as the new tail.
+-- dock takes it; the tail turns back, drawing the leg into line as the new tail. The tail's own
+-- legs are let go one at a time, each just before its take (so the first draw-in, which turns the
+-- chain a little, turns the second leg with it); legs further up the chain together.
 --
 -- Socket pairs are served from the front of the chain backwards, so a leg already docked never
 -- passes a deposit. Each module computes the same steps from the same committed map and target
@@ -255,11 +257,20 @@ local function releaseAndTake(from, order)
   for ri = #rounds, 1, -1 do
     local r = rounds[ri]
     table.sort(r.sockets, function(a, b) return a.side == "left" and b.side == "right" end)
-    for _, x in ipairs(r.sockets) do
+    -- A leg on the tail's sockets is let go just before its take: drawing the leg before it into
+    -- line turns the chain a few degrees, and a leg let go earlier lay 3 to 8 cm off the new tail's
+    -- way. Further up the chain the legs are let go together, so that one crawl brings the tail to
+    -- both.
+    local late = r.p == #chain
+    local function release(x)
       steps[#steps + 1] = {kind = "sweep", owner = x.leg, joint = "pitch", angle = M.tip_hip}
       steps[#steps + 1] = {kind = "cut", owner = chain[r.p], dock = x.side, leg = x.leg, release = true}
     end
+    if not late then
+      for _, x in ipairs(r.sockets) do release(x) end
+    end
     for _, x in ipairs(r.sockets) do
+      if late then release(x) end
       local tail, list = chain[#chain], {}
       for i, name in ipairs(chain) do list[i] = name end
       steps[#steps + 1] = {kind = "sweep", owner = tail, joint = "yaw", angle = x.side == "right" and kQuarter or -kQuarter}

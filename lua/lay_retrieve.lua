@@ -394,6 +394,7 @@ local function begin(self, s)
   self.amp, self.ampFrom, self.ampBefore, self.creeping = amp, 0, amp, false
   self.dir, self.dirBefore, self.turns, self.lastNear = 1, 1, 0, nil
   self.bendI, self.bendSent, self.bendFor = 0, 0, nil
+  self.retake = nil  -- (sockets to enable again, by dock name: a capture stalled)
   self.started = sim.time()
   if s.kind == "sweep" and s.joint == "yaw" then
     -- A yaw sweep drags a module over the ground: every module lets its pitch go limp, so the robot

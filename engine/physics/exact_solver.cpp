@@ -933,13 +933,15 @@ void ExactSolver::finishJoints() {
   // (a row can only leave the active set, so this ends).
   // Each step below touches only the clusters (or, for contacts, the islands) it concerns, so that
   // a cluster's result does not depend on which others Bullet batched with it.
+  // (True when there was a dirty cluster to solve.)
   auto settle = [&] {
     for (int pass = 0; pass < 4; ++pass) {
       bool dirty = false;
       for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) dirty |= m_clusters[size_t(ci)].dirty;
-      if (!dirty) break;
+      if (!dirty) return pass > 0;
       exactIterationWhere(true, [](const Cluster& c) { return c.dirty; });
     }
+    return true;
   };
   // The contacts were swept with the structure held; where a motor then reached its rating, the
   // impulse they took to stop it now lands on a link its joint no longer holds. Sweep them again
@@ -972,12 +974,7 @@ void ExactSolver::finishJoints() {
       const double change = contactSweep();
       exactIterationWhere(true, swept);
       if (change < kResweepSettled) break;
-      bool dirty = false;
-      for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) dirty |= m_clusters[size_t(ci)].dirty;
-      if (dirty) {
-        settle();
-        buildGroups(m_groupFirstBody);
-      }
+      if (k + 1 < kResweeps && settle()) buildGroups(m_groupFirstBody);  // (after the last, settle() below)
     }
     m_sweepIsland.clear();
   }

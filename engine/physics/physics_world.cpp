@@ -18,6 +18,7 @@
 #include "physics/exact_solver.h"
 #include "physics/plane_contacts.h"
 #include "physics/solver_world.h"
+#include "physics/task_dispatcher.h"
 
 #if defined(__SSE__)
 #include <xmmintrin.h>
@@ -244,8 +245,8 @@ struct PhysicsWorld::Impl {
   PhysicsSettings settings;
   // A soft-rigid world always: with no cloth it costs nothing measurable (README, "Cloth").
   btSoftBodyRigidBodyCollisionConfiguration config{poolSizes()};
-  PlaneContactFuncs planeContacts;  // registered with the dispatcher (outlives it)
-  btCollisionDispatcher dispatcher{&config};
+  PlaneContactFuncs planeContacts;     // registered with the dispatcher (outlives it)
+  TaskDispatcher dispatcher{&config};  // the narrowphase, on the worker threads where there are any
   btDbvtBroadphase broadphase;
   ExactSolver solver;
   std::vector<std::unique_ptr<ExactSolver>> helpers;  // batch solvers on worker threads (setParallel)
@@ -790,6 +791,7 @@ void PhysicsWorld::addGroundPlane(double friction, double restitution) {
 int PhysicsWorld::addCloth(const ClothDesc& desc) {
   if (!m->cloth) {
     m->cloth = std::make_unique<ClothSystem>(m->world, toBt(m->settings.gravity));
+    m->dispatcher.setTasks(1, nullptr);  // cloth's pairs share its contact lists: one thread
     if (m->groundFriction) m->cloth->setGround(*m->groundFriction);
   }
   return m->cloth->add(desc);
@@ -998,6 +1000,7 @@ void PhysicsWorld::setParallel(int threads, ForEach forEach) {
     }
   }
   m->world.setBatchSolvers(&m->solver, std::move(helpers), m->tasks);
+  m->dispatcher.setTasks(m->cloth ? 1 : threads, m->tasks);  // (not with cloth: see addCloth)
 }
 
 void PhysicsWorld::setLoadTracking(bool on) {

@@ -1,0 +1,137 @@
+// The narrowphase on worker threads, with Bullet's results (see task_dispatcher.h).
+#include "physics/task_dispatcher.h"
+
+#include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
+#include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+
+#include <algorithm>
+
+namespace rm3d {
+
+namespace {
+
+/// Below this many pairs to run, handing them to the threads costs more than it saves.
+constexpr int kMinParallelPairs = 256;
+/// Pairs a thread takes at a time.
+constexpr int kChunk = 32;
+
+}  // namespace
+
+void TaskDispatcher::setTasks(int threads, Tasks tasks) {
+  m_threads = tasks ? std::max(1, threads) : 1;
+  m_tasks = m_threads > 1 ? std::move(tasks) : nullptr;
+  m_lanes.clear();
+  for (int t = 0; t < m_threads; ++t) m_lanes.push_back(std::make_unique<Lane>());
+}
+
+TaskDispatcher::Lane* TaskDispatcher::lane() {
+  const std::thread::id me = std::this_thread::get_id();
+  for (const auto& l : m_lanes)
+    if (l->thread.load(std::memory_order_relaxed) == me) return l.get();
+  return nullptr;
+}
+
+void TaskDispatcher::note(btPersistentManifold* manifold, bool release) {
+  Lane* l = lane();
+  l->changes.push_back({l->pair, l->phase, int(l->changes.size()), manifold, release});
+}
+
+btPersistentManifold* TaskDispatcher::getNewManifold(const btCollisionObject* body0, const btCollisionObject* body1) {
+  if (!m_deferring || !lane()) return btCollisionDispatcher::getNewManifold(body0, body1);
+  btPersistentManifold* m;
+  {
+    std::lock_guard<std::mutex> hold(m_mutex);
+    m = btCollisionDispatcher::getNewManifold(body0, body1);
+    m_manifoldsPtr.pop_back();  // listed later, in pair order
+  }
+  note(m, false);
+  return m;
+}
+
+void TaskDispatcher::releaseManifold(btPersistentManifold* manifold) {
+  if (!m_deferring || !lane()) return btCollisionDispatcher::releaseManifold(manifold);
+  note(manifold, true);  // cleared, unlisted and freed later, in pair order
+}
+
+void* TaskDispatcher::allocateCollisionAlgorithm(int size) {
+  std::lock_guard<std::mutex> hold(m_mutex);
+  return btCollisionDispatcher::allocateCollisionAlgorithm(size);
+}
+
+void TaskDispatcher::freeCollisionAlgorithm(void* ptr) {
+  std::lock_guard<std::mutex> hold(m_mutex);
+  btCollisionDispatcher::freeCollisionAlgorithm(ptr);
+}
+
+void TaskDispatcher::dispatchAllCollisionPairs(btOverlappingPairCache* pairCache, const btDispatcherInfo& info,
+                                               btDispatcher* dispatcher) {
+  // Bullet's loop where it does not run the pairs in array order with its own near callback.
+  if (!m_tasks || info.m_dispatchFunc != btDispatcherInfo::DISPATCH_DISCRETE ||
+      info.m_deterministicOverlappingPairs || getNearCallback() != &btCollisionDispatcher::defaultNearCallback ||
+      pairCache->getNumOverlappingPairs() < kMinParallelPairs)
+    return btCollisionDispatcher::dispatchAllCollisionPairs(pairCache, info, dispatcher);
+  btBroadphasePairArray& pairs = pairCache->getOverlappingPairArray();
+  const int n = pairs.size();
+  for (const auto& l : m_lanes) {
+    l->thread.store(std::thread::id(), std::memory_order_relaxed);
+    l->changes.clear();
+  }
+  m_deferring = true;
+  // On this thread, in pair order: the algorithm of each new pair that collides, made as Bullet's
+  // near callback makes it (an algorithm may make its manifold then).
+  Lane& first = *m_lanes[0];
+  first.thread.store(std::this_thread::get_id(), std::memory_order_relaxed);
+  first.phase = 0;
+  for (int i = 0; i < n; ++i) {
+    btBroadphasePair& pair = pairs[i];
+    if (pair.m_algorithm) continue;
+    auto* o0 = static_cast<btCollisionObject*>(pair.m_pProxy0->m_clientObject);
+    auto* o1 = static_cast<btCollisionObject*>(pair.m_pProxy1->m_clientObject);
+    if (!needsCollision(o0, o1)) continue;
+    first.pair = i;
+    const btCollisionObjectWrapper w0(nullptr, o0->getCollisionShape(), o0, o0->getWorldTransform(), -1, -1);
+    const btCollisionObjectWrapper w1(nullptr, o1->getCollisionShape(), o1, o1->getWorldTransform(), -1, -1);
+    pair.m_algorithm = findAlgorithm(&w0, &w1, nullptr, BT_CONTACT_POINT_ALGORITHMS);
+  }
+  first.thread.store(std::thread::id(), std::memory_order_relaxed);
+  // The pairs, on the threads, as the near callback runs them.
+  std::atomic<int> next{0};
+  m_tasks(m_threads, [&](int t) {
+    Lane& l = *m_lanes[size_t(t)];
+    l.thread.store(std::this_thread::get_id(), std::memory_order_relaxed);
+    l.phase = 1;
+    for (int k = next.fetch_add(kChunk); k < n; k = next.fetch_add(kChunk)) {
+      for (int i = k; i < std::min(n, k + kChunk); ++i) {
+        btBroadphasePair& pair = pairs[i];
+        if (!pair.m_algorithm) continue;
+        auto* o0 = static_cast<btCollisionObject*>(pair.m_pProxy0->m_clientObject);
+        auto* o1 = static_cast<btCollisionObject*>(pair.m_pProxy1->m_clientObject);
+        if (!needsCollision(o0, o1)) continue;
+        const btCollisionObjectWrapper w0(nullptr, o0->getCollisionShape(), o0, o0->getWorldTransform(), -1, -1);
+        const btCollisionObjectWrapper w1(nullptr, o1->getCollisionShape(), o1, o1->getWorldTransform(), -1, -1);
+        btManifoldResult result(&w0, &w1);
+        l.pair = i;
+        pair.m_algorithm->processCollision(&w0, &w1, info, &result);
+      }
+    }
+    l.thread.store(std::thread::id(), std::memory_order_relaxed);  // this thread may take another lane
+  });
+  m_deferring = false;
+  // The manifolds made and let go, listed and unlisted as Bullet's loop would have, pair by pair.
+  m_changes.clear();
+  for (const auto& l : m_lanes) m_changes.insert(m_changes.end(), l->changes.begin(), l->changes.end());
+  if (m_changes.empty()) return;
+  std::sort(m_changes.begin(), m_changes.end());
+  for (const Change& c : m_changes) {
+    if (c.release) {
+      btCollisionDispatcher::releaseManifold(c.manifold);
+    } else {
+      c.manifold->m_index1a = m_manifoldsPtr.size();
+      m_manifoldsPtr.push_back(c.manifold);
+    }
+  }
+}
+
+}  // namespace rm3d

@@ -1,0 +1,69 @@
+// The collision dispatcher, with the narrowphase on worker threads.
+//
+// Bullet's dispatcher runs every overlapping pair's algorithm in turn on one thread; with 1500
+// ATRONs that is 6.9 ms of a 15 ms substep. Each pair's algorithm reads its two bodies and writes
+// only its own contact manifolds, so pairs can run at once, save for what they share through the
+// dispatcher: the pools of algorithms and manifolds, and the world's list of manifolds, whose order
+// is the order of the solver's contact rows. Here the new pairs' algorithms are made on the calling
+// thread, pair by pair, as Bullet would make them; then the pairs run on the threads, each thread
+// noting the manifolds its pairs make and let go; then those changes are made to the list in pair
+// order.
+// The list comes out as Bullet's own loop leaves it, so the results are the same bits at any
+// thread count.
+#pragma once
+
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace rm3d {
+
+class TaskDispatcher : public btCollisionDispatcher {
+ public:
+  /// Runs fn(t) for t in [0, n), each on its own thread where it can.
+  using Tasks = std::function<void(int n, const std::function<void(int)>& fn)>;
+  explicit TaskDispatcher(btCollisionConfiguration* config) : btCollisionDispatcher(config) {}
+  /// With `threads` > 1 and `tasks`, the pairs run on that many threads; otherwise on this one
+  /// (as in a world with cloth: its pairs share the cloth's contact lists).
+  void setTasks(int threads, Tasks tasks);
+
+  void dispatchAllCollisionPairs(btOverlappingPairCache* pairCache, const btDispatcherInfo& info,
+                                 btDispatcher* dispatcher) override;
+  btPersistentManifold* getNewManifold(const btCollisionObject* body0, const btCollisionObject* body1) override;
+  void releaseManifold(btPersistentManifold* manifold) override;
+  void* allocateCollisionAlgorithm(int size) override;
+  void freeCollisionAlgorithm(void* ptr) override;
+
+ private:
+  /// A manifold made or let go while the pairs run: made to the list afterwards, in pair order.
+  struct Change {
+    int pair, phase, seq;  // phase 0: as the pair's algorithm was made; 1: as it ran
+    btPersistentManifold* manifold;
+    bool release;
+    bool operator<(const Change& o) const {
+      return pair != o.pair ? pair < o.pair : phase != o.phase ? phase < o.phase : seq < o.seq;
+    }
+  };
+  /// One thread's state while the pairs run.
+  struct alignas(64) Lane {  // (a cache line of its own: each thread writes its own per pair)
+    std::atomic<std::thread::id> thread{};
+    int pair = -1, phase = 0;
+    std::vector<Change> changes;
+  };
+  Lane* lane();  ///< the calling thread's, or null
+  void note(btPersistentManifold* manifold, bool release);
+
+  int m_threads = 1;
+  Tasks m_tasks;
+  bool m_deferring = false;  // the pairs are running: manifolds are noted, not listed
+  std::mutex m_mutex;        // the pools
+  std::vector<std::unique_ptr<Lane>> m_lanes;
+  std::vector<Change> m_changes;
+};
+
+}  // namespace rm3d

@@ -56,11 +56,13 @@ void TaskDispatcher::releaseManifold(btPersistentManifold* manifold) {
 }
 
 void* TaskDispatcher::allocateCollisionAlgorithm(int size) {
+  if (!m_deferring) return btCollisionDispatcher::allocateCollisionAlgorithm(size);
   std::lock_guard<std::mutex> hold(m_mutex);
   return btCollisionDispatcher::allocateCollisionAlgorithm(size);
 }
 
 void TaskDispatcher::freeCollisionAlgorithm(void* ptr) {
+  if (!m_deferring) return btCollisionDispatcher::freeCollisionAlgorithm(ptr);
   std::lock_guard<std::mutex> hold(m_mutex);
   btCollisionDispatcher::freeCollisionAlgorithm(ptr);
 }

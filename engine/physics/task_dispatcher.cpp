@@ -38,7 +38,8 @@ void TaskDispatcher::note(btPersistentManifold* manifold, bool release) {
   l->changes.push_back({l->pair, l->phase, int(l->changes.size()), manifold, release});
 }
 
-btPersistentManifold* TaskDispatcher::getNewManifold(const btCollisionObject* body0, const btCollisionObject* body1) {
+btPersistentManifold* TaskDispatcher::getNewManifold(const btCollisionObject* body0,
+                                                     const btCollisionObject* body1) {
   if (!m_deferring || !lane()) return btCollisionDispatcher::getNewManifold(body0, body1);
   btPersistentManifold* m;
   {
@@ -67,11 +68,12 @@ void TaskDispatcher::freeCollisionAlgorithm(void* ptr) {
   btCollisionDispatcher::freeCollisionAlgorithm(ptr);
 }
 
-void TaskDispatcher::dispatchAllCollisionPairs(btOverlappingPairCache* pairCache, const btDispatcherInfo& info,
-                                               btDispatcher* dispatcher) {
+void TaskDispatcher::dispatchAllCollisionPairs(btOverlappingPairCache* pairCache,
+                                               const btDispatcherInfo& info, btDispatcher* dispatcher) {
   // Bullet's loop where it does not run the pairs in array order with its own near callback.
   if (!m_tasks || info.m_dispatchFunc != btDispatcherInfo::DISPATCH_DISCRETE ||
-      info.m_deterministicOverlappingPairs || getNearCallback() != &btCollisionDispatcher::defaultNearCallback ||
+      info.m_deterministicOverlappingPairs ||
+      getNearCallback() != &btCollisionDispatcher::defaultNearCallback ||
       pairCache->getNumOverlappingPairs() < kMinParallelPairs)
     return btCollisionDispatcher::dispatchAllCollisionPairs(pairCache, info, dispatcher);
   btBroadphasePairArray& pairs = pairCache->getOverlappingPairArray();
@@ -111,8 +113,10 @@ void TaskDispatcher::dispatchAllCollisionPairs(btOverlappingPairCache* pairCache
         auto* o0 = static_cast<btCollisionObject*>(pair.m_pProxy0->m_clientObject);
         auto* o1 = static_cast<btCollisionObject*>(pair.m_pProxy1->m_clientObject);
         if (!needsCollision(o0, o1)) continue;
-        const btCollisionObjectWrapper w0(nullptr, o0->getCollisionShape(), o0, o0->getWorldTransform(), -1, -1);
-        const btCollisionObjectWrapper w1(nullptr, o1->getCollisionShape(), o1, o1->getWorldTransform(), -1, -1);
+        const btCollisionObjectWrapper w0(nullptr, o0->getCollisionShape(), o0, o0->getWorldTransform(), -1,
+                                          -1);
+        const btCollisionObjectWrapper w1(nullptr, o1->getCollisionShape(), o1, o1->getWorldTransform(), -1,
+                                          -1);
         btManifoldResult result(&w0, &w1);
         l.pair = i;
         pair.m_algorithm->processCollision(&w0, &w1, info, &result);

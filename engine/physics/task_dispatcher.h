@@ -34,7 +34,8 @@ class TaskDispatcher : public btCollisionDispatcher {
 
   void dispatchAllCollisionPairs(btOverlappingPairCache* pairCache, const btDispatcherInfo& info,
                                  btDispatcher* dispatcher) override;
-  btPersistentManifold* getNewManifold(const btCollisionObject* body0, const btCollisionObject* body1) override;
+  btPersistentManifold* getNewManifold(const btCollisionObject* body0,
+                                       const btCollisionObject* body1) override;
   void releaseManifold(btPersistentManifold* manifold) override;
   void* allocateCollisionAlgorithm(int size) override;
   void freeCollisionAlgorithm(void* ptr) override;

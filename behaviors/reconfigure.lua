@@ -2,8 +2,8 @@
 -- (lua/linkstate.lua), agree that every one of them holds the same map (lua/agree.lua, an echo
 -- wave from the module with the smallest id), and then each computes the same plan from that map
 -- to the target shape (lua/reconfig.lua) and the same steps that carry it out
--- (lua/lay_retrieve.lua: from a snake on the ground to a chain with one-module legs, and back),
--- with no global state. The steps run by messages through the docks; each is checked as it runs (a joint
+-- (lua/lay_retrieve.lua: from a snake on the ground to a chain with one-module legs, and back;
+-- lua/atron_moves.lua: ATRONs, by half turns of a hemisphere), with no global state. The steps run by messages through the docks; each is checked as it runs (a joint
 -- that cannot reach its angle, a crawl that does not bring a socket to its leg, a connection
 -- that breaks) and a failure stops every module that hears of it, with the reason.
 --
@@ -39,6 +39,7 @@ local linkstate = require("linkstate")
 local agree = require("agree")
 local reconfig = require("reconfig")
 local layRetrieve = require("lay_retrieve")
+local atronMoves = require("atron_moves")
 local gait = require("walker_gait")
 
 -- The targets, one after another: params.target, then each of params.targets.
@@ -184,9 +185,18 @@ local function commit()
     exec = {done = true, step = function() end, on_dock = function() end}
     return
   end
-  -- The moves: lay and retrieve (lua/lay_retrieve.lua). Legs are interchangeable, so the steps may
-  -- give the legs other roles than the plan's; what they build must be the target all the same.
-  local steps, built = layRetrieve.compile(now, target, {walk = params.walk})
+  -- The moves. ATRONs: half turns of a hemisphere (lua/atron_moves.lua). SuperBots: lay and
+  -- retrieve (lua/lay_retrieve.lua); legs are interchangeable, so those steps may give the legs
+  -- other roles than the plan's, and what they build must be the target all the same.
+  local atrons = true
+  for _, name in ipairs(now.names) do atrons = atrons and now.types[name] == "atron" end
+  local moves = atrons and atronMoves or layRetrieve
+  local steps, built
+  if atrons then
+    steps, built = atronMoves.compile(now, target, plan)
+  else
+    steps, built = layRetrieve.compile(now, target, {walk = params.walk})
+  end
   if steps then
     local check = reconfig.plan(reconfig.shape(built), target)
     if #check.ops > 0 then steps, built = nil, "the steps would not build the target" end
@@ -196,8 +206,8 @@ local function commit()
     log("cannot carry the plan out: " .. built)
     return
   end
-  module.publish("steps", layRetrieve.format(steps))
-  exec = layRetrieve.new(net, steps, {size = #agreement.map.members, io = io})
+  module.publish("steps", moves.format(steps))
+  exec = moves.new(net, steps, {size = #agreement.map.members, io = io})
 end
 
 function step(dt)

@@ -33,6 +33,10 @@ local function edgeKey(a, da, b, db)
   return x .. "-" .. y
 end
 
+--- A connection's key, the same whichever end comes first: "a.dock-b.dock" with the smaller
+--- "module.dock" first.
+M.key = edgeKey
+
 --- A shape from {modules = {...}, connections = {...}}: `modules` a list of names, or a table
 --- name -> type (type names: modules of different types never take each other's roles);
 --- `connections` a list of {a, dock_a, b, dock_b}. Checks every entry: an unknown module, a

@@ -30,13 +30,15 @@
 -- step under way the first one whose result its map does not show yet (a turn: the connection it
 -- makes; a release: the connection gone). The carrier of a turn ramps its equator by 180 degrees
 -- at M.turn_speed; the mover of a release disables its dock. A turn whose connection has not
--- latched M.latch_timeout seconds after the ramp ends fails, and the module says why
--- (module.publish("failed", ...)).
+-- latched M.latch_timeout seconds after the ramp ends turns back and tries again (M.tries turns in
+-- all); then it fails: the carrier says why (module.publish("failed", ...)) and the news floods the
+-- robot, every module stopping with the same reason.
 local M = {}
 
 M.turn_speed = 0.8     -- rad/s: the equator's target moves this fast (the motor's limit is 1 rad/s)
 M.latch_timeout = 3    -- s after a turn's ramp: its connection must have latched by then
 M.start_delay = 0.5    -- s after the executor is made: the first step begins
+M.tries = 2            -- turns a move gets: the first, and after turning back, one more
 
 -- ===== Geometry (the dock layout of assets/modules/atron.lua) =====
 
@@ -333,7 +335,24 @@ end
 
 function Exec:on_dock() end
 
-function Exec:step()
+-- Stops here, says why, and passes the news on over every engaged dock (each module that hears
+-- it stops too, and says the same).
+local function fail(self, why)
+  if self.failed then return end
+  self.failed = why
+  module.publish("failed", why)
+  log("reconfiguration failed: " .. why)
+  for i, d in ipairs(self.net.docks) do
+    if d:engaged() then self.net:post(i, "moves", {failed = why}) end
+  end
+end
+
+--- One step of the executor; `parts`: this step's messages (net:receive()).
+function Exec:step(parts)
+  for _, p in ipairs(parts or {}) do
+    local news = p.fields and p.fields.moves
+    if type(news) == "table" and news.failed then fail(self, news.failed) end
+  end
   if self.done or self.failed then return end
   do  -- (the map as it is now; `changed` is left for the layers that watch it)
     local changed = self.net.changed
@@ -361,7 +380,7 @@ function Exec:step()
       self.target("equator", module.joint("equator"):angle())
       self.turning = false
     end
-    self.k, self.began = k, sim.time()
+    self.k, self.began, self.tries = k, sim.time(), 1
     if s.owner == module.name and s.kind == "turn" then
       self.from = module.joint("equator"):angle()
       self.to = self.from + math.pi
@@ -372,15 +391,25 @@ function Exec:step()
     module.dock(s.dock):disable()
     return
   end
+  -- The turn: out by 180 degrees; if the connection has not latched M.latch_timeout after, back
+  -- to where it started and out again, once (M.tries turns in all).
   local ramp = math.pi / M.turn_speed
-  local f = math.min(1, (sim.time() - self.began) / ramp)
+  local t = sim.time() - self.began
   self.turning = true
-  self.target("equator", self.from + f * (self.to - self.from))
-  if sim.time() - self.began > ramp + M.latch_timeout then
-    self.failed = string.format("%s.%s did not latch to %s.%s within %.0f s of the turn", s.connect[1], s.connect[2],
-                                s.connect[3], s.connect[4], M.latch_timeout)
-    module.publish("failed", self.failed)
-    log("reconfiguration failed: " .. self.failed)
+  if t <= ramp + M.latch_timeout then
+    self.target("equator", self.from + math.min(1, t / ramp) * (self.to - self.from))
+  elseif self.tries < M.tries then
+    local back = t - ramp - M.latch_timeout
+    self.target("equator", self.to + math.min(1, back / ramp) * (self.from - self.to))
+    if back >= ramp then
+      self.tries, self.began = self.tries + 1, sim.time()
+      module.publish("retries", self.tries - 1)
+      log(string.format("%s.%s did not latch to %s.%s: turning back and again", s.connect[1], s.connect[2],
+                        s.connect[3], s.connect[4]))
+    end
+  else
+    fail(self, string.format("%s.%s did not latch to %s.%s within %.0f s of the turn, %d turns", s.connect[1],
+                             s.connect[2], s.connect[3], s.connect[4], M.latch_timeout, M.tries))
   end
 end
 

@@ -16,8 +16,13 @@
 -- step (0.11 m) from `d`. With the defaults the modules agree on the plan at 0.32 s and the target
 -- shape stands at 5.02 s.
 --
+-- `--param fault=1` breaks a's dock s1 first (m:inject_fault): it never latches. The turn then
+-- goes back and tries again, once, and fails; every module stops with the reason. The checks
+-- become: every module says the same reason, b turned twice, and a still hangs on b.
+--
 --   ./build/rm3d run worlds/atron_reconfigure.lua --png out/atron_reconfigure.png
-local kDuration = 10
+local kFault = (args.fault or 0) ~= 0
+local kDuration = kFault and 22 or 10
 world.set{duration = kDuration, gravity = {0, 0, 0}}
 local reconfig = require("reconfig")
 
@@ -34,6 +39,7 @@ end
 world.connect(m.b, "s0", m.a, "n1")
 world.connect(m.b, "n2", m.c, "s1")
 world.connect(m.c, "n1", m.d, "n0")
+if kFault then m.a:inject_fault{dock = "s1"} end
 
 local shown, done, broken, seen = false, nil, 0, nil
 local peak = {force = 0, torque = 0}
@@ -75,6 +81,17 @@ world.on_end(function(t)
   for _, e in ipairs(world.events()) do
     if e.event == "broken" then broken = broken + 1 end
   end
+  expect(broken == 0, broken .. " connections broke")
+  if kFault then
+    local why = "a.s1 did not latch to d.s0 within 3 s of the turn, 2 turns"
+    for _, n in ipairs(names) do
+      expect(m[n]:published("failed") == why, n .. " stopped with the reason: " .. tostring(m[n]:published("failed")))
+    end
+    expect(m.b:published("retries") == 1, "b turned back and tried again once")
+    local st = m.a:dock_state("n1")
+    expect(st.engaged and st.peer_module == m.b.id and st.peer_dock == "s0", "a still hangs on b")
+    return
+  end
   local failed
   for _, n in ipairs(names) do failed = failed or m[n]:published("failed") or m[n]:published("error") end
   expect(failed == nil, "no step failed: " .. tostring(failed))
@@ -85,7 +102,6 @@ world.on_end(function(t)
   local pa, pd = m.a:position(), m.d:position()
   local gap = math.sqrt((pa.x - pd.x) ^ 2 + (pa.y - pd.y) ^ 2 + (pa.z - pd.z) ^ 2)
   expect(math.abs(gap - 0.11) < 0.002, string.format("a is a lattice step from d: %.4f m", gap))
-  expect(broken == 0, broken .. " connections broke")
   expect(peak.force < 70 and peak.torque < 7, string.format("dock loads within 70%% of the docks' strength: %.1f N, %.2f N m",
                                                             peak.force, peak.torque))
 end)

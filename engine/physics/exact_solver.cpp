@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 namespace rm3d {
 
@@ -88,6 +89,12 @@ Mat6 symmetricInverse(const Mat6& a) {
   return out;
 }
 
+inline void cpuRelax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
 }  // namespace
 
 void ExactSolver::beginSubstep() {
@@ -107,6 +114,7 @@ void ExactSolver::beginSubstep() {
   m_nodes.clear();
   m_clusters.clear();
   m_loopJoints.clear();
+  m_laneNodes.clear();
   m_nodeOfBody.clear();
   m_bodyCluster.clear();
   if (m_rows.size() < m_shared->joints.size()) m_rows.resize(m_shared->joints.size());
@@ -343,36 +351,53 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
       n.parentIsA = parentIsA;
       return int(m_nodes.size()) - 1;
     };
-    if (root >= 0) {
-      m_rows[size_t(root)].node = addNode(-1, root, -1, false);
-    } else {
-      const int b = m_rows[size_t(start)].na >= 0 ? m_rows[size_t(start)].na : m_rows[size_t(start)].nb;
-      m_bodyNode[size_t(b - firstBody)] = addNode(b, -1, -1, false);
-    }
-    // Breadth first over the tree; a joint whose other body is placed already closes a loop
-    // and stays out of it.
-    for (int k = c.begin; k < int(m_nodes.size()); ++k) {
-      const int nodeJoint = m_nodes[size_t(k)].joint, nodeBody = m_nodes[size_t(k)].body;
-      if (nodeJoint >= 0) {
-        const Row& r = m_rows[size_t(nodeJoint)];
-        for (int side = 0; side < 2; ++side) {
-          const int b = side == 0 ? r.na : r.nb;
-          if (b < 0 || m_bodyNode[size_t(b - firstBody)] >= 0) continue;
-          m_bodyNode[size_t(b - firstBody)] = addNode(b, -1, k, side == 0);
-        }
-      } else {
-        const int b = nodeBody;
-        for (int q = m_adjStart[size_t(b - firstBody)]; q < m_adjStart[size_t(b - firstBody) + 1]; ++q) {
-          const int j = m_adj[size_t(q)];
-          Row& r = m_rows[size_t(j)];
-          if (r.node >= 0) continue;  // already placed (the body's parent joint)
-          const int other = r.na == b ? r.nb : r.na;
-          // A body placed already, or claimed by another joint of this level: a loop.
-          if (other >= 0 && m_bodyNode[size_t(other - firstBody)] != -1) continue;
-          r.node = addNode(-1, j, k, r.na == b);
-          if (other >= 0) m_bodyNode[size_t(other - firstBody)] = kClaimed;
+    // Breadth first over the tree from a root joint (to the static world) or body; a joint whose
+    // other body is placed already closes a loop and stays out of it.
+    auto grow = [&](int rootJoint, int rootBody) {
+      if (rootJoint >= 0)
+        m_rows[size_t(rootJoint)].node = addNode(-1, rootJoint, -1, false);
+      else
+        m_bodyNode[size_t(rootBody - firstBody)] = addNode(rootBody, -1, -1, false);
+      for (int k = c.begin; k < int(m_nodes.size()); ++k) {
+        const int nodeJoint = m_nodes[size_t(k)].joint, nodeBody = m_nodes[size_t(k)].body;
+        if (nodeJoint >= 0) {
+          const Row& r = m_rows[size_t(nodeJoint)];
+          for (int side = 0; side < 2; ++side) {
+            const int b = side == 0 ? r.na : r.nb;
+            if (b < 0 || m_bodyNode[size_t(b - firstBody)] >= 0) continue;
+            m_bodyNode[size_t(b - firstBody)] = addNode(b, -1, k, side == 0);
+          }
+        } else {
+          const int b = nodeBody;
+          for (int q = m_adjStart[size_t(b - firstBody)]; q < m_adjStart[size_t(b - firstBody) + 1]; ++q) {
+            const int j = m_adj[size_t(q)];
+            Row& r = m_rows[size_t(j)];
+            if (r.node >= 0) continue;  // already placed (the body's parent joint)
+            const int other = r.na == b ? r.nb : r.na;
+            // A body placed already, or claimed by another joint of this level: a loop.
+            if (other >= 0 && m_bodyNode[size_t(other - firstBody)] != -1) continue;
+            r.node = addNode(-1, j, k, r.na == b);
+            if (other >= 0) m_bodyNode[size_t(other - firstBody)] = kClaimed;
+          }
         }
       }
+    };
+    const int firstRootBody =
+        m_rows[size_t(start)].na >= 0 ? m_rows[size_t(start)].na : m_rows[size_t(start)].nb;
+    grow(root, firstRootBody);
+    // A long tree without loops or anchors: rooted again at its centroid body, so that its two
+    // halves can be factored and solved apart (splitTree).
+    if (root < 0 && int(m_component.size()) >= kSplitJoints &&
+        int(m_nodes.size()) - c.begin == 2 * int(m_component.size()) + 1) {
+      const int centre = centroidBody(c.begin);
+      for (int k = c.begin; k < int(m_nodes.size()); ++k) {
+        const Node& n = m_nodes[size_t(k)];
+        if (n.body >= 0) m_bodyNode[size_t(n.body - firstBody)] = -1;
+        if (n.joint >= 0) m_rows[size_t(n.joint)].node = -1;
+      }
+      m_nodes.resize(size_t(c.begin));
+      grow(-1, centre);
+      splitTree(c);
     }
     c.end = int(m_nodes.size());
     for (int k = c.begin; k < c.end && c.island < 0; ++k)
@@ -599,42 +624,147 @@ btScalar ExactSolver::contactSweep() {
   return btScalar(residual);
 }
 
-void ExactSolver::factor(Cluster& c) {
-  // Diagonal blocks and the coupling to the parent.
-  for (int k = c.begin; k < c.end; ++k) {
-    Node& n = m_nodes[size_t(k)];
-    if (n.joint >= 0) {
-      const Row& r = m_rows[size_t(n.joint)];
-      n.d = -kRegularisation * Mat6::Identity();
-      if (!r.axialActive) n.d(5, 5) = -1;
-      const ExactJoint& ej = m_shared->joints[size_t(n.joint)];
-      if (r.axialActive && ej.state == ExactJoint::Axial::Motor) n.d(5, 5) -= ej.compliance;
-      if (n.parent >= 0) {
-        n.hp = n.parentIsA ? r.ja : r.jb;  // H(joint, body) = J
-        if (!r.axialActive) n.hp.row(5).setZero();
-      }
-    } else {
-      const Body& b = m_bodies[size_t(n.body)];
-      n.d.setZero();
-      n.d.topLeftCorner<3, 3>() = Mat3d::Identity() / b.invMass;
-      n.d.bottomRightCorner<3, 3>() = b.invInertia.inverse();
-      if (n.parent >= 0) {
-        const Row& r = m_rows[size_t(m_nodes[size_t(n.parent)].joint)];
-        n.hp = (n.parentIsA ? r.ja : r.jb).transpose();  // H(body, joint) = J^T
-        if (!r.axialActive) n.hp.col(5).setZero();
-      }
+void ExactSolver::initNode(int k) {
+  Node& n = m_nodes[size_t(k)];
+  if (n.joint >= 0) {
+    const Row& r = m_rows[size_t(n.joint)];
+    n.d = -kRegularisation * Mat6::Identity();
+    if (!r.axialActive) n.d(5, 5) = -1;
+    const ExactJoint& ej = m_shared->joints[size_t(n.joint)];
+    if (r.axialActive && ej.state == ExactJoint::Axial::Motor) n.d(5, 5) -= ej.compliance;
+    if (n.parent >= 0) {
+      n.hp = n.parentIsA ? r.ja : r.jb;  // H(joint, body) = J
+      if (!r.axialActive) n.hp.row(5).setZero();
+    }
+  } else {
+    const Body& b = m_bodies[size_t(n.body)];
+    n.d.setZero();
+    n.d.topLeftCorner<3, 3>() = Mat3d::Identity() / b.invMass;
+    n.d.bottomRightCorner<3, 3>() = b.invInertia.inverse();
+    if (n.parent >= 0) {
+      const Row& r = m_rows[size_t(m_nodes[size_t(n.parent)].joint)];
+      n.hp = (n.parentIsA ? r.ja : r.jb).transpose();  // H(body, joint) = J^T
+      if (!r.axialActive) n.hp.col(5).setZero();
     }
   }
-  // Leaves first: D_i = H_ii - sum over children H_ci^T D_c^-1 H_ci.
-  for (int k = c.end - 1; k >= c.begin; --k) {
-    Node& n = m_nodes[size_t(k)];
-    n.dinv = symmetricInverse(n.d);
-    if (n.parent >= 0) {
-      const Mat6 t = n.dinv * n.hp;
-      Mat6& pd = m_nodes[size_t(n.parent)].d;
-      pd.noalias() -= n.hp.transpose() * t;
-      pd = (0.5 * (pd + pd.transpose())).eval();  // keep it exactly symmetric
+}
+
+// D_i = H_ii - sum over children H_ci^T D_c^-1 H_ci: a node's inverse, then its share of its parent's.
+void ExactSolver::eliminate(int k, bool toParent) {
+  Node& n = m_nodes[size_t(k)];
+  n.dinv = symmetricInverse(n.d);
+  if (n.parent >= 0 && toParent) {
+    const Mat6 t = n.dinv * n.hp;
+    Mat6& pd = m_nodes[size_t(n.parent)].d;
+    pd.noalias() -= n.hp.transpose() * t;
+    pd = (0.5 * (pd + pd.transpose())).eval();  // keep it exactly symmetric
+  }
+}
+
+template <class Fn>
+void ExactSolver::forEachNode(const Cluster& c, const Fn& fn) {
+  if (!c.split) {
+    for (int k = c.begin; k < c.end; ++k) fn(k);
+    return;
+  }
+  fn(c.begin);
+  forBothHalves([&](int h) {
+    for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) fn(m_laneNodes[size_t(i)]);
+  });
+}
+
+void ExactSolver::runWithHalfHelper(const std::function<void(int, const std::function<void(int)>&)>& tasks,
+                                    const std::function<void()>& fn) {
+  if (!tasks) return fn();
+  HalfHelper helper;
+  tasks(2, [&](int t) {
+    if (t == 1) return helpHalves(helper);
+    m_halfHelper = &helper;
+    fn();
+    m_halfHelper = nullptr;
+    helper.stop.store(true, std::memory_order_release);
+    helper.posted.fetch_add(1, std::memory_order_release);  // (wakes it to see the stop)
+    helper.posted.notify_one();
+  });
+}
+
+void ExactSolver::forBothHalves(const std::function<void(int)>& fn) {
+  HalfHelper* h = m_halfHelper;
+  if (!h) {
+    fn(0);
+    fn(1);
+    return;
+  }
+  h->fn = &fn;
+  const uint64_t g = h->posted.load(std::memory_order_relaxed) + 1;
+  h->posted.store(g, std::memory_order_release);
+  h->posted.notify_one();
+  fn(0);
+  uint64_t expected = g - 1;
+  if (h->taken.compare_exchange_strong(expected, g, std::memory_order_acq_rel)) {
+    fn(1);  // the helper did not take it in time
+    return;
+  }
+  // The helper is on it: wait (yielding after a while, should it be waiting for this core).
+  for (int spins = 0; h->done.load(std::memory_order_acquire) != g; ++spins) {
+    if (spins < 4000)
+      cpuRelax();
+    else
+      std::this_thread::yield();
+  }
+}
+
+void ExactSolver::helpHalves(HalfHelper& h) {
+  // Spins a while between halves (they come every few hundred microseconds while a long tree is
+  // solved, and a sleeping thread took longer to wake than a half takes), then sleeps until the
+  // next is offered.
+  constexpr int kSpins = 4000;
+  uint64_t seen = 0;  // (a helper that starts late takes the half on offer, if still free, or sees the stop)
+  int idle = 0;
+  for (;;) {
+    const uint64_t g = h.posted.load(std::memory_order_acquire);
+    if (g == seen) {
+      if (++idle < kSpins) {
+        cpuRelax();
+      } else {
+        h.posted.wait(seen, std::memory_order_acquire);
+        idle = 0;
+      }
+      continue;
     }
+    seen = g;
+    idle = 0;
+    if (h.stop.load(std::memory_order_acquire)) return;
+    uint64_t expected = g - 1;
+    if (!h.taken.compare_exchange_strong(expected, g, std::memory_order_acq_rel)) continue;
+    (*h.fn)(1);
+    h.done.store(g, std::memory_order_release);
+  }
+}
+
+void ExactSolver::factor(Cluster& c) {
+  if (c.split) {
+    // Each half leaves first, as below; the root's children pass their shares to it after both,
+    // in the same order as a whole pass would (so the halves' threads change no bit).
+    initNode(c.begin);
+    forBothHalves([&](int h) {
+      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) initNode(m_laneNodes[size_t(i)]);
+      for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
+        const int k = m_laneNodes[size_t(i)];
+        eliminate(k, m_nodes[size_t(k)].parent != c.begin);
+      }
+    });
+    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
+      const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
+      const Mat6 t = n.dinv * n.hp;
+      Mat6& pd = m_nodes[size_t(c.begin)].d;
+      pd.noalias() -= n.hp.transpose() * t;
+      pd = (0.5 * (pd + pd.transpose())).eval();
+    }
+    eliminate(c.begin, false);
+  } else {
+    for (int k = c.begin; k < c.end; ++k) initNode(k);
+    for (int k = c.end - 1; k >= c.begin; --k) eliminate(k, true);  // leaves first
   }
   c.dirty = false;
   if (c.loopEnd > c.loopBegin) factorLoops(c);
@@ -771,6 +901,29 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
 /// Solves for the right-hand side already in each node's y (bodies: 0; joints: the rows'
 /// residual); leaves x: a body's velocity (or position) change, a joint's -lambda.
 void ExactSolver::solve(Cluster& c) {
+  if (c.split) {  // as below, each half apart, the root's children passing on to it after both
+    Node& root = m_nodes[size_t(c.begin)];
+    forBothHalves([&](int h) {
+      for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
+        Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
+        n.x.noalias() = n.dinv * n.y;
+        if (n.parent != c.begin) m_nodes[size_t(n.parent)].y.noalias() -= n.hp.transpose() * n.x;
+      }
+    });
+    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
+      const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
+      root.y.noalias() -= n.hp.transpose() * n.x;
+    }
+    root.x.noalias() = root.dinv * root.y;
+    forBothHalves([&](int h) {
+      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) {
+        Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
+        const Vec6 t = n.hp * m_nodes[size_t(n.parent)].x;
+        n.x.noalias() -= n.dinv * t;
+      }
+    });
+    return;
+  }
   for (int k = c.end - 1; k >= c.begin; --k) {
     Node& n = m_nodes[size_t(k)];
     n.x.noalias() = n.dinv * n.y;
@@ -783,6 +936,66 @@ void ExactSolver::solve(Cluster& c) {
       n.x.noalias() -= n.dinv * t;
     }
   }
+}
+
+/// The body whose removal leaves no part of the tree from `begin` (its nodes to the end of
+/// m_nodes) with more than half its nodes.
+int ExactSolver::centroidBody(int begin) {
+  const int end = int(m_nodes.size()), total = end - begin;
+  m_subtree.assign(size_t(total), 1);
+  for (int k = end - 1; k > begin; --k)
+    m_subtree[size_t(m_nodes[size_t(k)].parent - begin)] += m_subtree[size_t(k - begin)];
+  int v = begin;
+  for (bool moved = true; moved;) {
+    moved = false;
+    for (int k = v + 1; k < end; ++k) {  // (children come after their parent)
+      if (m_nodes[size_t(k)].parent == v && 2 * m_subtree[size_t(k - begin)] > total) {
+        v = k;
+        moved = true;
+        break;
+      }
+    }
+  }
+  const Node& n = m_nodes[size_t(v)];
+  return n.body >= 0 ? n.body : m_nodes[size_t(n.parent)].body;
+}
+
+/// The halves of a tree rooted at its centroid: the root's subtrees, largest first, each to the
+/// half with fewer nodes so far.
+void ExactSolver::splitTree(Cluster& c) {
+  const int begin = c.begin, end = int(m_nodes.size()), total = end - begin;
+  m_subtree.assign(size_t(total), 1);
+  for (int k = end - 1; k > begin; --k)
+    m_subtree[size_t(m_nodes[size_t(k)].parent - begin)] += m_subtree[size_t(k - begin)];
+  // Which half each node is in (0 or 1; the root -1), its subtree's half.
+  std::vector<int>& half = m_half;
+  half.assign(size_t(total), -1);
+  int children = 0;
+  for (int k = begin + 1; k < end; ++k) children += m_nodes[size_t(k)].parent == begin;
+  int sizes[2] = {0, 0};
+  for (int placed = 0; placed < children; ++placed) {
+    int best = -1;
+    for (int k = begin + 1; k < end; ++k)
+      if (m_nodes[size_t(k)].parent == begin && half[size_t(k - begin)] < 0 &&
+          (best < 0 || m_subtree[size_t(k - begin)] > m_subtree[size_t(best - begin)]))
+        best = k;
+    const int h = sizes[0] <= sizes[1] ? 0 : 1;
+    half[size_t(best - begin)] = h;
+    sizes[h] += m_subtree[size_t(best - begin)];
+  }
+  for (int k = begin + 1; k < end; ++k)
+    if (m_nodes[size_t(k)].parent != begin)
+      half[size_t(k - begin)] = half[size_t(m_nodes[size_t(k)].parent - begin)];
+  c.lane[0] = int(m_laneNodes.size());
+  for (int h = 0; h < 2; ++h) {
+    for (int k = begin + 1; k < end; ++k)
+      if (half[size_t(k - begin)] == h) m_laneNodes.push_back(k);
+    c.lane[h + 1] = int(m_laneNodes.size());
+  }
+  for (int k = begin + 1; k < end; ++k)
+    if (m_nodes[size_t(k)].parent == begin) m_laneNodes.push_back(k);
+  c.lane[3] = int(m_laneNodes.size());
+  c.split = true;
 }
 
 void ExactSolver::forEachCluster(int begin, const std::function<void(int)>& fn) {
@@ -805,11 +1018,13 @@ void ExactSolver::exactIterationWhere(bool clamp, const std::function<bool(const
 void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
   using A = ExactJoint::Axial;
   if (c.dirty) factor(c);
-  for (int k = c.begin; k < c.end; ++k) {
+  // The rows' residuals, the solve, and its result applied: node by node (each node reads and
+  // writes its own row or body), a long tree's halves apart.
+  auto residual = [&](int k) {
     Node& n = m_nodes[size_t(k)];
     if (n.joint < 0) {
       n.y.setZero();
-      continue;
+      return;
     }
     const Row& r = m_rows[size_t(n.joint)];
     n.y = structuralResidual(n.joint);
@@ -817,16 +1032,18 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
     n.y[5] = r.axialActive ? e.rowTarget + n.y[5] -
                                  (e.state == ExactJoint::Axial::Motor ? e.compliance * r.lambda[5] : 0)
                            : 0;
-  }
-  solve(c);
-  for (int k = c.begin; k < c.end; ++k) {
-    Node& n = m_nodes[size_t(k)];
+  };
+  auto apply = [&](int k) {
+    const Node& n = m_nodes[size_t(k)];
     if (n.body >= 0) {
       addBodyVelocity(n.body, n.x);
     } else {
       m_rows[size_t(n.joint)].lambda -= n.x;
     }
-  }
+  };
+  forEachNode(c, residual);
+  solve(c);
+  forEachNode(c, apply);
   // The centripetal targets at these joint-consistent velocities, before any row is clamped.
   for (int k = c.begin; k < c.end && c.centripetal; ++k)
     if (const int j = m_nodes[size_t(k)].joint; j >= 0) updateCentripetal(j);

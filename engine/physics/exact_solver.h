@@ -47,6 +47,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <utility>
@@ -167,6 +168,27 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
 
   /// Forget the clusters of the previous substep (called before each one).
   void beginSubstep();
+  /// A tree of at least this many joints (a long chain) is rooted at its middle and factored and
+  /// solved as two halves, which may run on two threads (splitTree).
+  static constexpr int kSplitJoints = 1024;
+  /// A second thread for the halves of long trees (splitTree), while this solver works alone
+  /// (runWithHalfHelper): it runs helpHalves(h) until h.stop. Each second half is offered to it;
+  /// whichever thread takes it first solves it (this one, once its own half is done, if the
+  /// helper has not woken), and which one does changes nothing.
+  struct HalfHelper {
+    std::atomic<uint64_t> posted{0};  // halves offered so far
+    std::atomic<uint64_t> taken{0};   // the last offered half that a thread has taken
+    std::atomic<uint64_t> done{0};    // the last half the helper finished
+    std::atomic<bool> stop{false};
+    const std::function<void(int)>* fn = nullptr;
+  };
+  static void helpHalves(HalfHelper& h);
+  /// Runs fn() here with a half helper from `tasks` (two tasks: this thread and one more), or
+  /// just fn() without tasks.
+  void runWithHalfHelper(const std::function<void(int, const std::function<void(int)>&)>& tasks,
+                         const std::function<void()>& fn);
+  /// A cluster of this substep is a long tree solved in halves.
+  bool hasSplitTrees() const { return !m_laneNodes.empty(); }
   /// Projects the hinges' position error out after integration.
   void postStabilise();
 
@@ -208,6 +230,11 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     // Joints that close loops (not in the tree), in m_loopJoints, and the Schur complement of
     // their rows through the tree, S = J_L (tree-constrained mobility) J_L^T + compliance.
     int loopBegin = 0, loopEnd = 0;
+    // A long tree rooted at its middle (splitTree): its nodes but the root in two halves, each in
+    // m_laneNodes[lane[h], lane[h + 1]) in node order, and the root's children in
+    // m_laneNodes[lane[2], lane[3]).
+    bool split = false;
+    int lane[4] = {0, 0, 0, 0};
     Eigen::MatrixXd schur;        // S, then its eigenvectors
     Eigen::VectorXd schurInv;     // damped inverse eigenvalues (0 for the redundant directions)
     Eigen::VectorXd schurPosInv;  // ... for the position projection, damped much less
@@ -287,6 +314,17 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   Cluster& jointCluster(int j);  ///< the cluster of a joint of this substep
   void factor(Cluster& c);
   void solve(Cluster& c);
+  /// Long trees: the body that splits the tree from `begin` (this substep's newest cluster's
+  /// first node) most evenly, and the two halves of a tree rooted there.
+  int centroidBody(int begin);
+  void splitTree(Cluster& c);
+  void initNode(int k);                  ///< a node's pivot block and its coupling to its parent
+  void eliminate(int k, bool toParent);  ///< its inverse, and (toParent) its share of its parent's
+  /// fn(k) for every node of c: a long tree's root, then its halves (forBothHalves).
+  template <class Fn>
+  void forEachNode(const Cluster& c, const Fn& fn);
+  /// fn(0) and fn(1): fn(1) on the half helper's thread while there is one (runWithHalfHelper).
+  void forBothHalves(const std::function<void(int)>& fn);
   /// Loop joints: S from one tree solve per loop row (after factor), and the step that makes
   /// the loop rows exact: their impulse change through S, passed on through the tree.
   void factorLoops(Cluster& c);
@@ -321,6 +359,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   double stabiliseExcess(int j) const;
   void applyPositionChanges(Cluster& c);
   void forEachCluster(int begin, const std::function<void(int)>& fn);
+  HalfHelper* m_halfHelper = nullptr;
+  std::vector<int> m_laneNodes, m_subtree, m_half;
   void finishJoints();
   Vec6 bodyVelocity(int b) const;
   void addBodyVelocity(int b, const Vec6& dv);

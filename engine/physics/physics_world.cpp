@@ -1184,8 +1184,12 @@ void PhysicsWorld::step(double dt, int substeps) {
     m->world.stepSimulation(btScalar(h), 0, btScalar(h));
     if (exact) {
       if (std::none_of(m->helpers.begin(), m->helpers.end(), [](auto& s) { return s->hasClusters(); })) {
-        m->solver.postStabilise();  // everything was solved on the primary
-      } else {                      // each solver's own clusters, which no other solver touches
+        // Everything was solved on the primary (a long tree's halves on two threads).
+        if (m->solver.hasSplitTrees())
+          m->solver.runWithHalfHelper(m->tasks, [&] { m->solver.postStabilise(); });
+        else
+          m->solver.postStabilise();
+      } else {  // each solver's own clusters, which no other solver touches
         m->tasks(1 + int(m->helpers.size()),
                  [&](int t) { (t == 0 ? m->solver : *m->helpers[size_t(t - 1)]).postStabilise(); });
       }

@@ -193,8 +193,13 @@ void SolverWorld::solveBatches(btContactSolverInfo& info, int count) {
                   b.constraints.size() ? &b.constraints[0] : nullptr, b.constraints.size(), info, draw,
                   dispatcher);
   };
-  if (count == 1) {  // one batch (one island holds most of the world): nothing to share
-    solve(m_primary, 0);
+  if (count == 1) {
+    // One batch (one island holds most of the world): a second thread takes the second half of
+    // each long tree in it (ExactSolver::splitTree).
+    if (m_batches[0].constraints.size() >= ExactSolver::kSplitJoints)
+      m_primary->runWithHalfHelper(m_tasks, [&] { solve(m_primary, 0); });
+    else
+      solve(m_primary, 0);
     return;
   }
   const int tasks = std::min(count, 1 + int(m_helpers.size()));

@@ -205,3 +205,15 @@ end
 )";
   sameAtEveryThreadCount(world, 50);
 }
+
+// A long chain (at least kSplitJoints = 1024 joints: 350 SuperBots, 1049) is rooted at its middle
+// and its two halves factored and solved apart, on two threads where there are two
+// (ExactSolver::splitTree); the halves' results meet at the root in the same order either way.
+TEST_CASE("determinism: a 350-module snake's tree solved in halves, at 1, 2, 4 and 8 threads") {
+  sameAtEveryThreadCount(R"(
+world.set{duration = 100, seed = 2}
+world.ground{}
+require("snake_chain").build{n = 350, type = "superbot", behavior = "behaviors/snake.lua"}
+)",
+                         20);
+}

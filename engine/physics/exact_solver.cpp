@@ -668,8 +668,14 @@ void ExactSolver::forEachNode(const Cluster& c, const Fn& fn) {
     return;
   }
   fn(c.begin);
-  forBothHalves([&](int h) {
-    for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) fn(m_laneNodes[size_t(i)]);
+  // (One pointer captured: std::function keeps it without allocating.)
+  const struct {
+    const ExactSolver* self;
+    const Cluster* c;
+    const Fn* fn;
+  } ctx{this, &c, &fn};
+  forBothHalves([p = &ctx](int h) {
+    for (int i = p->c->lane[h]; i < p->c->lane[h + 1]; ++i) (*p->fn)(p->self->m_laneNodes[size_t(i)]);
   });
 }
 
@@ -677,14 +683,20 @@ void ExactSolver::runWithHalfHelper(const std::function<void(int, const std::fun
                                     const std::function<void()>& fn) {
   if (!tasks) return fn();
   HalfHelper helper;
-  tasks(2, [&](int t) {
-    if (t == 1) return helpHalves(helper);
-    m_halfHelper = &helper;
-    fn();
-    m_halfHelper = nullptr;
-    helper.stop.store(true, std::memory_order_release);
-    helper.posted.fetch_add(1, std::memory_order_release);  // (wakes it to see the stop)
-    helper.posted.notify_one();
+  // (One pointer captured: std::function keeps it without allocating.)
+  struct {
+    ExactSolver* self;
+    HalfHelper* helper;
+    const std::function<void()>* fn;
+  } ctx{this, &helper, &fn};
+  tasks(2, [p = &ctx](int t) {
+    if (t == 1) return helpHalves(*p->helper);
+    p->self->m_halfHelper = p->helper;
+    (*p->fn)();
+    p->self->m_halfHelper = nullptr;
+    p->helper->stop.store(true, std::memory_order_release);
+    p->helper->posted.fetch_add(1, std::memory_order_release);  // (wakes it to see the stop)
+    p->helper->posted.notify_one();
   });
 }
 

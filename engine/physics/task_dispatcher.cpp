@@ -68,6 +68,30 @@ void TaskDispatcher::freeCollisionAlgorithm(void* ptr) {
   btCollisionDispatcher::freeCollisionAlgorithm(ptr);
 }
 
+void TaskDispatcher::runPairs(int t, btBroadphasePairArray& pairs, int n, std::atomic<int>& next,
+                              const btDispatcherInfo& info) {
+  Lane& l = *m_lanes[size_t(t)];
+  l.thread.store(std::this_thread::get_id(), std::memory_order_relaxed);
+  l.phase = 1;
+  for (int k = next.fetch_add(kChunk); k < n; k = next.fetch_add(kChunk)) {
+    for (int i = k; i < std::min(n, k + kChunk); ++i) {
+      btBroadphasePair& pair = pairs[i];
+      if (!pair.m_algorithm) continue;
+      auto* o0 = static_cast<btCollisionObject*>(pair.m_pProxy0->m_clientObject);
+      auto* o1 = static_cast<btCollisionObject*>(pair.m_pProxy1->m_clientObject);
+      if (!needsCollision(o0, o1)) continue;
+      const btCollisionObjectWrapper w0(nullptr, o0->getCollisionShape(), o0, o0->getWorldTransform(), -1,
+                                        -1);
+      const btCollisionObjectWrapper w1(nullptr, o1->getCollisionShape(), o1, o1->getWorldTransform(), -1,
+                                        -1);
+      btManifoldResult result(&w0, &w1);
+      l.pair = i;
+      pair.m_algorithm->processCollision(&w0, &w1, info, &result);
+    }
+  }
+  l.thread.store(std::thread::id(), std::memory_order_relaxed);  // this thread may take another lane
+}
+
 void TaskDispatcher::dispatchAllCollisionPairs(btOverlappingPairCache* pairCache,
                                                const btDispatcherInfo& info, btDispatcher* dispatcher) {
   // Bullet's loop where it does not run the pairs in array order with its own near callback.
@@ -102,28 +126,15 @@ void TaskDispatcher::dispatchAllCollisionPairs(btOverlappingPairCache* pairCache
   first.thread.store(std::thread::id(), std::memory_order_relaxed);
   // The pairs, on the threads, as the near callback runs them.
   std::atomic<int> next{0};
-  m_tasks(m_threads, [&](int t) {
-    Lane& l = *m_lanes[size_t(t)];
-    l.thread.store(std::this_thread::get_id(), std::memory_order_relaxed);
-    l.phase = 1;
-    for (int k = next.fetch_add(kChunk); k < n; k = next.fetch_add(kChunk)) {
-      for (int i = k; i < std::min(n, k + kChunk); ++i) {
-        btBroadphasePair& pair = pairs[i];
-        if (!pair.m_algorithm) continue;
-        auto* o0 = static_cast<btCollisionObject*>(pair.m_pProxy0->m_clientObject);
-        auto* o1 = static_cast<btCollisionObject*>(pair.m_pProxy1->m_clientObject);
-        if (!needsCollision(o0, o1)) continue;
-        const btCollisionObjectWrapper w0(nullptr, o0->getCollisionShape(), o0, o0->getWorldTransform(), -1,
-                                          -1);
-        const btCollisionObjectWrapper w1(nullptr, o1->getCollisionShape(), o1, o1->getWorldTransform(), -1,
-                                          -1);
-        btManifoldResult result(&w0, &w1);
-        l.pair = i;
-        pair.m_algorithm->processCollision(&w0, &w1, info, &result);
-      }
-    }
-    l.thread.store(std::thread::id(), std::memory_order_relaxed);  // this thread may take another lane
-  });
+  // (One pointer captured: std::function keeps it without allocating.)
+  struct {
+    TaskDispatcher* self;
+    btBroadphasePairArray* pairs;
+    const btDispatcherInfo* info;
+    std::atomic<int>* next;
+    int n;
+  } ctx{this, &pairs, &info, &next, n};
+  m_tasks(m_threads, [p = &ctx](int t) { p->self->runPairs(t, *p->pairs, p->n, *p->next, *p->info); });
   m_deferring = false;
   // The manifolds made and let go, listed and unlisted as Bullet's loop would have, pair by pair.
   m_changes.clear();

@@ -12,6 +12,7 @@
 // thread count.
 #pragma once
 
+#include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 
 #include <atomic>
@@ -57,6 +58,9 @@ class TaskDispatcher : public btCollisionDispatcher {
     std::vector<Change> changes;
   };
   Lane* lane();  ///< the calling thread's, or null
+  /// Task t: takes kChunk pairs at a time from `next` and runs them (as the near callback would).
+  void runPairs(int t, btBroadphasePairArray& pairs, int n, std::atomic<int>& next,
+                const btDispatcherInfo& info);
   void note(btPersistentManifold* manifold, bool release);
 
   int m_threads = 1;

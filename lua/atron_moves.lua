@@ -13,7 +13,7 @@
 --   local steps, why = moves.compile(now, target)   -- shapes (reconfig.shape)
 --   print(moves.format(steps))
 --   local exec = moves.new(net, steps)              -- net: lua/linkstate.lua
---   function step(dt) exec:step() ... if exec.done then ... end end
+--   function step(dt) exec:step(net:receive()) ... net:send() ... if exec.done then ... end end
 --
 -- compile places every module from the connections alone, as world.connect places them, with
 -- every equator at 0 (as the modules stand when they are connected), then, for each connection the
@@ -22,9 +22,8 @@
 -- other end must stay. The half turns are simulated on the placed lattice, so a later move starts
 -- from where the earlier ones left the modules; docks brought face to face that the plan did not
 -- ask for latch as well, and are in the shape the steps leave (behaviors/reconfigure.lua refuses
--- steps whose shape is not the target). Collisions on
--- the way are not checked: in the lattice a half-turned module passes only sites next to its
--- carrier.
+-- steps whose shape is not the target). Collisions on the way are not checked: in the lattice a
+-- half-turned module passes only sites next to its carrier.
 --
 -- The executor needs nothing but the link-state map (lua/linkstate.lua): each module takes as the
 -- step under way the first one whose result its map does not show yet (a turn: the connection it
@@ -97,9 +96,8 @@ end
 -- b's pose when its dock db mates a's dock da (world.connect: b's normal opposite, the same up).
 local function mate(poseA, da, db, turnedB)
   local fa = dockFrame(poseA, da)
-  local k = kDock[db]
-  local n, u = k.normal, k.up
-  if db:sub(1, 1) == "s" and turnedB == 1 then n, u = {-n[1], -n[2], n[3]}, {-u[1], -u[2], u[3]} end
+  local own = dockFrame({R = {1, 0, 0, 0, 1, 0, 0, 0, 1}, p = {0, 0, 0}, turned = turnedB}, db)  -- in b's frame
+  local n, u = own.normal, own.up
   local N, U = {-fa.normal[1], -fa.normal[2], -fa.normal[3]}, fa.up
   local R = mm(cols(N, U, cross(N, U)), transpose(cols(n, u, cross(n, u))))
   local b = {R = R, turned = turnedB, p = {0, 0, 0}}

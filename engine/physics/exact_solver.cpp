@@ -649,16 +649,14 @@ void ExactSolver::initNode(int k) {
   }
 }
 
-// D_i = H_ii - sum over children H_ci^T D_c^-1 H_ci: a node's inverse, then its share of its parent's.
-void ExactSolver::eliminate(int k, bool toParent) {
-  Node& n = m_nodes[size_t(k)];
-  n.dinv = symmetricInverse(n.d);
-  if (n.parent >= 0 && toParent) {
-    const Mat6 t = n.dinv * n.hp;
-    Mat6& pd = m_nodes[size_t(n.parent)].d;
-    pd.noalias() -= n.hp.transpose() * t;
-    pd = (0.5 * (pd + pd.transpose())).eval();  // keep it exactly symmetric
-  }
+// D_i = H_ii - sum over children H_ci^T D_c^-1 H_ci: a node's share of its parent's pivot (after
+// its own pivot is inverted).
+void ExactSolver::passToParent(int k) {
+  const Node& n = m_nodes[size_t(k)];
+  const Mat6 t = n.dinv * n.hp;
+  Mat6& pd = m_nodes[size_t(n.parent)].d;
+  pd.noalias() -= n.hp.transpose() * t;
+  pd = (0.5 * (pd + pd.transpose())).eval();  // keep it exactly symmetric
 }
 
 template <class Fn>
@@ -763,20 +761,19 @@ void ExactSolver::factor(Cluster& c) {
       for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) initNode(m_laneNodes[size_t(i)]);
       for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
         const int k = m_laneNodes[size_t(i)];
-        eliminate(k, m_nodes[size_t(k)].parent != c.begin);
+        m_nodes[size_t(k)].dinv = symmetricInverse(m_nodes[size_t(k)].d);
+        if (m_nodes[size_t(k)].parent != c.begin) passToParent(k);
       }
     });
-    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
-      const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
-      const Mat6 t = n.dinv * n.hp;
-      Mat6& pd = m_nodes[size_t(c.begin)].d;
-      pd.noalias() -= n.hp.transpose() * t;
-      pd = (0.5 * (pd + pd.transpose())).eval();
-    }
-    eliminate(c.begin, false);
+    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) passToParent(m_laneNodes[size_t(i)]);
+    m_nodes[size_t(c.begin)].dinv = symmetricInverse(m_nodes[size_t(c.begin)].d);
   } else {
     for (int k = c.begin; k < c.end; ++k) initNode(k);
-    for (int k = c.end - 1; k >= c.begin; --k) eliminate(k, true);  // leaves first
+    for (int k = c.end - 1; k >= c.begin; --k) {  // leaves first
+      Node& n = m_nodes[size_t(k)];
+      n.dinv = symmetricInverse(n.d);
+      if (n.parent >= 0) passToParent(k);
+    }
   }
   c.dirty = false;
   if (c.loopEnd > c.loopBegin) factorLoops(c);
@@ -950,62 +947,63 @@ void ExactSolver::solve(Cluster& c) {
   }
 }
 
-/// The body whose removal leaves no part of the tree from `begin` (its nodes to the end of
-/// m_nodes) with more than half its nodes.
-int ExactSolver::centroidBody(int begin) {
-  const int end = int(m_nodes.size()), total = end - begin;
-  m_subtree.assign(size_t(total), 1);
+/// m_subtree: the nodes in each node's subtree, for the tree from `begin` to the end of m_nodes
+/// (children come after their parent).
+void ExactSolver::subtreeSizes(int begin) {
+  const int end = int(m_nodes.size());
+  m_subtree.assign(size_t(end - begin), 1);
   for (int k = end - 1; k > begin; --k)
     m_subtree[size_t(m_nodes[size_t(k)].parent - begin)] += m_subtree[size_t(k - begin)];
-  int v = begin;
-  for (bool moved = true; moved;) {
-    moved = false;
-    for (int k = v + 1; k < end; ++k) {  // (children come after their parent)
-      if (m_nodes[size_t(k)].parent == v && 2 * m_subtree[size_t(k - begin)] > total) {
-        v = k;
-        moved = true;
-        break;
-      }
-    }
+}
+
+/// The body whose removal leaves no part of the tree from `begin` (its nodes to the end of
+/// m_nodes) with more than half its nodes: from the root, down the largest subtree while it holds
+/// more than half.
+int ExactSolver::centroidBody(int begin) {
+  subtreeSizes(begin);
+  const int end = int(m_nodes.size()), total = end - begin;
+  std::vector<int>& largest = m_half;  // each node's largest child
+  largest.assign(size_t(total), -1);
+  for (int k = begin + 1; k < end; ++k) {
+    int& l = largest[size_t(m_nodes[size_t(k)].parent - begin)];
+    if (l < 0 || m_subtree[size_t(k - begin)] > m_subtree[size_t(l - begin)]) l = k;
   }
+  int v = begin;
+  while (largest[size_t(v - begin)] >= 0 && 2 * m_subtree[size_t(largest[size_t(v - begin)] - begin)] > total)
+    v = largest[size_t(v - begin)];
   const Node& n = m_nodes[size_t(v)];
   return n.body >= 0 ? n.body : m_nodes[size_t(n.parent)].body;
 }
 
 /// The halves of a tree rooted at its centroid: the root's subtrees, largest first, each to the
-/// half with fewer nodes so far.
+/// half with fewer nodes so far. (Breadth first, the root's children are the nodes right after it.)
 void ExactSolver::splitTree(Cluster& c) {
-  const int begin = c.begin, end = int(m_nodes.size()), total = end - begin;
-  m_subtree.assign(size_t(total), 1);
-  for (int k = end - 1; k > begin; --k)
-    m_subtree[size_t(m_nodes[size_t(k)].parent - begin)] += m_subtree[size_t(k - begin)];
-  // Which half each node is in (0 or 1; the root -1), its subtree's half.
-  std::vector<int>& half = m_half;
-  half.assign(size_t(total), -1);
+  subtreeSizes(c.begin);
+  const int begin = c.begin, end = int(m_nodes.size());
   int children = 0;
-  for (int k = begin + 1; k < end; ++k) children += m_nodes[size_t(k)].parent == begin;
+  while (begin + 1 + children < end && m_nodes[size_t(begin + 1 + children)].parent == begin) ++children;
+  std::vector<int>& half = m_half;  // each node's half (0 or 1; the root -1): its subtree's
+  half.assign(size_t(end - begin), -1);
   int sizes[2] = {0, 0};
   for (int placed = 0; placed < children; ++placed) {
     int best = -1;
-    for (int k = begin + 1; k < end; ++k)
-      if (m_nodes[size_t(k)].parent == begin && half[size_t(k - begin)] < 0 &&
+    for (int k = begin + 1; k <= begin + children; ++k)
+      if (half[size_t(k - begin)] < 0 &&
           (best < 0 || m_subtree[size_t(k - begin)] > m_subtree[size_t(best - begin)]))
         best = k;
     const int h = sizes[0] <= sizes[1] ? 0 : 1;
     half[size_t(best - begin)] = h;
     sizes[h] += m_subtree[size_t(best - begin)];
   }
-  for (int k = begin + 1; k < end; ++k)
-    if (m_nodes[size_t(k)].parent != begin)
-      half[size_t(k - begin)] = half[size_t(m_nodes[size_t(k)].parent - begin)];
+  for (int k = begin + children + 1; k < end; ++k)
+    half[size_t(k - begin)] = half[size_t(m_nodes[size_t(k)].parent - begin)];
   c.lane[0] = int(m_laneNodes.size());
   for (int h = 0; h < 2; ++h) {
     for (int k = begin + 1; k < end; ++k)
       if (half[size_t(k - begin)] == h) m_laneNodes.push_back(k);
     c.lane[h + 1] = int(m_laneNodes.size());
   }
-  for (int k = begin + 1; k < end; ++k)
-    if (m_nodes[size_t(k)].parent == begin) m_laneNodes.push_back(k);
+  for (int k = begin + 1; k <= begin + children; ++k) m_laneNodes.push_back(k);
   c.lane[3] = int(m_laneNodes.size());
   c.split = true;
 }

@@ -47,6 +47,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -189,6 +190,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
                          const std::function<void()>& fn);
   /// A cluster of this substep is a long tree solved in halves.
   bool hasSplitTrees() const { return !m_laneNodes.empty(); }
+  int splitTreeCount() const {
+    return int(std::count_if(m_clusters.begin(), m_clusters.end(), [](const Cluster& c) { return c.split; }));
+  }
   /// Projects the hinges' position error out after integration.
   void postStabilise();
 
@@ -318,8 +322,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// first node) most evenly, and the two halves of a tree rooted there.
   int centroidBody(int begin);
   void splitTree(Cluster& c);
-  void initNode(int k);                  ///< a node's pivot block and its coupling to its parent
-  void eliminate(int k, bool toParent);  ///< its inverse, and (toParent) its share of its parent's
+  void subtreeSizes(int begin);
+  void initNode(int k);      ///< a node's pivot block and its coupling to its parent
+  void passToParent(int k);  ///< its share of its parent's pivot block (its own inverted)
   /// fn(k) for every node of c: a long tree's root, then its halves (forBothHalves).
   template <class Fn>
   void forEachNode(const Cluster& c, const Fn& fn);

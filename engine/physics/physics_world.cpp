@@ -1110,6 +1110,16 @@ int PhysicsWorld::activeBodyCount() const {
   return n;
 }
 
+int PhysicsWorld::threadedPairs() const {
+  return m->dispatcher.threadedPairs();
+}
+
+int PhysicsWorld::splitTrees() const {
+  int n = m->solver.splitTreeCount();
+  for (const auto& h : m->helpers) n += h->splitTreeCount();
+  return n;
+}
+
 double PhysicsWorld::partMass(int part) const {
   return m->parts[size_t(part)].mass;
 }

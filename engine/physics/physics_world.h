@@ -161,6 +161,10 @@ class PhysicsWorld {
   bool partSleeping(int part) const;
   /// Dynamic bodies awake now (the others cost a step nothing).
   int activeBodyCount() const;
+  /// The last substep's work on the worker threads: overlapping pairs whose contacts were found
+  /// there (0: one thread's loop), and trees solved in two halves (ExactSolver::splitTree).
+  int threadedPairs() const;
+  int splitTrees() const;
   /// Advances by dt in `substeps` equal steps, updating servos before each one.
   void step(double dt, int substeps);
 

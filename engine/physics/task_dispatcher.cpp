@@ -98,10 +98,13 @@ void TaskDispatcher::dispatchAllCollisionPairs(btOverlappingPairCache* pairCache
   if (!m_tasks || info.m_dispatchFunc != btDispatcherInfo::DISPATCH_DISCRETE ||
       info.m_deterministicOverlappingPairs ||
       getNearCallback() != &btCollisionDispatcher::defaultNearCallback ||
-      pairCache->getNumOverlappingPairs() < kMinParallelPairs)
+      pairCache->getNumOverlappingPairs() < kMinParallelPairs) {
+    m_threadedPairs = 0;
     return btCollisionDispatcher::dispatchAllCollisionPairs(pairCache, info, dispatcher);
+  }
   btBroadphasePairArray& pairs = pairCache->getOverlappingPairArray();
   const int n = pairs.size();
+  m_threadedPairs = n;
   for (const auto& l : m_lanes) {
     l->thread.store(std::thread::id(), std::memory_order_relaxed);
     l->changes.clear();

@@ -40,6 +40,8 @@ class TaskDispatcher : public btCollisionDispatcher {
   void releaseManifold(btPersistentManifold* manifold) override;
   void* allocateCollisionAlgorithm(int size) override;
   void freeCollisionAlgorithm(void* ptr) override;
+  /// Pairs the last dispatch ran on the threads (0: Bullet's loop ran them).
+  int threadedPairs() const { return m_threadedPairs; }
 
  private:
   /// A manifold made or let go while the pairs run: made to the list afterwards, in pair order.
@@ -66,7 +68,8 @@ class TaskDispatcher : public btCollisionDispatcher {
   int m_threads = 1;
   Tasks m_tasks;
   bool m_deferring = false;  // the pairs are running: manifolds are noted, not listed
-  std::mutex m_mutex;        // the pools
+  int m_threadedPairs = 0;
+  std::mutex m_mutex;  // the pools
   std::vector<std::unique_ptr<Lane>> m_lanes;
   std::vector<Change> m_changes;
 };

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -121,7 +122,9 @@ constexpr uint64_t kGolden = 0xe5ed64de09ddfbefull;
 constexpr int kSteps = 90;
 
 /// Runs `world` for `steps` steps at 1, 2, 4 and 8 threads: no faults, and the same state bits.
-void sameAtEveryThreadCount(const char* world, int steps) {
+/// `check(world, threads)` asserts what else the run must show (that the parallel path ran).
+void sameAtEveryThreadCount(
+    const char* world, int steps, const std::function<void(World&, int)>& check = [](World&, int) {}) {
   auto run = [&](int threads) {
     rm3d::RunOptions o = rm3d::test::options();
     o.threads = threads;
@@ -129,6 +132,7 @@ void sameAtEveryThreadCount(const char* world, int steps) {
     auto w = rm3d::test::makeWorld(world, o);
     for (int i = 0; i < steps; ++i) w->step();
     CHECK(w->faultCount() == 0);
+    check(*w, threads);
     return stateHash(*w);
   };
   const uint64_t one = run(1);
@@ -203,7 +207,9 @@ for i = 0, 59 do
   world.spawn("superbot", {at = {(i % 10) * 0.3 + 0.05, (i // 10) * 0.22, 0.25 + 0.02 * (i % 3)}, rot = {0, 0, 0.5 * i}})
 end
 )";
-  sameAtEveryThreadCount(world, 50);
+  sameAtEveryThreadCount(world, 50, [](World& w, int threads) {
+    if (threads > 1) CHECK(w.physicsConst().threadedPairs() > 10000);  // the pairs ran on the threads
+  });
 }
 
 // A long chain (at least kSplitJoints = 1024 joints: 350 SuperBots, 1049) is rooted at its middle
@@ -215,5 +221,5 @@ world.set{duration = 100, seed = 2}
 world.ground{}
 require("snake_chain").build{n = 350, type = "superbot", behavior = "behaviors/snake.lua"}
 )",
-                         20);
+                         20, [](World& w, int) { CHECK(w.physicsConst().splitTrees() == 1); });
 }

@@ -222,6 +222,15 @@ end
 --- reconfig.shape takes it): or nil and why.
 --- plan: reconfig.plan(now, target) (made here if not given).
 function M.compile(now, target, plan)
+  for _, shape in ipairs({now, target}) do
+    for _, e in ipairs(shape.edges) do
+      for _, end_ in ipairs({{e.a, e.da}, {e.b, e.db}}) do
+        if not kDock[end_[2]] then
+          return nil, string.format("%s.%s: an ATRON has no dock '%s' (n0-n3, s0-s3)", end_[1], end_[2], end_[2])
+        end
+      end
+    end
+  end
   plan = plan or require("reconfig").plan(now, target)
   local poses, why = M.place(now)
   if not poses then return nil, why end

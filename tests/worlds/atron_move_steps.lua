@@ -1,7 +1,8 @@
 -- The ATRON move compiler (lua/atron_moves.lua) on shapes alone, no physics: a module moved from
 -- one carrier to a module two sites away takes one half turn and one release; the compiler places
--- the modules where world.connect does; the way back, a connection no half turn can make and a
--- shape that does not close on the lattice are refused with their reasons.
+-- the modules where world.connect does; the way back, a connection no half turn can make, a
+-- shape that does not close on the lattice and a dock name an ATRON lacks are refused with their
+-- reasons.
 local reconfig = require("reconfig")
 local moves = require("atron_moves")
 world.set{duration = 0.05, gravity = {0, 0, 0}}
@@ -60,3 +61,9 @@ local quarter = reconfig.shape{modules = mods, connections = {{"a", "n1", "c", "
                                                               {"c", "n1", "d", "n0"}}}
 local q, qwhy = moves.compile(now, quarter)
 expect(q == nil and qwhy:find("no half turn", 1, true), "a connection no half turn makes is refused: " .. tostring(qwhy))
+
+-- A dock name an ATRON does not have: refused with the connection's end named.
+local front = reconfig.shape{modules = mods, connections = {{"a", "front", "d", "s0"}, {"b", "n2", "c", "s1"},
+                                                            {"c", "n1", "d", "n0"}}}
+local f, fwhy = moves.compile(now, front)
+expect(f == nil and fwhy == "a.front: an ATRON has no dock 'front' (n0-n3, s0-s3)", "an unknown dock is refused: " .. tostring(fwhy))

@@ -193,10 +193,19 @@ void ExactSolver::jointRows(int j) {
 /// rows' target being the centripetal one in r.bias; the axial row's entry is -J v alone (its
 /// caller adds the motor's or the limit's target).
 Vec6 ExactSolver::structuralResidual(int j) const {
+  // J = [sI A; 0 B] (jointRows): J v = [s v + A w; B w].
   const Row& r = m_rows[size_t(j)];
   Vec6 y = -r.bias;
-  if (r.na >= 0) y.noalias() -= r.ja * bodyVelocity(r.na);
-  if (r.nb >= 0) y.noalias() -= r.jb * bodyVelocity(r.nb);
+  if (r.na >= 0) {
+    const Vec6 v = bodyVelocity(r.na);
+    y.head<3>() -= v.head<3>() + r.ja.topRightCorner<3, 3>().lazyProduct(v.tail<3>());
+    y.tail<3>() -= r.ja.bottomRightCorner<3, 3>().lazyProduct(v.tail<3>());
+  }
+  if (r.nb >= 0) {
+    const Vec6 v = bodyVelocity(r.nb);
+    y.head<3>() -= r.jb.topRightCorner<3, 3>().lazyProduct(v.tail<3>()) - v.head<3>();
+    y.tail<3>() -= r.jb.bottomRightCorner<3, 3>().lazyProduct(v.tail<3>());
+  }
   return y;
 }
 
@@ -419,7 +428,9 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
 }
 
 /// One side of a contact row: its solver body, Jacobian, and (if it is one of ours) body and group.
-ExactSolver::RowSide ExactSolver::rowSide(btSolverConstraint& c, int side) {
+/// (Inlined: returned through memory, the sides cost the sweep a store-to-load round trip per
+/// row, and 20% more of `superbots_1000`'s step in some builds, by where the code happened to lie.)
+[[gnu::always_inline]] inline ExactSolver::RowSide ExactSolver::rowSide(btSolverConstraint& c, int side) {
   RowSide r;
   const int sid = side == 0 ? c.m_solverBodyIdA : c.m_solverBodyIdB;
   r.body = &m_tmpSolverBodyPool[sid];
@@ -538,8 +549,12 @@ void ExactSolver::buildGroups(int firstBody) {
 }
 
 double ExactSolver::rowVelocity(btSolverConstraint& c) {
-  double vel = 0;
   const RowSide sides[2] = {rowSide(c, 0), rowSide(c, 1)};
+  return rowVelocity(sides);
+}
+
+double ExactSolver::rowVelocity(const RowSide (&sides)[2]) const {
+  double vel = 0;
   for (const RowSide& r : sides) {
     if (!r.body->m_originalBody) continue;
     vel += double(r.n->dot(r.body->m_deltaLinearVelocity) + r.rc->dot(r.body->m_deltaAngularVelocity));
@@ -555,19 +570,25 @@ double ExactSolver::rowVelocity(btSolverConstraint& c) {
 /// One row of the contact sweep, as Bullet's, except that a body in a rigid group moves with its
 /// group: its velocity includes the group's pending twist and an impulse goes to that twist.
 double ExactSolver::sweepRow(btSolverConstraint& c, double lo, double hi, const double* x) {
-  const double vel = rowVelocity(c);
+  const RowSide sides[2] = {rowSide(c, 0), rowSide(c, 1)};
+  const double vel = rowVelocity(sides);
   const double lambda = c.m_appliedImpulse;
   const double inv = m_useSplit ? x[2] : x[3];
   const double next = std::clamp(lambda + inv * (x[0] - x[1] * lambda - vel), lo, hi);
   const double delta = next - lambda;
   c.m_appliedImpulse = btScalar(next);
-  applyRowImpulse(c, delta);
+  applyRowImpulse(sides, delta);
   return delta * delta;
 }
 
 void ExactSolver::applyRowImpulse(btSolverConstraint& c, double delta) {
   if (delta == 0) return;
   const RowSide sides[2] = {rowSide(c, 0), rowSide(c, 1)};
+  applyRowImpulse(sides, delta);
+}
+
+void ExactSolver::applyRowImpulse(const RowSide (&sides)[2], double delta) {
+  if (delta == 0) return;
   for (const RowSide& r : sides) {
     if (!r.body->m_originalBody) continue;
     if (r.group < 0) {
@@ -651,11 +672,34 @@ void ExactSolver::initNode(int k) {
 
 // D_i = H_ii - sum over children H_ci^T D_c^-1 H_ci: a node's share of its parent's pivot (after
 // its own pivot is inverted).
+//
+// H is a hinge's rows on one body, J = [sI A; 0 B] (s = +-1: the pivot rows' sign; A the pivot
+// arm's cross product; B the axes), or its transpose: the products go by 3x3 blocks, without the
+// zero block and with sI as a sign (half of the dense products' multiplications).
 void ExactSolver::passToParent(int k) {
-  const Node& n = m_nodes[size_t(k)];
-  const Mat6 t = n.dinv * n.hp;
+  Node& n = m_nodes[size_t(k)];
+  const double s = n.hp(0, 0);
+  const auto dl = n.dinv.leftCols<3>();
+  const auto dr = n.dinv.rightCols<3>();
   Mat6& pd = m_nodes[size_t(n.parent)].d;
-  pd.noalias() -= n.hp.transpose() * t;
+  if (n.joint >= 0) {
+    // H = J: G = [s Dl, Dl A + Dr B]; H^T G = [s G_top; A^T G_top + B^T G_bottom].
+    const auto a = n.hp.topRightCorner<3, 3>();
+    const auto b = n.hp.bottomRightCorner<3, 3>();
+    n.g.leftCols<3>() = s * dl;
+    n.g.rightCols<3>() = dl.lazyProduct(a) + dr.lazyProduct(b);
+    pd.topRows<3>() -= s * n.g.topRows<3>();
+    pd.bottomRows<3>() -=
+        a.transpose().lazyProduct(n.g.topRows<3>()) + b.transpose().lazyProduct(n.g.bottomRows<3>());
+  } else {
+    // H = J^T = [sI 0; A^T B^T]: G = [s Dl + Dr A^T, Dr B^T]; H^T G = [s G_top + A G_bottom; B G_bottom].
+    const auto at = n.hp.bottomLeftCorner<3, 3>();
+    const auto bt = n.hp.bottomRightCorner<3, 3>();
+    n.g.leftCols<3>() = s * dl + dr.lazyProduct(at);
+    n.g.rightCols<3>() = dr.lazyProduct(bt);
+    pd.topRows<3>() -= s * n.g.topRows<3>() + at.transpose().lazyProduct(n.g.bottomRows<3>());
+    pd.bottomRows<3>() -= bt.transpose().lazyProduct(n.g.bottomRows<3>());
+  }
   pd = (0.5 * (pd + pd.transpose())).eval();  // keep it exactly symmetric
 }
 
@@ -916,34 +960,32 @@ void ExactSolver::solve(Cluster& c) {
       for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
         Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
         n.x.noalias() = n.dinv * n.y;
-        if (n.parent != c.begin) m_nodes[size_t(n.parent)].y.noalias() -= n.hp.transpose() * n.x;
+        if (n.parent != c.begin) m_nodes[size_t(n.parent)].y.noalias() -= n.g.transpose() * n.y;
       }
     });
     for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
       const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
-      root.y.noalias() -= n.hp.transpose() * n.x;
+      root.y.noalias() -= n.g.transpose() * n.y;
     }
     root.x.noalias() = root.dinv * root.y;
     forBothHalves([&](int h) {
       for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) {
         Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
-        const Vec6 t = n.hp * m_nodes[size_t(n.parent)].x;
-        n.x.noalias() -= n.dinv * t;
+        n.x.noalias() -= n.g * m_nodes[size_t(n.parent)].x;
       }
     });
     return;
   }
+  // Three products a node (G = D^-1 H from the factor): down, x = D^-1 y and the parent's
+  // y -= H^T D^-1 y = G^T y; up, x -= G x_parent.
   for (int k = c.end - 1; k >= c.begin; --k) {
     Node& n = m_nodes[size_t(k)];
     n.x.noalias() = n.dinv * n.y;
-    if (n.parent >= 0) m_nodes[size_t(n.parent)].y.noalias() -= n.hp.transpose() * n.x;
+    if (n.parent >= 0) m_nodes[size_t(n.parent)].y.noalias() -= n.g.transpose() * n.y;
   }
   for (int k = c.begin; k < c.end; ++k) {
     Node& n = m_nodes[size_t(k)];
-    if (n.parent >= 0) {
-      const Vec6 t = n.hp * m_nodes[size_t(n.parent)].x;
-      n.x.noalias() -= n.dinv * t;
-    }
+    if (n.parent >= 0) n.x.noalias() -= n.g * m_nodes[size_t(n.parent)].x;
   }
 }
 

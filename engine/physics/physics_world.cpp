@@ -1114,6 +1114,10 @@ int PhysicsWorld::threadedPairs() const {
   return m->dispatcher.threadedPairs();
 }
 
+int PhysicsWorld::threadedBodies() const {
+  return m->world.threadedBodies();
+}
+
 int PhysicsWorld::splitTrees() const {
   int n = m->solver.splitTreeCount();
   for (const auto& h : m->helpers) n += h->splitTreeCount();

@@ -4,6 +4,7 @@
 #include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
 #include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include <LinearMath/btQuickprof.h>
 
 #include <algorithm>
 #include <atomic>
@@ -168,6 +169,57 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
   batches.flush();
   if (parallel && count > 0) solveBatches(info, count);
   m_constraintSolver->allSolved(info, m_debugDrawer);
+}
+
+template <class Fn>
+int SolverWorld::forEachBody(const Fn& fn) {
+  const int n = m_nonStaticRigidBodies.size();
+  btRigidBody** bodies = n ? &m_nonStaticRigidBodies[0] : nullptr;
+  constexpr int kChunk = 256;  // bodies a thread takes at a time
+  if (m_helpers.empty() || !m_tasks || n < 4 * kChunk) {
+    for (int i = 0; i < n; ++i) fn(bodies[i]);
+    return 0;
+  }
+  std::atomic<int> next{0};
+  // (One pointer captured: std::function keeps it without allocating.)
+  const struct {
+    btRigidBody** bodies;
+    int n;
+    std::atomic<int>* next;
+    const Fn* fn;
+  } ctx{bodies, n, &next, &fn};
+  m_tasks(1 + int(m_helpers.size()), [p = &ctx](int) {
+    for (int b = p->next->fetch_add(kChunk); b < p->n; b = p->next->fetch_add(kChunk))
+      for (int i = b; i < std::min(p->n, b + kChunk); ++i) (*p->fn)(p->bodies[i]);
+  });
+  return n;
+}
+
+void SolverWorld::predictUnconstraintMotion(btScalar timeStep) {
+  if (getSoftBodyArray().size() > 0) return btSoftRigidDynamicsWorld::predictUnconstraintMotion(timeStep);
+  BT_PROFILE("predictUnconstraintMotion");
+  // As btDiscreteDynamicsWorld::predictUnconstraintMotion, body by body.
+  forEachBody([timeStep](btRigidBody* body) {
+    if (body->isStaticOrKinematicObject()) return;
+    body->applyDamping(timeStep);
+    body->predictIntegratedTransform(timeStep, body->getInterpolationWorldTransform());
+  });
+}
+
+void SolverWorld::integrateTransforms(btScalar timeStep) {
+  m_threadedBodies = 0;
+  if (getSoftBodyArray().size() > 0 || m_applySpeculativeContactRestitution)
+    return btSoftRigidDynamicsWorld::integrateTransforms(timeStep);
+  BT_PROFILE("integrateTransforms");
+  // As btDiscreteDynamicsWorld::integrateTransformsInternal without its motion clamping, which
+  // only bodies with a CCD motion threshold take (none here).
+  m_threadedBodies = forEachBody([timeStep](btRigidBody* body) {
+    body->setHitFraction(1.f);
+    if (!body->isActive() || body->isStaticOrKinematicObject()) return;
+    btTransform predicted;
+    body->predictIntegratedTransform(timeStep, predicted);
+    body->proceedToTransform(predicted);
+  });
 }
 
 void SolverWorld::setBatchSolvers(ExactSolver* primary, std::vector<ExactSolver*> helpers, Tasks tasks) {

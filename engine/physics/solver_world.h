@@ -30,6 +30,8 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   /// world's constraint solver) and the helpers (its batch solvers, ExactSolver::shareStateOf) at
   /// once, one per task; no helpers: each batch is solved as it is made, on this thread.
   void setBatchSolvers(ExactSolver* primary, std::vector<ExactSolver*> helpers, Tasks tasks);
+  /// Bodies the last integration ran on the worker threads (0: one loop on this thread).
+  int threadedBodies() const { return m_threadedBodies; }
   struct Batch {
     btAlignedObjectArray<btCollisionObject*> bodies;
     btAlignedObjectArray<btPersistentManifold*> manifolds;
@@ -42,15 +44,26 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   /// every body's next transform only to compare its motion with a threshold of 0, finds nothing:
   /// only the release is kept (results are bit-identical).
   void createPredictiveContacts(btScalar) override { releasePredictiveContacts(); }
+  /// Bullet's passes over every body before and after the solve (damping and the predicted
+  /// transform; integration), on the worker threads in chunks of bodies where there are threads
+  /// and many bodies: each body's step reads and writes that body alone, so the results are the
+  /// same bits. Worlds with cloth keep Bullet's loops.
+  void predictUnconstraintMotion(btScalar timeStep) override;
+  void integrateTransforms(btScalar timeStep) override;
 
  private:
   void solveBatches(btContactSolverInfo& info, int count);
+  /// fn(body) for every non-static rigid body, on the threads when there are many; returns how
+  /// many went to the threads (0: all on this one).
+  template <class Fn>
+  int forEachBody(const Fn& fn);
 
   std::vector<int> m_islandStart, m_islandCount;  ///< by island id: its run in m_sortedConstraints
   ExactSolver* m_primary = nullptr;
   std::vector<ExactSolver*> m_helpers;
   Tasks m_tasks;
   std::vector<Batch> m_batches;  ///< this substep's, reused
+  int m_threadedBodies = 0;
 };
 
 }  // namespace rm3d

@@ -120,7 +120,8 @@ void ExactSolver::beginSubstep() {
   if (m_rows.size() < m_shared->joints.size()) m_rows.resize(m_shared->joints.size());
 }
 
-Vec6 ExactSolver::bodyVelocity(int b) const {
+// (These two and rowSide are inlined: each exact iteration calls them for every node and row.)
+[[gnu::always_inline]] inline Vec6 ExactSolver::bodyVelocity(int b) const {
   const btSolverBody& s = m_tmpSolverBodyPool[m_bodies[size_t(b)].sid];
   const btVector3 l = s.m_linearVelocity + s.m_externalForceImpulse + s.m_deltaLinearVelocity;
   const btVector3 w = s.m_angularVelocity + s.m_externalTorqueImpulse + s.m_deltaAngularVelocity;
@@ -129,7 +130,7 @@ Vec6 ExactSolver::bodyVelocity(int b) const {
   return v;
 }
 
-void ExactSolver::addBodyVelocity(int b, const Vec6& dv) {
+[[gnu::always_inline]] inline void ExactSolver::addBodyVelocity(int b, const Vec6& dv) {
   btSolverBody& s = m_tmpSolverBodyPool[m_bodies[size_t(b)].sid];
   s.m_deltaLinearVelocity += btVector3(btScalar(dv[0]), btScalar(dv[1]), btScalar(dv[2]));
   s.m_deltaAngularVelocity += btVector3(btScalar(dv[3]), btScalar(dv[4]), btScalar(dv[5]));

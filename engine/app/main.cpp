@@ -87,10 +87,9 @@ int run(int argc, char** argv) {
   runCmd->add_option("--param", run.params, "key=value, seen as args.key in the world script")->take_all();
   runCmd->add_option("--json", run.json, "write the run summary as JSON");
   runCmd->add_flag("--strict", run.strict, "a module fault ends the run with exit code 1");
-  runCmd
-      ->add_option("--threads", run.threads,
-                   "worker threads: behaviours, contacts, solver batches (same results at any count)")
-      ->check(kThreads);
+  const char* threadsHelp =
+      "worker threads: behaviours, contacts, solver batches, integration (same results at any count)";
+  runCmd->add_option("--threads", run.threads, threadsHelp)->check(kThreads);
   const char* chunkHelp = "modules a worker thread takes at a time (default 16)";
   runCmd->add_option("--chunk", run.chunk, chunkHelp)->check(kChunk);
   runCmd->add_option("--png", run.png, "write the last frame as PNG");
@@ -169,10 +168,7 @@ int run(int argc, char** argv) {
       app.add_subcommand("test", "run scripted test worlds headless; ends with 'N passed, N failed'");
   testCmd->add_option("paths", test.paths, "world files or folders (default: tests/worlds)");
   testCmd->add_option("--junit", test.junit, "write a JUnit XML report");
-  testCmd
-      ->add_option("--threads", test.threads,
-                   "worker threads: behaviours, contacts, solver batches (same results at any count)")
-      ->check(kThreads);
+  testCmd->add_option("--threads", test.threads, threadsHelp)->check(kThreads);
   testCmd->add_option("--chunk", test.chunk, chunkHelp)->check(kChunk);
   testCmd->add_flag("--strict", test.strict,
                     "a module fault fails the world at once (even with world.set{expect_faults=})");
@@ -188,10 +184,7 @@ int run(int argc, char** argv) {
           numberCheck("a positive number of seconds", [](double v) { return v > 0 && std::isfinite(v); }));
   auto* benchSteps =
       benchCmd->add_option("--steps", bench.steps, "measured steps per scene")->check(positiveWhole("steps"));
-  benchCmd
-      ->add_option("--threads", bench.threads,
-                   "worker threads: behaviours, contacts, solver batches (same results at any count)")
-      ->check(kThreads);
+  benchCmd->add_option("--threads", bench.threads, threadsHelp)->check(kThreads);
   benchCmd
       ->add_option("--modules", bench.modules, "modules per scene (default: the scene's, as its name says)")
       ->check(positiveWhole("modules"));
@@ -221,10 +214,7 @@ int run(int argc, char** argv) {
   viewCmd->add_option("world", view.world, "world script (.lua)")->required();
   viewCmd->add_option("--seed", view.seed, "world seed (overrides world.set{seed=})")->check(kSeed);
   viewCmd->add_option("--param", view.params, "key=value, seen as args.key in the world script")->take_all();
-  viewCmd
-      ->add_option("--threads", view.threads,
-                   "worker threads: behaviours, contacts, solver batches (same results at any count)")
-      ->check(kThreads);
+  viewCmd->add_option("--threads", view.threads, threadsHelp)->check(kThreads);
   viewCmd->add_option("--chunk", view.chunk, chunkHelp)->check(kChunk);
   viewCmd->add_flag("--quiet", view.quiet,
                     "no module log lines on the terminal (the inspector still shows them)");

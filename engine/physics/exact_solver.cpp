@@ -167,7 +167,8 @@ ExactSolver::JointFrame ExactSolver::jointFrame(int j) const {
           toEigen(tb.getOrigin()) - toEigen(e.b->getCenterOfMassPosition()), toEigen(ta.getBasis())};
 }
 
-/// A joint's rows on its two bodies at their current poses.
+/// A joint's rows on its two bodies at their current poses: J = [sI A; 0 B] on each (s = +-1),
+/// the block form that structuralResidual and passToParent multiply by.
 void ExactSolver::jointRows(int j) {
   Row& r = m_rows[size_t(j)];
   const auto [ra, rb, frame] = jointFrame(j);

@@ -992,7 +992,17 @@ void PhysicsWorld::setParallel(int threads, ForEach forEach) {
   m->tasks = nullptr;
   std::vector<ExactSolver*> helpers;
   if (forEach && threads > 1) {
-    m->tasks = forEach;
+    // Every task of a step runs with denormals flushed, as the stepping thread does (step): a
+    // worker thread's own mode would let a batch it solves differ in its smallest bits from the
+    // same batch solved on the stepping thread. (In zero gravity, quaternion components of 1e-35
+    // appear within a step, and products of them are denormal: docking_1000's results differed at
+    // 2 threads, and from run to run, as batches went to one thread or the other.)
+    m->tasks = [forEach](int n, const std::function<void(int)>& fn) {
+      forEach(n, [&fn](int t) {
+        const FlushDenormals flush;
+        fn(t);
+      });
+    };
     for (int t = 1; t < threads; ++t) {
       m->helpers.push_back(std::make_unique<ExactSolver>());
       m->helpers.back()->shareStateOf(m->solver);

@@ -708,10 +708,10 @@ void ExactSolver::passToParent(int k) {
 template <class Fn>
 void ExactSolver::forEachNode(const Cluster& c, const Fn& fn) {
   if (!c.split) {
-    for (int k = c.begin; k < c.end; ++k) fn(k);
+    for (int k = c.begin; k < c.end; ++k) fn(k, 0);
     return;
   }
-  fn(c.begin);
+  fn(c.begin, 0);
   // (One pointer captured: std::function keeps it without allocating.)
   const struct {
     const ExactSolver* self;
@@ -719,7 +719,7 @@ void ExactSolver::forEachNode(const Cluster& c, const Fn& fn) {
     const Fn* fn;
   } ctx{this, &c, &fn};
   forBothHalves([p = &ctx](int h) {
-    for (int i = p->c->lane[h]; i < p->c->lane[h + 1]; ++i) (*p->fn)(p->self->m_laneNodes[size_t(i)]);
+    for (int i = p->c->lane[h]; i < p->c->lane[h + 1]; ++i) (*p->fn)(p->self->m_laneNodes[size_t(i)], h);
   });
 }
 
@@ -1074,7 +1074,7 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
   if (c.dirty) factor(c);
   // The rows' residuals, the solve, and its result applied: node by node (each node reads and
   // writes its own row or body), a long tree's halves apart.
-  auto residual = [&](int k) {
+  auto residual = [&](int k, int) {
     Node& n = m_nodes[size_t(k)];
     if (n.joint < 0) {
       n.y.setZero();
@@ -1087,7 +1087,7 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
                                  (e.state == ExactJoint::Axial::Motor ? e.compliance * r.lambda[5] : 0)
                            : 0;
   };
-  auto apply = [&](int k) {
+  auto apply = [&](int k, int) {
     const Node& n = m_nodes[size_t(k)];
     if (n.body >= 0) {
       addBodyVelocity(n.body, n.x);
@@ -1157,7 +1157,16 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
     if (ca >= 0) m_clusters[size_t(ca)].centripetal = false;
     if (cb >= 0) m_clusters[size_t(cb)].centripetal = false;
   }
-  for (int j : m_groupJoints) setupJoint(j, m_h);  // all at the velocities before any impulse
+  // All at the velocities before any impulse. Each joint's setup reads its bodies and writes its
+  // own row and state only: a long tree's go to both halves' threads, half of the list each.
+  if (m_halfHelper && int(m_groupJoints.size()) >= kSplitJoints) {
+    const int n = int(m_groupJoints.size());
+    forBothHalves([&](int h) {
+      for (int i = h * n / 2; i < (h + 1) * n / 2; ++i) setupJoint(m_groupJoints[size_t(i)], m_h);
+    });
+  } else {
+    for (int j : m_groupJoints) setupJoint(j, m_h);
+  }
   for (int j : m_groupJoints) {
     const ExactJoint& e = m_shared->joints[size_t(j)];
     if (e.state == ExactJoint::Axial::Fixed) applyAxial(j, e.fixedImpulse);
@@ -1317,8 +1326,10 @@ void ExactSolver::postStabilise() {
 void ExactSolver::stabiliseCluster(Cluster& c) {
   double before = 0;  // the largest error before the pass
   for (int pass = 0; pass < kStabilisePasses; ++pass) {
+    // Node by node, each reading its own joint's bodies or writing its own row or body: a long
+    // tree's halves apart (the largest error by half).
     if (pass > 0) {
-      for (int k = c.begin; k < c.end; ++k) {
+      forEachNode(c, [&](int k, int) {
         const Node& n = m_nodes[size_t(k)];
         if (n.joint >= 0) {
           jointRows(n.joint);
@@ -1326,19 +1337,21 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
           Body& b = m_bodies[size_t(n.body)];
           b.invInertia = toEigen(b.rb->getInvInertiaTensorWorld());
         }
-      }
+      });
       for (int l = c.loopBegin; l < c.loopEnd; ++l) jointRows(m_loopJoints[size_t(l)]);
       c.dirty = true;
     }
     if (c.dirty) factor(c);
-    for (int k = c.begin; k < c.end; ++k) {
+    double largest[2] = {0, 0};
+    forEachNode(c, [&](int k, int h) {
       Node& n = m_nodes[size_t(k)];
       n.y.setZero();
       if (n.joint >= 0) n.y = positionError(n.joint);
-      if (pass == 0) before = std::max(before, n.y.cwiseAbs().maxCoeff());
-    }
+      largest[h] = std::max(largest[h], n.y.cwiseAbs().maxCoeff());
+    });
+    if (pass == 0) before = std::max(largest[0], largest[1]);
     solve(c);
-    applyPositionChanges(c);
+    forEachNode(c, [&](int k, int) { applyPositionChange(k); });
     if (c.loopEnd > c.loopBegin) {
       // Then the loops' errors at the corrected poses, through S and the tree.
       const int loops = c.loopEnd - c.loopBegin;
@@ -1348,9 +1361,11 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
       pushThroughTree(c, solveLoops(c, c.schurPosInv, err), true);
       applyPositionChanges(c);
     }
-    double left = 0;
-    for (int k = c.begin; k < c.end; ++k)
-      if (const int j = m_nodes[size_t(k)].joint; j >= 0) left = std::max(left, stabiliseExcess(j));
+    double lefts[2] = {0, 0};
+    forEachNode(c, [&](int k, int h) {
+      if (const int j = m_nodes[size_t(k)].joint; j >= 0) lefts[h] = std::max(lefts[h], stabiliseExcess(j));
+    });
+    double left = std::max(lefts[0], lefts[1]);
     for (int l = c.loopBegin; l < c.loopEnd; ++l)
       left = std::max(left, stabiliseExcess(m_loopJoints[size_t(l)]));
     // Done when within the tolerance, or when a pass at the new poses no longer halves the error.
@@ -1386,22 +1401,25 @@ Vec6 ExactSolver::positionError(int j) const {
 
 /// Moves every body of the cluster by the position change in its node's x.
 void ExactSolver::applyPositionChanges(Cluster& c) {
-  for (int k = c.begin; k < c.end; ++k) {
-    const Node& n = m_nodes[size_t(k)];
-    if (n.body < 0) continue;
-    btRigidBody* rb = m_bodies[size_t(n.body)].rb;
-    btTransform t = rb->getCenterOfMassTransform();
-    t.setOrigin(t.getOrigin() + btVector3(btScalar(n.x[0]), btScalar(n.x[1]), btScalar(n.x[2])));
-    const Vec3d dr = n.x.tail<3>();
-    const double angle = dr.norm();
-    if (angle > 0) {
-      const Vec3d axis = dr / angle;
-      btQuaternion q(btVector3(btScalar(axis.x()), btScalar(axis.y()), btScalar(axis.z())), btScalar(angle));
-      t.setRotation((q * t.getRotation()).normalized());
-    }
-    rb->setCenterOfMassTransform(t);
-    rb->setInterpolationWorldTransform(t);
+  for (int k = c.begin; k < c.end; ++k) applyPositionChange(k);
+}
+
+/// Moves node k's body (if it is one) by the position change in its x.
+void ExactSolver::applyPositionChange(int k) {
+  const Node& n = m_nodes[size_t(k)];
+  if (n.body < 0) return;
+  btRigidBody* rb = m_bodies[size_t(n.body)].rb;
+  btTransform t = rb->getCenterOfMassTransform();
+  t.setOrigin(t.getOrigin() + btVector3(btScalar(n.x[0]), btScalar(n.x[1]), btScalar(n.x[2])));
+  const Vec3d dr = n.x.tail<3>();
+  const double angle = dr.norm();
+  if (angle > 0) {
+    const Vec3d axis = dr / angle;
+    btQuaternion q(btVector3(btScalar(axis.x()), btScalar(axis.y()), btScalar(axis.z())), btScalar(angle));
+    t.setRotation((q * t.getRotation()).normalized());
   }
+  rb->setCenterOfMassTransform(t);
+  rb->setInterpolationWorldTransform(t);
 }
 
 }  // namespace rm3d

@@ -327,7 +327,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void subtreeSizes(int begin);
   void initNode(int k);      ///< a node's pivot block and its coupling to its parent
   void passToParent(int k);  ///< its share of its parent's pivot block (its own inverted)
-  /// fn(k) for every node of c: a long tree's root, then its halves (forBothHalves).
+  /// fn(k, h) for every node of c: a long tree's root (h 0), then its halves (forBothHalves; h the half).
   template <class Fn>
   void forEachNode(const Cluster& c, const Fn& fn);
   /// fn(0) and fn(1): fn(1) on the half helper's thread while there is one (runWithHalfHelper).
@@ -367,6 +367,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   Vec6 positionError(int j) const;
   double stabiliseExcess(int j) const;
   void applyPositionChanges(Cluster& c);
+  void applyPositionChange(int k);  ///< node k's body, by its x
   void forEachCluster(int begin, const std::function<void(int)>& fn);
   HalfHelper* m_halfHelper = nullptr;
   std::vector<int> m_laneNodes, m_subtree, m_half;

@@ -20,6 +20,8 @@
 //   when its friction reaches its bound it slides, and it anchors anew where it is. (Bullet's
 //   anchors decide point by point: a saturated point re-anchors while its neighbours hold, which
 //   ratcheted a resting SuperBot's yaw by 5-8 deg in 10 s at mu 0.3.)
+// - The position stabilisation's moves are not slip: where it turned part of a structure about a
+//   distant point, the anchors on that structure move with it (followPatchPoses).
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
@@ -364,6 +366,59 @@ void ExactSolver::finishPatches() {
       l1.m_appliedImpulse = btScalar(toEigen(cp->m_lateralFrictionDir1).dot(f));
       l2.m_appliedImpulse = btScalar(toEigen(cp->m_lateralFrictionDir2).dot(f));
     }
+  }
+}
+
+/// The position stabilisation (ExactSolver::stabiliseCluster) moves bodies to close their joints'
+/// errors, a correction of the integration and not a slip; but the anchors took it for one. On a
+/// long chain an axis error of a few microradians is closed by turning part of the chain about its
+/// root, which moves its far end by a hundred micrometres, and the anchors then pulled every module
+/// back towards where it stuck, against the chain's joints: the friction that took added up along
+/// the chain, and a straight 300-SuperBot chain lying still on the ground broke 71 docks in its
+/// second step (loads up to 127 N; at 1000 modules 544 of 999, up to 618 N). So where a
+/// stabilisation pass turned part of a structure (it moved a body many times the largest error it
+/// closed: kLever in exact_solver.cpp), the anchors of every patch on that structure's bodies move
+/// with them (the bodies are marked with the substep, in Bullet's third user index, which nothing
+/// else uses); then the 300-module chain's largest dock load is 14 N and the 1000-module chain's
+/// 13 N. A local correction, about as large as the errors it closes, is left to the anchors: the
+/// contacts of small robots are solved as before, to the bit.
+void ExactSolver::notePatchPoses() {
+  if (!patches) return;
+  m_patchPoses.resize(m_patches.size());
+  for (size_t i = 0; i < m_patches.size(); ++i) {
+    const Patch& p = m_patches[i];
+    // (A manifold the solve of this substep did not see may be gone: only those it saw.)
+    if (!p.manifold || !p.anchored || p.seen != m_substepCount) continue;
+    m_patchPoses[i] = {p.manifold->getBody0()->getWorldTransform(),
+                       p.manifold->getBody1()->getWorldTransform()};
+  }
+}
+
+void ExactSolver::followPatchPoses() {
+  if (!patches) return;
+  // Body 0's pose in body 1's frame, as setupPatches measures the anchor.
+  auto relative = [](const btTransform& t0, const btTransform& t1) {
+    const Eigen::Quaterniond r0 = toEigen(t0.getRotation()), r1 = toEigen(t1.getRotation());
+    return std::make_pair(Eigen::Quaterniond(r1.conjugate() * r0),
+                          Vec3d(r1.conjugate() * (toEigen(t0.getOrigin()) - toEigen(t1.getOrigin()))));
+  };
+  for (size_t i = 0; i < m_patches.size() && i < m_patchPoses.size(); ++i) {
+    Patch& p = m_patches[i];
+    if (!p.manifold || !p.anchored || p.seen != m_substepCount) continue;
+    const btTransform& now0 = p.manifold->getBody0()->getWorldTransform();
+    const btTransform& now1 = p.manifold->getBody1()->getWorldTransform();
+    const PatchPoses& was = m_patchPoses[i];
+    if (p.manifold->getBody0()->getUserIndex3() != m_substepCount &&
+        p.manifold->getBody1()->getUserIndex3() != m_substepCount)
+      continue;
+    if (now0 == was.body0 && now1 == was.body1) continue;
+    const auto [rotWas, posWas] = relative(was.body0, was.body1);
+    const auto [rotNow, posNow] = relative(now0, now1);
+    const Eigen::Quaterniond turn = rotNow * rotWas.conjugate();
+    // The anchor moves as body 0 moved in body 1's frame: where the stabilisation was the only
+    // change since the patch stuck, the slip stays zero.
+    p.pos = turn * (p.pos - posWas) + posNow;
+    p.rot = (turn * p.rot).normalized();
   }
 }
 

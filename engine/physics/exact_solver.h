@@ -196,6 +196,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   }
   /// Projects the hinges' position error out after integration.
   void postStabilise();
+  /// Before and after every solver's postStabilise, on the primary (the patch table is its): the
+  /// contact anchors follow the moves the stabilisation makes (contact_patches.cpp).
+  void notePatchPoses();
+  void followPatchPoses();
 
   btScalar solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies,
                                         btPersistentManifold** manifolds, int numManifolds,
@@ -294,6 +298,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   ExactSolver* m_shared = this;  ///< whose joints, capture joints and patch table (shareStateOf)
   std::vector<Patch> m_patches;  ///< the primary's table, by slot
   std::vector<int> m_freePatches;
+  struct PatchPoses {  // a patch's two bodies before the stabilisation (notePatchPoses)
+    btTransform body0, body1;
+  };
+  std::vector<PatchPoses> m_patchPoses;   ///< by slot
   std::vector<PatchRows> m_groupPatches;  // this solver group's
   btAlignedObjectArray<btSolverConstraint> m_patchRows;
   std::vector<double> m_contactArm;  // by contact row: its distance from its patch's centre (m)

@@ -1207,6 +1207,7 @@ void PhysicsWorld::step(double dt, int substeps) {
     if (m->tracking && s == 0) m->snapshotVelocities();
     m->world.stepSimulation(btScalar(h), 0, btScalar(h));
     if (exact) {
+      m->solver.notePatchPoses();
       if (std::none_of(m->helpers.begin(), m->helpers.end(), [](auto& s) { return s->hasClusters(); })) {
         // Everything was solved on the primary (a long tree's halves on two threads).
         if (m->solver.hasSplitTrees())
@@ -1217,6 +1218,7 @@ void PhysicsWorld::step(double dt, int substeps) {
         m->tasks(1 + int(m->helpers.size()),
                  [&](int t) { (t == 0 ? m->solver : *m->helpers[size_t(t - 1)]).postStabilise(); });
       }
+      m->solver.followPatchPoses();
       for (Impl::Hinge& hg : m->hinges) {
         if (!hg.link) continue;
         const ExactJoint& e = m->solver.joints[size_t(&hg - m->hinges.data())];

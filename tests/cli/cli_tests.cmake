@@ -36,8 +36,10 @@ expect_run("fault is not fatal" 0 "" run ${OUT}/faulty_late.lua)
 expect_run("fault under --strict" 1 "runtime_error.lua:7: attempt to index a nil value" run ${OUT}/faulty_late.lua --strict)
 expect_run("error in a world hook" 2 "hook_error.lua:2: attempt to index a nil value" run ${OUT}/hook_error.lua)
 # Physics divergence ends the run with exit 1, the message on stderr and in the summary (no null
-# positions); settings that cannot make progress are bad input, not a hang.
-file(WRITE ${OUT}/diverging.lua "world.set{gravity = {0, 0, -1e4}, duration = 2}\nworld.ground{}\nlocal m = world.spawn('superbot', {at = {0, 0, 0.053}, name = 'bot'})\nworld.at(0.5, function() m:push({1e9, 0, 0}) end)\n")
+# positions); settings that cannot make progress are bad input, not a hang. (The module starts on
+# the ground: dropped 1 cm under 1000 g it went through it, and when that diverged depended on the
+# last bits of every contact.)
+file(WRITE ${OUT}/diverging.lua "world.set{gravity = {0, 0, -1e4}, duration = 2}\nworld.ground{}\nlocal m = world.spawn('superbot', {at = {0, 0, 0.043}, name = 'bot'})\nworld.at(0.5, function() m:push({1e9, 0, 0}) end)\n")
 file(WRITE ${OUT}/tiny_dt.lua "world.set{duration = 1}\nworld.set{dt = 1e-300}\n")
 file(WRITE ${OUT}/tiny_every.lua "world.set{duration = 1}\nworld.every(1e-300, function() end)\n")
 file(WRITE ${OUT}/huge_gravity.lua "world.set{gravity = {0, 0, -1e30}}\n")

@@ -69,15 +69,10 @@ void ExactSolver::setupCaptures(btTypedConstraint** constraints, int numConstrai
   }
 }
 
-double ExactSolver::sweepCaptures(const std::function<bool(const btSolverConstraint&)>& wanted) {
-  double residual = 0;
-  for (const GroupCapture& gc : m_groupCaptures) {
-    if (!wanted(m_patchRows[gc.row])) continue;
-    const CaptureJoint& cj = m_shared->captures[size_t(gc.id)];
-    residual = std::max(residual, sweepBall(gc.row, 3, cj.force * m_h));
-    residual = std::max(residual, sweepBall(gc.row + 3, 3, cj.torque * m_h));
-  }
-  return residual;
+double ExactSolver::sweepCapture(const GroupCapture& gc) {
+  const CaptureJoint& cj = m_shared->captures[size_t(gc.id)];
+  const double force = sweepBall(gc.row, 3, cj.force * m_h);  // (force first, then torque)
+  return std::max(force, sweepBall(gc.row + 3, 3, cj.torque * m_h));
 }
 
 void ExactSolver::finishCaptures() {

@@ -309,22 +309,18 @@ void ExactSolver::setupPatches(btPersistentManifold** manifolds, int numManifold
   }
 }
 
-/// The patches' friction rows, after the normal rows of the same sweep: tangent rows together
+/// A patch's friction rows, after the normal rows of the same sweep: tangent rows together
 /// (clamped to the circle), then twist, then rolling (clamped to a circle too).
-double ExactSolver::sweepPatches(const std::function<bool(const btSolverConstraint&)>& wanted) {
-  double residual = 0;
+double ExactSolver::sweepPatch(const PatchRows& pr) {
   const int nc = m_tmpSolverContactConstraintPool.size();
-  for (const PatchRows& pr : m_groupPatches) {
-    if (!wanted(m_patchRows[pr.row])) continue;
-    const auto [normalSum, twistArm] = patchLoad(pr);
-    residual = std::max(residual, sweepBall(pr.row, 2, pr.mu * normalSum));
-    {
-      btSolverConstraint& t = m_patchRows[pr.row + 2];
-      const double bound = pr.mu * twistArm + pr.spin * normalSum;
-      residual = std::max(residual, sweepRow(t, -bound, bound, &m_rowExtra[size_t(4 * (nc + pr.row + 2))]));
-    }
-    if (pr.roll) residual = std::max(residual, sweepBall(pr.row + 3, 2, pr.rolling * normalSum));
+  const auto [normalSum, twistArm] = patchLoad(pr);
+  double residual = sweepBall(pr.row, 2, pr.mu * normalSum);
+  {
+    btSolverConstraint& t = m_patchRows[pr.row + 2];
+    const double bound = pr.mu * twistArm + pr.spin * normalSum;
+    residual = std::max(residual, sweepRow(t, -bound, bound, &m_rowExtra[size_t(4 * (nc + pr.row + 2))]));
   }
+  if (pr.roll) residual = std::max(residual, sweepBall(pr.row + 3, 2, pr.rolling * normalSum));
   return residual;
 }
 

@@ -49,6 +49,11 @@ constexpr int kStabilisePasses = 3;
 // 15 um, 68 times); a local correction moves a body by about the error it closes (2.4 times at the
 // median, 6.8 at most, over 120 s of the snake-walker-snake sample). The contact anchors follow
 // such a pass's moves (ExactSolver::followPatchPoses).
+// A long tree's contact sweep goes to both halves' threads (planHalvedSweep) in runs of at least
+// this many items between the items that touch both halves, and with at most kHalvedSweepBarriers
+// such items.
+constexpr int kHalvedSweepItems = 64;
+constexpr size_t kHalvedSweepBarriers = 64;
 constexpr double kLeverMove = 5e-6;  // m
 constexpr double kLeverArm = 0.1;    // m
 constexpr double kLever = 10;
@@ -120,6 +125,7 @@ void ExactSolver::beginSubstep() {
     }
   }
   ++m_substepCount;
+  m_halvedSweeps = 0;
   m_bodies.clear();
   m_nodes.clear();
   m_clusters.clear();
@@ -558,6 +564,56 @@ void ExactSolver::buildGroups(int firstBody) {
     x[2] = 1.0 / (w + x[1]);
     x[3] = 1.0 / (wu + x[1]);
   }
+  planHalvedSweep();
+}
+
+void ExactSolver::planHalvedSweep() {
+  m_halvedSweep = false;
+  if (!m_halfHelper) return;
+  bool split = false;
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) split |= m_clusters[size_t(ci)].split;
+  if (!split) return;
+  // Each body's half (2: a split tree's root, or no split tree's), then each group's.
+  m_bodySide.assign(m_bodies.size(), 2);
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
+    const Cluster& c = m_clusters[size_t(ci)];
+    if (!c.split) continue;
+    for (int h = 0; h < 2; ++h)
+      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
+        if (const int b = m_nodes[size_t(m_laneNodes[size_t(i)])].body; b >= 0)
+          m_bodySide[size_t(b)] = static_cast<signed char>(h);
+  }
+  auto join = [](int a, int b) { return a < 0 ? b : (a == b ? a : 2); };
+  m_groupSide.assign(m_groups.size(), -1);
+  for (size_t b = size_t(m_groupFirstBody); b < m_bodies.size(); ++b)
+    if (const int g = m_bodyGroup[b]; g >= 0)
+      m_groupSide[size_t(g)] = static_cast<signed char>(join(m_groupSide[size_t(g)], m_bodySide[b]));
+  // An item's half: that of every body its rows move (a static body moves not).
+  auto sideOf = [&](btSolverConstraint& c) {
+    int s = -1;
+    for (int side = 0; side < 2; ++side) {
+      const RowSide r = rowSide(c, side);
+      if (!r.body->m_originalBody) continue;
+      s = join(s, r.index < 0    ? 2
+                  : r.group >= 0 ? m_groupSide[size_t(r.group)]
+                                 : m_bodySide[size_t(r.index)]);
+    }
+    return s < 0 ? 2 : s;
+  };
+  const int nc = m_tmpSolverContactConstraintPool.size();
+  m_itemSide.clear();
+  m_itemBarriers.clear();
+  for (const GroupCapture& gc : m_groupCaptures)
+    m_itemSide.push_back(static_cast<signed char>(sideOf(m_patchRows[gc.row])));
+  for (int j = 0; j < nc; ++j)
+    m_itemSide.push_back(
+        static_cast<signed char>(sideOf(m_tmpSolverContactConstraintPool[m_orderTmpConstraintPool[j]])));
+  for (const PatchRows& pr : m_groupPatches)
+    m_itemSide.push_back(static_cast<signed char>(sideOf(m_patchRows[pr.row])));
+  for (size_t t = 0; t < m_itemSide.size(); ++t)
+    if (m_itemSide[t] == 2) m_itemBarriers.push_back(int(t));
+  m_halvedSweep =
+      m_itemBarriers.size() <= kHalvedSweepBarriers && int(m_itemSide.size()) >= 2 * kHalvedSweepItems;
 }
 
 double ExactSolver::rowVelocity(btSolverConstraint& c) {
@@ -632,14 +688,51 @@ btScalar ExactSolver::contactSweep() {
     }
     return false;
   };
-  residual = std::max(residual, sweepCaptures(wanted));
-  for (int j = 0; j < nc; ++j) {
-    const int i = m_orderTmpConstraintPool[j];
-    btSolverConstraint& c = m_tmpSolverContactConstraintPool[i];
-    const double* x = &m_rowExtra[size_t(4 * i)];
-    if (x[2] != 0 && wanted(c)) residual = std::max(residual, sweepRow(c, c.m_lowerLimit, c.m_upperLimit, x));
+  // Item t: the capture joints, the normal rows in Bullet's order, then the patches' friction.
+  const int captures = int(m_groupCaptures.size()), items = captures + nc + int(m_groupPatches.size());
+  auto sweepItem = [&](int t) -> double {
+    if (t < captures) {
+      const GroupCapture& gc = m_groupCaptures[size_t(t)];
+      return wanted(m_patchRows[gc.row]) ? sweepCapture(gc) : 0.0;
+    }
+    if (t < captures + nc) {
+      const int i = m_orderTmpConstraintPool[t - captures];
+      btSolverConstraint& c = m_tmpSolverContactConstraintPool[i];
+      const double* x = &m_rowExtra[size_t(4 * i)];
+      return x[2] != 0 && wanted(c) ? sweepRow(c, c.m_lowerLimit, c.m_upperLimit, x) : 0.0;
+    }
+    const PatchRows& pr = m_groupPatches[size_t(t - captures - nc)];
+    return wanted(m_patchRows[pr.row]) ? sweepPatch(pr) : 0.0;
+  };
+  if (!m_halvedSweep || !m_halfHelper) {
+    for (int t = 0; t < items; ++t) residual = std::max(residual, sweepItem(t));
+  } else {
+    // A long tree's: each half's items on its thread between the items of both (planHalvedSweep).
+    ++m_halvedSweeps;
+    double halves[2] = {0, 0};
+    int from = 0, to = 0;
+    // (One pointer captured: std::function keeps it without allocating.)
+    const struct {
+      const ExactSolver* self;
+      const decltype(sweepItem)* sweep;
+      double* halves;
+      const int *from, *to;
+    } ctx{this, &sweepItem, halves, &from, &to};
+    for (size_t b = 0; b <= m_itemBarriers.size(); ++b) {
+      to = b < m_itemBarriers.size() ? m_itemBarriers[b] : items;
+      if (to - from >= kHalvedSweepItems) {
+        forBothHalves([p = &ctx](int h) {
+          for (int t = *p->from; t < *p->to; ++t)
+            if (p->self->m_itemSide[size_t(t)] == h) p->halves[h] = std::max(p->halves[h], (*p->sweep)(t));
+        });
+      } else {
+        for (int t = from; t < to; ++t) residual = std::max(residual, sweepItem(t));
+      }
+      if (to < items) residual = std::max(residual, sweepItem(to));
+      from = to + 1;
+    }
+    residual = std::max({residual, halves[0], halves[1]});
   }
-  residual = std::max(residual, sweepPatches(wanted));
   // The twists only predicted how the groups move within the sweep: each grouped body now takes
   // the impulses that reached it, and the exact solve passes them through its hinges (so joint
   // impulses, torques and loads carry them).

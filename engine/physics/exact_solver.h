@@ -191,6 +191,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
                          const std::function<void()>& fn);
   /// A cluster of this substep is a long tree solved in halves.
   bool hasSplitTrees() const { return !m_laneNodes.empty(); }
+  /// Contact sweeps of this substep run in a split tree's halves (planHalvedSweep).
+  int halvedSweepCount() const { return m_halvedSweeps; }
   int splitTreeCount() const {
     return int(std::count_if(m_clusters.begin(), m_clusters.end(), [](const Cluster& c) { return c.split; }));
   }
@@ -291,7 +293,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
                  const Eigen::Vector3d& linear, const Eigen::Vector3d& angular, double target,
                  double friction, int owner);
   void warmStartRow(btSolverConstraint& s, double impulse);
-  double sweepPatches(const std::function<bool(const btSolverConstraint&)>& wanted);
+  double sweepPatch(const PatchRows& pr);
   void finishPatches();
   int patchSlot(const btPersistentManifold* man) const;  ///< its slot in the table, or -1
   int claimPatchSlot(btPersistentManifold* man);
@@ -311,7 +313,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   };
   std::vector<GroupCapture> m_groupCaptures;
   void setupCaptures(btTypedConstraint** constraints, int numConstraints);
-  double sweepCaptures(const std::function<bool(const btSolverConstraint&)>& wanted);
+  double sweepCapture(const GroupCapture& gc);
   void finishCaptures();
   int m_substepCount = 0;
 
@@ -402,7 +404,17 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Eigen::Vector3d dv, dw;  // twist change not yet passed to the bodies
     int contacts;            // contact points on the group's bodies (mass splitting)
   };
-  std::vector<Group> m_groups;                // this solver group's
+  std::vector<Group> m_groups;  // this solver group's
+  // A long tree's contact sweep in halves (planHalvedSweep): the sweep's items in order (capture
+  // joints, the normal rows in Bullet's order, the patches), each with its half: 0 or 1 where
+  // every body it moves (or that body's group) lies in that half of a split tree, 2 otherwise.
+  // Items of one half touch nothing the other's do, so each half's run in order on its own thread
+  // gives the serial sweep's bits; a 2 is swept alone, between.
+  std::vector<signed char> m_bodySide, m_groupSide, m_itemSide;
+  std::vector<int> m_itemBarriers;  // the items of side 2, in order
+  bool m_halvedSweep = false;
+  int m_halvedSweeps = 0;
+  void planHalvedSweep();
   std::vector<int> m_bodyGroup;               // by body (index into m_groups, -1: alone)
   std::vector<Eigen::Vector3d> m_bodyOffset;  // body centre of mass minus its group's
   std::vector<Vec6> m_bodyImpulse;            // contact impulse on a grouped body this sweep

@@ -1128,6 +1128,12 @@ int PhysicsWorld::threadedBodies() const {
   return m->world.threadedBodies();
 }
 
+int PhysicsWorld::halvedSweeps() const {
+  int n = m->solver.halvedSweepCount();
+  for (const auto& h : m->helpers) n += h->halvedSweepCount();
+  return n;
+}
+
 int PhysicsWorld::splitTrees() const {
   int n = m->solver.splitTreeCount();
   for (const auto& h : m->helpers) n += h->splitTreeCount();

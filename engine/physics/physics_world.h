@@ -162,11 +162,13 @@ class PhysicsWorld {
   /// Dynamic bodies awake now (the others cost a step nothing).
   int activeBodyCount() const;
   /// The last substep's work on the worker threads: overlapping pairs whose contacts were found
-  /// there (0: one thread's loop), trees solved in two halves (ExactSolver::splitTree), and
-  /// bodies integrated there (SolverWorld::integrateTransforms; 0: Bullet's loop).
+  /// there (0: one thread's loop), trees solved in two halves (ExactSolver::splitTree), bodies
+  /// integrated there (SolverWorld::integrateTransforms; 0: Bullet's loop), and contact sweeps
+  /// run in a split tree's two halves (ExactSolver::planHalvedSweep).
   int threadedPairs() const;
   int splitTrees() const;
   int threadedBodies() const;
+  int halvedSweeps() const;
   /// Advances by dt in `substeps` equal steps, updating servos before each one.
   void step(double dt, int substeps);
 

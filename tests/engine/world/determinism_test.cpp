@@ -218,7 +218,8 @@ end
 // and its two halves factored and solved apart, on two threads where there are two
 // (ExactSolver::splitTree); the halves' results meet at the root in the same order either way.
 // Its 1051 bodies (a docked pair of links is one) are also integrated on the threads
-// (SolverWorld::integrateTransforms).
+// (SolverWorld::integrateTransforms), and its contact sweeps run in its halves where its contacts
+// allow (ExactSolver::planHalvedSweep).
 TEST_CASE("determinism: a 350-module snake's tree solved in halves, at 1, 2, 4 and 8 threads") {
   sameAtEveryThreadCount(R"(
 world.set{duration = 100, seed = 2}
@@ -228,6 +229,7 @@ require("snake_chain").build{n = 350, type = "superbot", behavior = "behaviors/s
                          20, [](World& w, int threads) {
                            CHECK(w.physicsConst().splitTrees() == 1);
                            CHECK(w.physicsConst().threadedBodies() == (threads > 1 ? 1051 : 0));
+                           CHECK((w.physicsConst().halvedSweeps() > 0) == (threads > 1));
                          });
 }
 

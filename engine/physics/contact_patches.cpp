@@ -401,12 +401,11 @@ void ExactSolver::followPatchPoses() {
   for (size_t i = 0; i < m_patches.size() && i < m_patchPoses.size(); ++i) {
     Patch& p = m_patches[i];
     if (!p.manifold || !p.anchored || p.seen != m_substepCount) continue;
-    const btTransform& now0 = p.manifold->getBody0()->getWorldTransform();
-    const btTransform& now1 = p.manifold->getBody1()->getWorldTransform();
+    const btCollisionObject *body0 = p.manifold->getBody0(), *body1 = p.manifold->getBody1();
+    if (body0->getUserIndex3() != m_substepCount && body1->getUserIndex3() != m_substepCount) continue;
+    const btTransform& now0 = body0->getWorldTransform();
+    const btTransform& now1 = body1->getWorldTransform();
     const PatchPoses& was = m_patchPoses[i];
-    if (p.manifold->getBody0()->getUserIndex3() != m_substepCount &&
-        p.manifold->getBody1()->getUserIndex3() != m_substepCount)
-      continue;
     if (now0 == was.body0 && now1 == was.body1) continue;
     const auto [rotWas, posWas] = relative(was.body0, was.body1);
     const auto [rotNow, posNow] = relative(now0, now1);

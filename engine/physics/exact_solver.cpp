@@ -49,14 +49,14 @@ constexpr int kStabilisePasses = 3;
 // 15 um, 68 times); a local correction moves a body by about the error it closes (2.4 times at the
 // median, 6.8 at most, over 120 s of the snake-walker-snake sample). The contact anchors follow
 // such a pass's moves (ExactSolver::followPatchPoses).
+constexpr double kLeverMove = 5e-6;  // m
+constexpr double kLeverArm = 0.1;    // m
+constexpr double kLever = 10;
 // A long tree's contact sweep goes to both halves' threads (planHalvedSweep) in runs of at least
 // this many items between the items that touch both halves, and with at most kHalvedSweepBarriers
 // such items.
 constexpr int kHalvedSweepItems = 64;
 constexpr size_t kHalvedSweepBarriers = 64;
-constexpr double kLeverMove = 5e-6;  // m
-constexpr double kLeverArm = 0.1;    // m
-constexpr double kLever = 10;
 
 Vec3d toEigen(const btVector3& v) {
   return Vec3d(v.x(), v.y(), v.z());
@@ -1454,21 +1454,19 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
     });
     if (pass == 0) before = std::max(largest[0], largest[1]);
     solve(c);
-    if (pass == 0) {
-      // A pass that turned part of the structure: every body's move is followed by its contact
-      // anchors (followPatchPoses; the mark is the substep, in Bullet's third user index).
-      double moves[2] = {0, 0};
-      forEachNode(c, [&](int k, int h) {
-        const Node& n = m_nodes[size_t(k)];
-        if (n.body >= 0)
-          moves[h] = std::max(moves[h], n.x.head<3>().norm() + kLeverArm * n.x.tail<3>().norm());
-      });
-      if (std::max(moves[0], moves[1]) > std::max(kLeverMove, kLever * before))
-        for (int k = c.begin; k < c.end; ++k)
-          if (const int b = m_nodes[size_t(k)].body; b >= 0)
-            m_bodies[size_t(b)].rb->setUserIndex3(m_substepCount);
-    }
-    forEachNode(c, [&](int k, int) { applyPositionChange(k); });
+    double moves[2] = {0, 0};  // the largest move by half
+    forEachNode(c, [&](int k, int h) {
+      const Node& n = m_nodes[size_t(k)];
+      if (n.body < 0) return;
+      moves[h] = std::max(moves[h], n.x.head<3>().norm() + kLeverArm * n.x.tail<3>().norm());
+      applyPositionChange(k);
+    });
+    // A first pass that turned part of the structure: every body's move is followed by its
+    // contact anchors (followPatchPoses; the mark is the substep, in Bullet's third user index).
+    if (pass == 0 && std::max(moves[0], moves[1]) > std::max(kLeverMove, kLever * before))
+      for (int k = c.begin; k < c.end; ++k)
+        if (const int b = m_nodes[size_t(k)].body; b >= 0)
+          m_bodies[size_t(b)].rb->setUserIndex3(m_substepCount);
     if (c.loopEnd > c.loopBegin) {
       // Then the loops' errors at the corrected poses, through S and the tree.
       const int loops = c.loopEnd - c.loopBegin;

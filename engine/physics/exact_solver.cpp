@@ -298,7 +298,8 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     if (sid < 0 || sid >= pool) return -1;
     if (m_sidToBody[size_t(sid)] < 0) {
       m_sidToBody[size_t(sid)] = int(m_bodies.size());
-      m_bodies.push_back({rb, sid, double(rb->getInvMass()), toEigen(rb->getInvInertiaTensorWorld())});
+      const Mat3d invInertia = toEigen(rb->getInvInertiaTensorWorld());
+      m_bodies.push_back({rb, sid, double(rb->getInvMass()), invInertia, invInertia.inverse()});
     }
     return m_sidToBody[size_t(sid)];
   };
@@ -519,7 +520,7 @@ void ExactSolver::buildGroups(int firstBody) {
     const Vec3d d = toEigen(b.rb->getCenterOfMassPosition()) - m_groups[size_t(g)].com;
     m_bodyOffset[size_t(firstBody + i)] = d;
     m_groups[size_t(g)].invInertia +=
-        b.invInertia.inverse() + (d.squaredNorm() * Mat3d::Identity() - d * d.transpose()) / b.invMass;
+        b.inertia + (d.squaredNorm() * Mat3d::Identity() - d * d.transpose()) / b.invMass;
   }
   for (Group& g : m_groups) {
     g.invMass = 1.0 / g.invMass;
@@ -758,20 +759,11 @@ void ExactSolver::initNode(int k) {
     if (!r.axialActive) n.d(5, 5) = -1;
     const ExactJoint& ej = m_shared->joints[size_t(n.joint)];
     if (r.axialActive && ej.state == ExactJoint::Axial::Motor) n.d(5, 5) -= ej.compliance;
-    if (n.parent >= 0) {
-      n.hp = n.parentIsA ? r.ja : r.jb;  // H(joint, body) = J
-      if (!r.axialActive) n.hp.row(5).setZero();
-    }
   } else {
     const Body& b = m_bodies[size_t(n.body)];
     n.d.setZero();
     n.d.topLeftCorner<3, 3>() = Mat3d::Identity() / b.invMass;
-    n.d.bottomRightCorner<3, 3>() = b.invInertia.inverse();
-    if (n.parent >= 0) {
-      const Row& r = m_rows[size_t(m_nodes[size_t(n.parent)].joint)];
-      n.hp = (n.parentIsA ? r.ja : r.jb).transpose();  // H(body, joint) = J^T
-      if (!r.axialActive) n.hp.col(5).setZero();
-    }
+    n.d.bottomRightCorner<3, 3>() = b.inertia;
   }
 }
 
@@ -781,27 +773,35 @@ void ExactSolver::initNode(int k) {
 // H is a hinge's rows on one body, J = [sI A; 0 B] (s = +-1: the pivot rows' sign; A the pivot
 // arm's cross product; B the axes), or its transpose: the products go by 3x3 blocks, without the
 // zero block and with sI as a sign (half of the dense products' multiplications).
-void ExactSolver::passToParent(int k) {
+void ExactSolver::passToParent(int k, bool fresh) {
   Node& n = m_nodes[size_t(k)];
-  const double s = n.hp(0, 0);
+  // H(node, parent): the joint's rows on the body (J) for a joint node, their transpose for a
+  // body node; without the axial row while it is fixed.
+  const Row& r = m_rows[size_t(n.joint >= 0 ? n.joint : m_nodes[size_t(n.parent)].joint)];
+  const Mat6& jac = n.parentIsA ? r.ja : r.jb;
+  const double s = jac(0, 0);
+  const auto a = jac.topRightCorner<3, 3>();
+  Mat3d b = jac.bottomRightCorner<3, 3>();
+  if (!r.axialActive) b.row(2).setZero();
   const auto dl = n.dinv.leftCols<3>();
   const auto dr = n.dinv.rightCols<3>();
   Mat6& pd = m_nodes[size_t(n.parent)].d;
   if (n.joint >= 0) {
     // H = J: G = [s Dl, Dl A + Dr B]; H^T G = [s G_top; A^T G_top + B^T G_bottom].
-    const auto a = n.hp.topRightCorner<3, 3>();
-    const auto b = n.hp.bottomRightCorner<3, 3>();
-    n.g.leftCols<3>() = s * dl;
-    n.g.rightCols<3>() = dl.lazyProduct(a) + dr.lazyProduct(b);
+    if (fresh) {
+      n.g.leftCols<3>() = s * dl;
+      n.g.rightCols<3>() = dl.lazyProduct(a) + dr.lazyProduct(b);
+    }
     pd.topRows<3>() -= s * n.g.topRows<3>();
     pd.bottomRows<3>() -=
         a.transpose().lazyProduct(n.g.topRows<3>()) + b.transpose().lazyProduct(n.g.bottomRows<3>());
   } else {
     // H = J^T = [sI 0; A^T B^T]: G = [s Dl + Dr A^T, Dr B^T]; H^T G = [s G_top + A G_bottom; B G_bottom].
-    const auto at = n.hp.bottomLeftCorner<3, 3>();
-    const auto bt = n.hp.bottomRightCorner<3, 3>();
-    n.g.leftCols<3>() = s * dl + dr.lazyProduct(at);
-    n.g.rightCols<3>() = dr.lazyProduct(bt);
+    const Mat3d at = a.transpose(), bt = b.transpose();
+    if (fresh) {
+      n.g.leftCols<3>() = s * dl + dr.lazyProduct(at);
+      n.g.rightCols<3>() = dr.lazyProduct(bt);
+    }
     pd.topRows<3>() -= s * n.g.topRows<3>() + at.transpose().lazyProduct(n.g.bottomRows<3>());
     pd.bottomRows<3>() -= bt.transpose().lazyProduct(n.g.bottomRows<3>());
   }
@@ -902,29 +902,70 @@ void ExactSolver::helpHalves(HalfHelper& h) {
 }
 
 void ExactSolver::factor(Cluster& c) {
+  // After rows left or rejoined the active set (and nothing else changed), only their nodes, their
+  // children (whose coupling H holds the row) and the nodes on the way to the root are factored
+  // again; every other node keeps its inverse and G and only passes its share to a parent that is
+  // factored again, in the same order as a whole factor (so the same bits). Trees with loops are
+  // factored whole.
+  const bool partial = !c.full && c.loopEnd == c.loopBegin;
+  if (m_need.size() < m_nodes.size()) m_need.resize(m_nodes.size(), 0);
+  if (m_rowChanged.size() < m_nodes.size()) m_rowChanged.resize(m_nodes.size(), 0);
+  auto needs = [&](int k) { return !partial || m_need[size_t(k)]; };
+  // Node k (not the root) must be factored again: its row changed, or its parent's (a joint whose
+  // row changed is the parent of the bodies it couples).
+  auto own = [&](int k) {
+    const Node& n = m_nodes[size_t(k)];
+    m_need[size_t(k)] = m_rowChanged[size_t(k)] || m_rowChanged[size_t(n.parent)];
+  };
   if (c.split) {
     // Each half leaves first, as below; the root's children pass their shares to it after both,
     // in the same order as a whole pass would (so the halves' threads change no bit).
     initNode(c.begin);
     forBothHalves([&](int h) {
-      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) initNode(m_laneNodes[size_t(i)]);
+      if (partial) {
+        for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) own(m_laneNodes[size_t(i)]);
+        for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
+          const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
+          if (m_need[size_t(m_laneNodes[size_t(i)])] && n.parent != c.begin) m_need[size_t(n.parent)] = 1;
+        }
+      }
+      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
+        if (needs(m_laneNodes[size_t(i)])) initNode(m_laneNodes[size_t(i)]);
       for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
         const int k = m_laneNodes[size_t(i)];
-        m_nodes[size_t(k)].dinv = symmetricInverse(m_nodes[size_t(k)].d);
-        if (m_nodes[size_t(k)].parent != c.begin) passToParent(k);
+        Node& n = m_nodes[size_t(k)];
+        if (needs(k)) {
+          n.dinv = symmetricInverse(n.d);
+          if (n.parent != c.begin) passToParent(k, true);
+        } else if (n.parent != c.begin && m_need[size_t(n.parent)]) {
+          passToParent(k, false);
+        }
       }
     });
-    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) passToParent(m_laneNodes[size_t(i)]);
+    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i)
+      passToParent(m_laneNodes[size_t(i)], needs(m_laneNodes[size_t(i)]));
     m_nodes[size_t(c.begin)].dinv = symmetricInverse(m_nodes[size_t(c.begin)].d);
   } else {
-    for (int k = c.begin; k < c.end; ++k) initNode(k);
+    if (partial) {
+      m_need[size_t(c.begin)] = m_rowChanged[size_t(c.begin)];
+      for (int k = c.begin + 1; k < c.end; ++k) own(k);
+      for (int k = c.end - 1; k > c.begin; --k)
+        if (m_need[size_t(k)]) m_need[size_t(m_nodes[size_t(k)].parent)] = 1;
+    }
+    for (int k = c.begin; k < c.end; ++k)
+      if (needs(k)) initNode(k);
     for (int k = c.end - 1; k >= c.begin; --k) {  // leaves first
       Node& n = m_nodes[size_t(k)];
-      n.dinv = symmetricInverse(n.d);
-      if (n.parent >= 0) passToParent(k);
+      if (needs(k)) {
+        n.dinv = symmetricInverse(n.d);
+        if (n.parent >= 0) passToParent(k, true);
+      } else if (n.parent >= 0 && m_need[size_t(n.parent)]) {
+        passToParent(k, false);
+      }
     }
   }
-  c.dirty = false;
+  std::fill(m_rowChanged.begin() + c.begin, m_rowChanged.begin() + c.end, char(0));
+  c.dirty = c.full = false;
   if (c.loopEnd > c.loopBegin) factorLoops(c);
 }
 
@@ -1051,7 +1092,7 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
       e.state = A::Fixed;
       e.fixedImpulse = fixAt;
       r.axialActive = false;
-      c.dirty = true;
+      c.dirty = c.full = true;
     }
   }
 }
@@ -1225,6 +1266,7 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
       e.fixedImpulse = fixAt;
       r.axialActive = false;
       c.dirty = true;
+      m_rowChanged[size_t(k)] = 1;
     }
   }
   if (c.loopEnd > c.loopBegin) loopIteration(c, clamp);
@@ -1384,6 +1426,10 @@ void ExactSolver::finishJoints() {
       reentered = true;
       Cluster& c = jointCluster(j);
       c.dirty = c.retry = true;
+      if (r.node >= 0)
+        m_rowChanged[size_t(r.node)] = 1;
+      else
+        c.full = true;
     }
   }
   if (reentered) {
@@ -1439,10 +1485,11 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
         } else {
           Body& b = m_bodies[size_t(n.body)];
           b.invInertia = toEigen(b.rb->getInvInertiaTensorWorld());
+          b.inertia = b.invInertia.inverse();
         }
       });
       for (int l = c.loopBegin; l < c.loopEnd; ++l) jointRows(m_loopJoints[size_t(l)]);
-      c.dirty = true;
+      c.dirty = c.full = true;
     }
     if (c.dirty) factor(c);
     double largest[2] = {0, 0};

@@ -220,19 +220,20 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     int sid;  // solver body index (valid during its group)
     double invMass;
     Eigen::Matrix3d invInertia;
+    Eigen::Matrix3d inertia;  // invInertia's inverse
   };
   struct Node {
     int body = -1, joint = -1;  // exactly one is set
     int parent = -1;            // node index, -1 for the root
     bool parentIsA = false;     // joint node: its parent is body a; body node: it is the joint's a
     Mat6 d, dinv;               // pivot block and its inverse
-    Mat6 hp;                    // H(node, parent)
     Mat6 g;                     // D^-1 H(node, parent), kept from the factor for the solves
     Vec6 y, x;
   };
   struct Cluster {
     int begin = 0, end = 0;  // nodes, in order root first
     bool dirty = true;       // the active set changed since the last factor
+    bool full = true;        // ... or more than rows of its nodes (m_rowChanged): factored whole
     bool clamped = false;    // a bounded row was fixed at its bound this substep (threads write their own)
     bool retry = false;      // a fixed row came back this round (finishJoints)
     // Its rows take a centripetal target (updateCentripetal): no loop, one anchor at most, and no
@@ -335,8 +336,13 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   int centroidBody(int begin);
   void splitTree(Cluster& c);
   void subtreeSizes(int begin);
-  void initNode(int k);      ///< a node's pivot block and its coupling to its parent
-  void passToParent(int k);  ///< its share of its parent's pivot block (its own inverted)
+  void initNode(int k);  ///< a node's pivot block before its children's shares
+  /// Its share of its parent's pivot block (its own inverted); `fresh`: its G worked out again
+  /// (else the last factor's, its subtree unchanged since).
+  void passToParent(int k, bool fresh);
+  /// By node: its row left or rejoined the active set since the cluster's last factor; and, in
+  /// factor, whether the node is factored again.
+  std::vector<char> m_rowChanged, m_need;
   /// fn(k, h) for every node of c: a long tree's root (h 0), then its halves (forBothHalves; h the half).
   template <class Fn>
   void forEachNode(const Cluster& c, const Fn& fn);

@@ -172,27 +172,70 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
 }
 
 template <class Fn>
-int SolverWorld::forEachBody(const Fn& fn) {
-  const int n = m_nonStaticRigidBodies.size();
-  btRigidBody** bodies = n ? &m_nonStaticRigidBodies[0] : nullptr;
-  constexpr int kChunk = 256;  // bodies a thread takes at a time
+int SolverWorld::forEachIndex(int n, const Fn& fn) {
   if (m_helpers.empty() || !m_tasks || n < 4 * kChunk) {
-    for (int i = 0; i < n; ++i) fn(bodies[i]);
+    for (int i = 0; i < n; ++i) fn(i);
     return 0;
   }
   std::atomic<int> next{0};
   // (One pointer captured: std::function keeps it without allocating.)
   const struct {
-    btRigidBody** bodies;
     int n;
     std::atomic<int>* next;
     const Fn* fn;
-  } ctx{bodies, n, &next, &fn};
+  } ctx{n, &next, &fn};
   m_tasks(1 + int(m_helpers.size()), [p = &ctx](int) {
     for (int b = p->next->fetch_add(kChunk); b < p->n; b = p->next->fetch_add(kChunk))
-      for (int i = b; i < std::min(p->n, b + kChunk); ++i) (*p->fn)(p->bodies[i]);
+      for (int i = b; i < std::min(p->n, b + kChunk); ++i) (*p->fn)(i);
   });
   return n;
+}
+
+template <class Fn>
+int SolverWorld::forEachBody(const Fn& fn) {
+  btRigidBody** bodies = m_nonStaticRigidBodies.size() ? &m_nonStaticRigidBodies[0] : nullptr;
+  return forEachIndex(m_nonStaticRigidBodies.size(), [&](int i) { fn(bodies[i]); });
+}
+
+void SolverWorld::updateAabbs() {
+  const int n = m_collisionObjects.size();
+  if (getSoftBodyArray().size() > 0 || m_helpers.empty() || !m_tasks || n < 4 * kChunk)
+    return btSoftRigidDynamicsWorld::updateAabbs();
+  BT_PROFILE("updateAabbs");
+  // As btCollisionWorld::updateAabbs and updateSingleAabb: each object's box on the threads (it
+  // reads that object alone), then the boxes to the broadphase in order, on this thread.
+  if (m_boxes.size() < n) m_boxes.resize(n);
+  const bool continuous = getDispatchInfo().m_useContinuous;
+  forEachIndex(n, [&](int i) {
+    const btCollisionObject* o = m_collisionObjects[i];
+    Box& b = m_boxes[i];
+    b.update = m_forceUpdateAllAabbs || o->isActive();
+    if (!b.update) return;
+    o->getCollisionShape()->getAabb(o->getWorldTransform(), b.min, b.max);
+    const btVector3 threshold(gContactBreakingThreshold, gContactBreakingThreshold,
+                              gContactBreakingThreshold);
+    b.min -= threshold;
+    b.max += threshold;
+    if (continuous && o->getInternalType() == btCollisionObject::CO_RIGID_BODY &&
+        !o->isStaticOrKinematicObject()) {
+      btVector3 min2, max2;
+      o->getCollisionShape()->getAabb(o->getInterpolationWorldTransform(), min2, max2);
+      min2 -= threshold;
+      max2 += threshold;
+      b.min.setMin(min2);
+      b.max.setMax(max2);
+    }
+  });
+  btBroadphaseInterface* broadphase = getBroadphase();
+  for (int i = 0; i < n; ++i) {
+    const Box& b = m_boxes[i];
+    if (!b.update) continue;
+    btCollisionObject* o = m_collisionObjects[i];
+    if (o->isStaticObject() || (b.max - b.min).length2() < btScalar(1e12))
+      broadphase->setAabb(o->getBroadphaseHandle(), b.min, b.max, m_dispatcher1);
+    else
+      updateSingleAabb(o);  // Bullet's own handling of a box that overflowed
+  }
 }
 
 void SolverWorld::predictUnconstraintMotion(btScalar timeStep) {

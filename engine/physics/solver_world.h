@@ -50,11 +50,19 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   /// same bits. Worlds with cloth keep Bullet's loops.
   void predictUnconstraintMotion(btScalar timeStep) override;
   void integrateTransforms(btScalar timeStep) override;
+  /// Bullet's bounding boxes of every active object, worked out on the worker threads where there
+  /// are threads and many objects, and handed to the broadphase in order on this one (the same
+  /// bits).
+  void updateAabbs() override;
 
  private:
   void solveBatches(btContactSolverInfo& info, int count);
-  /// fn(body) for every non-static rigid body, on the threads when there are many; returns how
-  /// many went to the threads (0: all on this one).
+  static constexpr int kChunk = 256;  ///< bodies (objects) a thread takes at a time
+  /// fn(i) for i in [0, n), on the threads when n is large; returns how many went to the threads
+  /// (0: all on this one).
+  template <class Fn>
+  int forEachIndex(int n, const Fn& fn);
+  /// fn(body) for every non-static rigid body, as forEachIndex.
   template <class Fn>
   int forEachBody(const Fn& fn);
 
@@ -64,6 +72,11 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   Tasks m_tasks;
   std::vector<Batch> m_batches;  ///< this substep's, reused
   int m_threadedBodies = 0;
+  struct Box {
+    btVector3 min, max;
+    bool update;
+  };
+  btAlignedObjectArray<Box> m_boxes;  ///< updateAabbs', by object
 };
 
 }  // namespace rm3d

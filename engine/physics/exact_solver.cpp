@@ -1245,11 +1245,11 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
   // The centripetal targets at these joint-consistent velocities, before any row is clamped.
   for (int k = c.begin; k < c.end && c.centripetal; ++k)
     if (const int j = m_nodes[size_t(k)].joint; j >= 0) updateCentripetal(j);
-  for (int k = c.begin; k < c.end; ++k) {
+  for (int k = c.begin; k < c.end && clamp; ++k) {
     Node& n = m_nodes[size_t(k)];
     if (n.body >= 0) continue;
     Row& r = m_rows[size_t(n.joint)];
-    if (!r.axialActive || !clamp) continue;
+    if (!r.axialActive) continue;
     // A bounded axial row that left its bounds is fixed at the bound from now on.
     ExactJoint& e = m_shared->joints[size_t(n.joint)];
     const double l = r.lambda[5];

@@ -50,9 +50,9 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   /// same bits. Worlds with cloth keep Bullet's loops.
   void predictUnconstraintMotion(btScalar timeStep) override;
   void integrateTransforms(btScalar timeStep) override;
-  /// Bullet's bounding boxes of every active object, worked out on the worker threads where there
-  /// are threads and many objects, and handed to the broadphase in order on this one (the same
-  /// bits).
+  /// Bullet's bounding boxes of every active object, for many objects: worked out first (on the
+  /// worker threads where there are threads), then handed to the broadphase in order on this
+  /// thread, each box's broadphase entries fetched a few boxes ahead (the same bits).
   void updateAabbs() override;
 
  private:
@@ -75,6 +75,7 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   struct Box {
     btVector3 min, max;
     bool update;
+    const void* touch[4];  // the broadphase's proxy, tree leaf and stage-list neighbours
   };
   btAlignedObjectArray<Box> m_boxes;  ///< updateAabbs', by object
 };

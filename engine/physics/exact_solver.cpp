@@ -907,7 +907,8 @@ void ExactSolver::factor(Cluster& c) {
   // again; every other node keeps its inverse and G and only passes its share to a parent that is
   // factored again, in the same order as a whole factor (so the same bits). Trees with loops are
   // factored whole.
-  const bool partial = !c.full && c.loopEnd == c.loopBegin;
+  const bool partial = !c.full && c.loopEnd == c.loopBegin && !m_shared->wholeFactors;
+  m_partialFactors += partial;
   if (m_need.size() < m_nodes.size()) m_need.resize(m_nodes.size(), 0);
   if (m_rowChanged.size() < m_nodes.size()) m_rowChanged.resize(m_nodes.size(), 0);
   auto needs = [&](int k) { return !partial || m_need[size_t(k)]; };

@@ -153,6 +153,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// Friction per contact patch with anchors (contact_patches.cpp): on for the exact solver;
   /// "pgs" keeps Bullet's friction rows per point.
   bool patches = false;
+  /// Every tree factored whole (PhysicsSettings::wholeFactors; batch solvers read the primary's).
+  bool wholeFactors = false;
+  /// Factors so far that took only the nodes whose rows changed (factor).
+  long partialFactorCount() const { return m_partialFactors; }
 
   /// Makes this a batch solver of `primary` (PhysicsWorld's, on a worker thread): it reads and
   /// writes the primary's joints, capture joints and contact-patch table instead of its own. Each
@@ -343,6 +347,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// By node: its row left or rejoined the active set since the cluster's last factor; and, in
   /// factor, whether the node is factored again.
   std::vector<char> m_rowChanged, m_need;
+  long m_partialFactors = 0;
   /// fn(k, h) for every node of c: a long tree's root (h 0), then its halves (forBothHalves; h the half).
   template <class Fn>
   void forEachNode(const Cluster& c, const Fn& fn);

@@ -296,6 +296,7 @@ struct PhysicsWorld::Impl {
     planeContacts.registerWith(dispatcher);
     world.setGravity(toBt(s.gravity));
     solver.patches = s.solver == SolverKind::Exact;
+    solver.wholeFactors = s.wholeFactors;
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);
     // Two friction directions per contact point (Bullet adds only one by default): with one, a
@@ -759,6 +760,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
     for (Impl::Hinge& h : m->hinges) m->removeHinge(h);
   m->settings = s;
   m->solver.patches = s.solver == SolverKind::Exact;
+  m->solver.wholeFactors = s.wholeFactors;
   for (auto& h : m->helpers) h->patches = m->solver.patches;
   if (switched)
     for (Impl::Hinge& h : m->hinges) {
@@ -1131,6 +1133,12 @@ int PhysicsWorld::threadedBodies() const {
 int PhysicsWorld::halvedSweeps() const {
   int n = m->solver.halvedSweepCount();
   for (const auto& h : m->helpers) n += h->halvedSweepCount();
+  return n;
+}
+
+long PhysicsWorld::partialFactors() const {
+  long n = m->solver.partialFactorCount();
+  for (const auto& h : m->helpers) n += h->partialFactorCount();
   return n;
 }
 

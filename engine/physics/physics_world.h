@@ -35,6 +35,9 @@ struct PhysicsSettings {
   /// Share of a joint's position error corrected per substep. Bullet's 0.2 lets SuperBot hinges
   /// open by millimetres; 0.8 keeps them under 0.5 mm at the same cost (measured, README).
   double erp = 0.8;
+  /// The exact solver factors every tree whole, also where only motor rows changed (tests: its
+  /// partial factors must give the same bits).
+  bool wholeFactors = false;
 };
 
 struct PartDesc {
@@ -169,6 +172,8 @@ class PhysicsWorld {
   int splitTrees() const;
   int threadedBodies() const;
   int halvedSweeps() const;
+  /// Factors so far that took only the nodes whose rows changed (ExactSolver::factor).
+  long partialFactors() const;
   /// Advances by dt in `substeps` equal steps, updating servos before each one.
   void step(double dt, int substeps);
 

@@ -233,6 +233,32 @@ require("snake_chain").build{n = 350, type = "superbot", behavior = "behaviors/s
                          });
 }
 
+// After motor rows reach their rating, the exact solver factors again only their nodes, the bodies
+// they couple and the way to the root (ExactSolver::factor): the same bits as a whole factor. A
+// 10-module snake (one tree) and a 350-module one (its tree in two halves, at 1 and 2 threads).
+TEST_CASE("determinism: partial factors give a whole factor's bits") {
+  auto run = [](int n, int threads, bool whole) {
+    rm3d::RunOptions o = rm3d::test::options();
+    o.threads = threads;
+    o.wholeFactors = whole;
+    auto w = rm3d::test::makeWorld(
+        ("world.set{duration = 100, seed = 3}\nworld.ground{}\n"
+         "require(\"snake_chain\").build{n = " +
+         std::to_string(n) + ", type = \"superbot\", behavior = \"behaviors/snake.lua\"}\n")
+            .c_str(),
+        o);
+    for (int i = 0; i < 30; ++i) w->step();
+    CHECK(w->faultCount() == 0);
+    // The partial path ran (or, asked for whole factors, did not).
+    CHECK((w->physicsConst().partialFactors() > 0) == !whole);
+    return stateHash(*w);
+  };
+  for (const auto& [n, threads] : {std::pair{10, 1}, {350, 1}, {350, 2}}) {
+    INFO(n << " modules, " << threads << " threads");
+    CHECK(run(n, threads, false) == run(n, threads, true));
+  }
+}
+
 // Bodies in zero gravity reach denormal velocities and turns within a step (1e-35 and less). The
 // stepping thread flushes denormals to zero; a solver batch on a worker thread must too, or it
 // differs from the same batch solved on the stepping thread in its smallest bits (docking_1000's

@@ -10,6 +10,8 @@
 #include <limits>
 #include <thread>
 
+#include "physics/node_products.h"
+
 namespace rm3d {
 
 namespace {
@@ -791,6 +793,7 @@ void ExactSolver::passToParent(int k, bool fresh) {
     if (fresh) {
       n.g.leftCols<3>() = s * dl;
       n.g.rightCols<3>() = dl.lazyProduct(a) + dr.lazyProduct(b);
+      n.gt = n.g.transpose();
     }
     pd.topRows<3>() -= s * n.g.topRows<3>();
     pd.bottomRows<3>() -=
@@ -801,6 +804,7 @@ void ExactSolver::passToParent(int k, bool fresh) {
     if (fresh) {
       n.g.leftCols<3>() = s * dl + dr.lazyProduct(at);
       n.g.rightCols<3>() = dr.lazyProduct(bt);
+      n.gt = n.g.transpose();
     }
     pd.topRows<3>() -= s * n.g.topRows<3>() + at.transpose().lazyProduct(n.g.bottomRows<3>());
     pd.bottomRows<3>() -= bt.transpose().lazyProduct(n.g.bottomRows<3>());
@@ -1101,39 +1105,45 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
 /// Solves for the right-hand side already in each node's y (bodies: 0; joints: the rows'
 /// residual); leaves x: a body's velocity (or position) change, a joint's -lambda.
 void ExactSolver::solve(Cluster& c) {
-  if (c.split) {  // as below, each half apart, the root's children passing on to it after both
+  // Three products a node (G = D^-1 H from the factor): down, x = D^-1 y and the parent's
+  // y -= H^T D^-1 y = G^T y; up, x -= G x_parent.
+  if (c.split) {  // each half apart, the root's children passing on to it after both
     Node& root = m_nodes[size_t(c.begin)];
-    forBothHalves([&](int h) {
-      for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
-        Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
-        n.x.noalias() = n.dinv * n.y;
-        if (n.parent != c.begin) m_nodes[size_t(n.parent)].y.noalias() -= n.g.transpose() * n.y;
-      }
-    });
+    forBothHalves([&](int h) { solveDown(c.lane[h], c.lane[h + 1], m_laneNodes.data(), c.begin); });
     for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
       const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
       root.y.noalias() -= n.g.transpose() * n.y;
     }
     root.x.noalias() = root.dinv * root.y;
-    forBothHalves([&](int h) {
-      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) {
-        Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
-        n.x.noalias() -= n.g * m_nodes[size_t(n.parent)].x;
-      }
-    });
+    forBothHalves([&](int h) { solveUp(c.lane[h], c.lane[h + 1], m_laneNodes.data()); });
     return;
   }
-  // Three products a node (G = D^-1 H from the factor): down, x = D^-1 y and the parent's
-  // y -= H^T D^-1 y = G^T y; up, x -= G x_parent.
-  for (int k = c.end - 1; k >= c.begin; --k) {
-    Node& n = m_nodes[size_t(k)];
-    n.x.noalias() = n.dinv * n.y;
-    if (n.parent >= 0) m_nodes[size_t(n.parent)].y.noalias() -= n.g.transpose() * n.y;
-  }
-  for (int k = c.begin; k < c.end; ++k) {
-    Node& n = m_nodes[size_t(k)];
-    if (n.parent >= 0) n.x.noalias() -= n.g * m_nodes[size_t(n.parent)].x;
-  }
+  solveDown(c.begin, c.end, nullptr, -1);
+  solveUp(c.begin, c.end, nullptr);
+}
+
+void ExactSolver::solveDownPlain(Node* nodes, int from, int to, const int* order, int skip) {
+  node_products::downPass(nodes, from, to, order, skip);
+}
+
+void ExactSolver::solveUpPlain(Node* nodes, int from, int to, const int* order) {
+  node_products::upPass(nodes, from, to, order);
+}
+
+void ExactSolver::solveDownAvx(Node* nodes, int from, int to, const int* order, int skip) {
+  node_products::downPass(nodes, from, to, order, skip);
+}
+
+void ExactSolver::solveUpAvx(Node* nodes, int from, int to, const int* order) {
+  node_products::upPass(nodes, from, to, order);
+}
+
+void ExactSolver::solveDown(int from, int to, const int* order, int skip) {
+  (m_avx ? solveDownAvx : solveDownPlain)(m_nodes.data(), from, to, order, skip);
+}
+
+void ExactSolver::solveUp(int from, int to, const int* order) {
+  (m_avx ? solveUpAvx : solveUpPlain)(m_nodes.data(), from, to, order);
 }
 
 /// m_subtree: the nodes in each node's subtree, for the tree from `begin` to the end of m_nodes

@@ -1104,46 +1104,98 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
 
 /// Solves for the right-hand side already in each node's y (bodies: 0; joints: the rows'
 /// residual); leaves x: a body's velocity (or position) change, a joint's -lambda.
-void ExactSolver::solve(Cluster& c) {
+void ExactSolver::solve(Cluster& c, bool iteration) {
   // Three products a node (G = D^-1 H from the factor): down, x = D^-1 y and the parent's
   // y -= H^T D^-1 y = G^T y; up, x -= G x_parent.
+  if (iteration && m_residualMade.size() < m_nodes.size()) m_residualMade.resize(m_nodes.size(), 0);
   if (c.split) {  // each half apart, the root's children passing on to it after both
     Node& root = m_nodes[size_t(c.begin)];
-    forBothHalves([&](int h) { solveDown(c.lane[h], c.lane[h + 1], m_laneNodes.data(), c.begin); });
+    if (iteration) iterationResidual(c.begin);
+    forBothHalves(
+        [&](int h) { solveDown(c.lane[h], c.lane[h + 1], m_laneNodes.data(), c.begin, iteration); });
     for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
       const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
       root.y.noalias() -= n.g.transpose() * n.y;
     }
     root.x.noalias() = root.dinv * root.y;
-    forBothHalves([&](int h) { solveUp(c.lane[h], c.lane[h + 1], m_laneNodes.data()); });
+    if (iteration) iterationApply(c.begin);
+    forBothHalves([&](int h) { solveUp(c.lane[h], c.lane[h + 1], m_laneNodes.data(), iteration); });
     return;
   }
-  solveDown(c.begin, c.end, nullptr, -1);
-  solveUp(c.begin, c.end, nullptr);
+  solveDown(c.begin, c.end, nullptr, -1, iteration);
+  solveUp(c.begin, c.end, nullptr, iteration);
 }
 
-void ExactSolver::solveDownPlain(Node* nodes, int from, int to, const int* order, int skip) {
-  node_products::downPass(nodes, from, to, order, skip);
+template <bool Iteration>
+[[gnu::always_inline]] inline void ExactSolver::downPass(int from, int to, const int* order, int skip) {
+  node_products::downPass(m_nodes.data(), from, to, order, skip, [this](int k) {
+    if (!Iteration || m_residualMade[size_t(k)]) return;
+    m_residualMade[size_t(k)] = 1;
+    iterationResidual(k);
+  });
 }
 
-void ExactSolver::solveUpPlain(Node* nodes, int from, int to, const int* order) {
-  node_products::upPass(nodes, from, to, order);
+template <bool Iteration>
+[[gnu::always_inline]] inline void ExactSolver::upPass(int from, int to, const int* order) {
+  node_products::upPass(m_nodes.data(), from, to, order, [this](int k) {
+    if (!Iteration) return;
+    m_residualMade[size_t(k)] = 0;
+    iterationApply(k);
+  });
 }
 
-void ExactSolver::solveDownAvx(Node* nodes, int from, int to, const int* order, int skip) {
-  node_products::downPass(nodes, from, to, order, skip);
+void ExactSolver::solveDownPlain(int from, int to, const int* order, int skip, bool iteration) {
+  iteration ? downPass<true>(from, to, order, skip) : downPass<false>(from, to, order, skip);
 }
 
-void ExactSolver::solveUpAvx(Node* nodes, int from, int to, const int* order) {
-  node_products::upPass(nodes, from, to, order);
+void ExactSolver::solveUpPlain(int from, int to, const int* order, bool iteration) {
+  iteration ? upPass<true>(from, to, order) : upPass<false>(from, to, order);
 }
 
-void ExactSolver::solveDown(int from, int to, const int* order, int skip) {
-  (m_avx ? solveDownAvx : solveDownPlain)(m_nodes.data(), from, to, order, skip);
+void ExactSolver::solveDownAvx(int from, int to, const int* order, int skip, bool iteration) {
+  iteration ? downPass<true>(from, to, order, skip) : downPass<false>(from, to, order, skip);
 }
 
-void ExactSolver::solveUp(int from, int to, const int* order) {
-  (m_avx ? solveUpAvx : solveUpPlain)(m_nodes.data(), from, to, order);
+void ExactSolver::solveUpAvx(int from, int to, const int* order, bool iteration) {
+  iteration ? upPass<true>(from, to, order) : upPass<false>(from, to, order);
+}
+
+void ExactSolver::solveDown(int from, int to, const int* order, int skip, bool iteration) {
+  if (m_avx)
+    solveDownAvx(from, to, order, skip, iteration);
+  else
+    solveDownPlain(from, to, order, skip, iteration);
+}
+
+void ExactSolver::solveUp(int from, int to, const int* order, bool iteration) {
+  if (m_avx)
+    solveUpAvx(from, to, order, iteration);
+  else
+    solveUpPlain(from, to, order, iteration);
+}
+
+/// A node's right-hand side for an iteration: a body's 0, a joint's rows' residual.
+void ExactSolver::iterationResidual(int k) {
+  Node& n = m_nodes[size_t(k)];
+  if (n.joint < 0) {
+    n.y.setZero();
+    return;
+  }
+  const Row& r = m_rows[size_t(n.joint)];
+  n.y = structuralResidual(n.joint);
+  const ExactJoint& e = m_shared->joints[size_t(n.joint)];
+  n.y[5] = r.axialActive
+               ? e.rowTarget + n.y[5] - (e.state == ExactJoint::Axial::Motor ? e.compliance * r.lambda[5] : 0)
+               : 0;
+}
+
+/// A node's solved change applied: a body's velocity, a joint's impulses.
+void ExactSolver::iterationApply(int k) {
+  const Node& n = m_nodes[size_t(k)];
+  if (n.body >= 0)
+    addBodyVelocity(n.body, n.x);
+  else
+    m_rows[size_t(n.joint)].lambda -= n.x;
 }
 
 /// m_subtree: the nodes in each node's subtree, for the tree from `begin` to the end of m_nodes
@@ -1227,32 +1279,9 @@ void ExactSolver::exactIterationWhere(bool clamp, const std::function<bool(const
 void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
   using A = ExactJoint::Axial;
   if (c.dirty) factor(c);
-  // The rows' residuals, the solve, and its result applied: node by node (each node reads and
-  // writes its own row or body), a long tree's halves apart.
-  auto residual = [&](int k, int) {
-    Node& n = m_nodes[size_t(k)];
-    if (n.joint < 0) {
-      n.y.setZero();
-      return;
-    }
-    const Row& r = m_rows[size_t(n.joint)];
-    n.y = structuralResidual(n.joint);
-    const ExactJoint& e = m_shared->joints[size_t(n.joint)];
-    n.y[5] = r.axialActive ? e.rowTarget + n.y[5] -
-                                 (e.state == ExactJoint::Axial::Motor ? e.compliance * r.lambda[5] : 0)
-                           : 0;
-  };
-  auto apply = [&](int k, int) {
-    const Node& n = m_nodes[size_t(k)];
-    if (n.body >= 0) {
-      addBodyVelocity(n.body, n.x);
-    } else {
-      m_rows[size_t(n.joint)].lambda -= n.x;
-    }
-  };
-  forEachNode(c, residual);
-  solve(c);
-  forEachNode(c, apply);
+  // The rows' residuals, the solve, and its result applied, in one pass each way (each node reads
+  // and writes its own row or body), a long tree's halves apart.
+  solve(c, true);
   // The centripetal targets at these joint-consistent velocities, before any row is clamped.
   for (int k = c.begin; k < c.end && c.centripetal; ++k)
     if (const int j = m_nodes[size_t(k)].joint; j >= 0) updateCentripetal(j);

@@ -335,17 +335,27 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void updateCentripetal(int j);
   Cluster& jointCluster(int j);  ///< the cluster of a joint of this substep
   void factor(Cluster& c);
-  void solve(Cluster& c);
-  /// The tree solve's passes over nodes[order[i]] for i in [from, to) (nodes[i] where order is
-  /// null): down (last first), x = D^-1 y and, but for a parent `skip`, the parent's y -= G^T y;
-  /// up, x -= G x_parent. Four rows at a time where the CPU has AVX; each element takes the same
-  /// operations in the same order as Eigen's products of the 6 x 6 blocks, so the same bits.
-  void solveDown(int from, int to, const int* order, int skip);
-  void solveUp(int from, int to, const int* order);
-  static void solveDownPlain(Node* nodes, int from, int to, const int* order, int skip);
-  static void solveUpPlain(Node* nodes, int from, int to, const int* order);
-  [[gnu::target("avx")]] static void solveDownAvx(Node* nodes, int from, int to, const int* order, int skip);
-  [[gnu::target("avx")]] static void solveUpAvx(Node* nodes, int from, int to, const int* order);
+  /// With `iteration`, each node's right-hand side is made (iterationResidual) as the down pass
+  /// first needs it, and its result applied (iterationApply) as the up pass leaves it: one pass
+  /// over the nodes each way instead of three, the same operations in the same order.
+  void solve(Cluster& c, bool iteration = false);
+  void iterationResidual(int k);
+  void iterationApply(int k);
+  std::vector<char> m_residualMade;  // by node, during a down pass with `iteration`
+  /// The tree solve's passes over m_nodes[order[i]] for i in [from, to) (m_nodes[i] where order
+  /// is null): down (last first), x = D^-1 y and, but for a parent `skip`, the parent's
+  /// y -= G^T y; up, x -= G x_parent. Four rows at a time where the CPU has AVX
+  /// (node_products.h: the same bits).
+  void solveDown(int from, int to, const int* order, int skip, bool iteration);
+  void solveUp(int from, int to, const int* order, bool iteration);
+  template <bool Iteration>
+  void downPass(int from, int to, const int* order, int skip);
+  template <bool Iteration>
+  void upPass(int from, int to, const int* order);
+  void solveDownPlain(int from, int to, const int* order, int skip, bool iteration);
+  void solveUpPlain(int from, int to, const int* order, bool iteration);
+  [[gnu::target("avx")]] void solveDownAvx(int from, int to, const int* order, int skip, bool iteration);
+  [[gnu::target("avx")]] void solveUpAvx(int from, int to, const int* order, bool iteration);
   const bool m_avx = __builtin_cpu_supports("avx");
   /// Long trees: the body that splits the tree from `begin` (this substep's newest cluster's
   /// first node) most evenly, and the two halves of a tree rooted there.

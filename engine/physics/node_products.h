@@ -22,7 +22,9 @@ struct Col6 {  // six rows: four and two
   return {*reinterpret_cast<const V4*>(m + 6 * k) * s4, *reinterpret_cast<const V2*>(m + 6 * k + 4) * s2};
 }
 
-[[gnu::always_inline]] inline Col6 operator+(const Col6& a, const Col6& b) { return {a.lo + b.lo, a.hi + b.hi}; }
+[[gnu::always_inline]] inline Col6 operator+(const Col6& a, const Col6& b) {
+  return {a.lo + b.lo, a.hi + b.hi};
+}
 
 /// m v for a 6 x 6 column-major m, as Eigen's `m * v`: each element summed over the columns in
 /// order, ((m(i,0) v0 + m(i,1) v1) + ...) + m(i,5) v5.
@@ -52,23 +54,32 @@ struct Col6 {  // six rows: four and two
 
 /// The down pass over nodes[order[i]] (nodes[i] where order is null), i from to - 1 down to from:
 /// x = D^-1 y and, but for a parent `skip`, the parent's y -= G^T y. Node: dinv, g's transpose gt,
-/// y and x (Eigen 6 x 6 and 6 x 1, column-major) and parent.
-template <class Node>
-[[gnu::always_inline]] inline void downPass(Node* nodes, int from, int to, const int* order, int skip) {
+/// y and x (Eigen 6 x 6 and 6 x 1, column-major) and parent. prepare(k) is called before node k's
+/// y is first read or written (each time: it may make y there, once).
+template <class Node, class Prepare>
+[[gnu::always_inline]] inline void downPass(Node* nodes, int from, int to, const int* order, int skip,
+                                            const Prepare& prepare) {
   for (int i = to - 1; i >= from; --i) {
-    Node& n = nodes[order ? order[i] : i];
+    const int k = order ? order[i] : i;
+    Node& n = nodes[k];
+    prepare(k);
     store(n.x.data(), product(n.dinv.data(), n.y.data()));
-    if (n.parent >= 0 && n.parent != skip)
+    if (n.parent >= 0 && n.parent != skip) {
+      prepare(n.parent);
       subtract(nodes[n.parent].y.data(), transposedProduct(n.gt.data(), n.y.data()));
+    }
   }
 }
 
-/// The up pass over the same nodes, first to last: x -= G x_parent.
-template <class Node>
-[[gnu::always_inline]] inline void upPass(Node* nodes, int from, int to, const int* order) {
+/// The up pass over the same nodes, first to last: x -= G x_parent; then finish(k), x final.
+template <class Node, class Finish>
+[[gnu::always_inline]] inline void upPass(Node* nodes, int from, int to, const int* order,
+                                          const Finish& finish) {
   for (int i = from; i < to; ++i) {
-    Node& n = nodes[order ? order[i] : i];
+    const int k = order ? order[i] : i;
+    Node& n = nodes[k];
     if (n.parent >= 0) subtract(n.x.data(), product(n.g.data(), nodes[n.parent].x.data()));
+    finish(k);
   }
 }
 

@@ -21,13 +21,13 @@ struct Node {
 };
 
 void passesPlain(std::vector<Node>& nodes, const int* order, int count) {
-  rm3d::node_products::downPass(nodes.data(), 0, count, order, -1);
-  rm3d::node_products::upPass(nodes.data(), 0, count, order);
+  rm3d::node_products::downPass(nodes.data(), 0, count, order, -1, [](int) {});
+  rm3d::node_products::upPass(nodes.data(), 0, count, order, [](int) {});
 }
 
 [[gnu::target("avx")]] void passesAvx(std::vector<Node>& nodes, const int* order, int count) {
-  rm3d::node_products::downPass(nodes.data(), 0, count, order, -1);
-  rm3d::node_products::upPass(nodes.data(), 0, count, order);
+  rm3d::node_products::downPass(nodes.data(), 0, count, order, -1, [](int) {});
+  rm3d::node_products::upPass(nodes.data(), 0, count, order, [](int) {});
 }
 
 /// The same passes in Eigen, as ExactSolver wrote them before.

@@ -30,6 +30,7 @@
 
 #include "physics/bullet_eigen.h"
 #include "physics/exact_solver.h"
+#include "physics/hypot.h"
 
 namespace rm3d {
 
@@ -143,7 +144,7 @@ double ExactSolver::sweepBall(int row, int count, double bound) {
                    : before[k] + (m_useSplit ? x[2] : x[3]) * (x[0] - x[1] * before[k] - rowVelocity(s));
     applyRowImpulse(s, after[k] - before[k]);
   }
-  const double len = count == 2 ? std::hypot(after[0], after[1])
+  const double len = count == 2 ? hypotInline(after[0], after[1])
                                 : std::sqrt(after[0] * after[0] + after[1] * after[1] + after[2] * after[2]);
   const double scale = len > bound ? bound / len : 1.0;
   double change = 0;
@@ -298,7 +299,7 @@ void ExactSolver::setupPatches(btPersistentManifold** manifolds, int numManifold
     // at the normal impulses Bullet warm-started (the sweep clamps them again).
     const auto [normalSum, twistArm] = patchLoad(pr);
     double f1 = t1.dot(p.force), f2 = t2.dot(p.force);
-    const double fb = pr.mu * normalSum, f = std::hypot(f1, f2);
+    const double fb = pr.mu * normalSum, f = hypotInline(f1, f2);
     if (f > fb) f1 *= fb / f, f2 *= fb / f;
     const double tb = pr.mu * twistArm + pr.spin * normalSum;
     const double warm[5] = {f1, f2, std::clamp(p.twist, -tb, tb), t1.dot(p.roll), t2.dot(p.roll)};
@@ -340,7 +341,7 @@ void ExactSolver::finishPatches() {
     p.roll = pr.roll ? Vec3d(double(rows[3].m_appliedImpulse) * t1 + double(rows[4].m_appliedImpulse) * t2)
                      : Vec3d::Zero();
     const double linBound = pr.mu * normalSum, twistBound = pr.mu * twistArm + pr.spin * normalSum;
-    const bool slides = linBound <= 0 || std::hypot(f1, f2) >= kSaturated * linBound ||
+    const bool slides = linBound <= 0 || hypotInline(f1, f2) >= kSaturated * linBound ||
                         (twistBound > 0 && std::abs(tw) >= kSaturated * twistBound);
     if (slides) p.anchored = false;
 

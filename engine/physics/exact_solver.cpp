@@ -757,15 +757,15 @@ void ExactSolver::initNode(int k) {
   Node& n = m_nodes[size_t(k)];
   if (n.joint >= 0) {
     const Row& r = m_rows[size_t(n.joint)];
-    n.d = -kRegularisation * Mat6::Identity();
-    if (!r.axialActive) n.d(5, 5) = -1;
+    n.dinv = -kRegularisation * Mat6::Identity();
+    if (!r.axialActive) n.dinv(5, 5) = -1;
     const ExactJoint& ej = m_shared->joints[size_t(n.joint)];
-    if (r.axialActive && ej.state == ExactJoint::Axial::Motor) n.d(5, 5) -= ej.compliance;
+    if (r.axialActive && ej.state == ExactJoint::Axial::Motor) n.dinv(5, 5) -= ej.compliance;
   } else {
     const Body& b = m_bodies[size_t(n.body)];
-    n.d.setZero();
-    n.d.topLeftCorner<3, 3>() = Mat3d::Identity() / b.invMass;
-    n.d.bottomRightCorner<3, 3>() = b.inertia;
+    n.dinv.setZero();
+    n.dinv.topLeftCorner<3, 3>() = Mat3d::Identity() / b.invMass;
+    n.dinv.bottomRightCorner<3, 3>() = b.inertia;
   }
 }
 
@@ -787,13 +787,12 @@ void ExactSolver::passToParent(int k, bool fresh) {
   if (!r.axialActive) b.row(2).setZero();
   const auto dl = n.dinv.leftCols<3>();
   const auto dr = n.dinv.rightCols<3>();
-  Mat6& pd = m_nodes[size_t(n.parent)].d;
+  Mat6& pd = m_nodes[size_t(n.parent)].dinv;  // its D, being summed
   if (n.joint >= 0) {
     // H = J: G = [s Dl, Dl A + Dr B]; H^T G = [s G_top; A^T G_top + B^T G_bottom].
     if (fresh) {
       n.g.leftCols<3>() = s * dl;
       n.g.rightCols<3>() = dl.lazyProduct(a) + dr.lazyProduct(b);
-      n.gt = n.g.transpose();
     }
     pd.topRows<3>() -= s * n.g.topRows<3>();
     pd.bottomRows<3>() -=
@@ -804,7 +803,6 @@ void ExactSolver::passToParent(int k, bool fresh) {
     if (fresh) {
       n.g.leftCols<3>() = s * dl + dr.lazyProduct(at);
       n.g.rightCols<3>() = dr.lazyProduct(bt);
-      n.gt = n.g.transpose();
     }
     pd.topRows<3>() -= s * n.g.topRows<3>() + at.transpose().lazyProduct(n.g.bottomRows<3>());
     pd.bottomRows<3>() -= bt.transpose().lazyProduct(n.g.bottomRows<3>());
@@ -940,7 +938,7 @@ void ExactSolver::factor(Cluster& c) {
         const int k = m_laneNodes[size_t(i)];
         Node& n = m_nodes[size_t(k)];
         if (needs(k)) {
-          n.dinv = symmetricInverse(n.d);
+          n.dinv = symmetricInverse(n.dinv);
           if (n.parent != c.begin) passToParent(k, true);
         } else if (n.parent != c.begin && m_need[size_t(n.parent)]) {
           passToParent(k, false);
@@ -949,7 +947,7 @@ void ExactSolver::factor(Cluster& c) {
     });
     for (int i = c.lane[3] - 1; i >= c.lane[2]; --i)
       passToParent(m_laneNodes[size_t(i)], needs(m_laneNodes[size_t(i)]));
-    m_nodes[size_t(c.begin)].dinv = symmetricInverse(m_nodes[size_t(c.begin)].d);
+    m_nodes[size_t(c.begin)].dinv = symmetricInverse(m_nodes[size_t(c.begin)].dinv);
   } else {
     if (partial) {
       m_need[size_t(c.begin)] = m_rowChanged[size_t(c.begin)];
@@ -962,7 +960,7 @@ void ExactSolver::factor(Cluster& c) {
     for (int k = c.end - 1; k >= c.begin; --k) {  // leaves first
       Node& n = m_nodes[size_t(k)];
       if (needs(k)) {
-        n.dinv = symmetricInverse(n.d);
+        n.dinv = symmetricInverse(n.dinv);
         if (n.parent >= 0) passToParent(k, true);
       } else if (n.parent >= 0 && m_need[size_t(n.parent)]) {
         passToParent(k, false);

@@ -230,9 +230,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     int body = -1, joint = -1;  // exactly one is set
     int parent = -1;            // node index, -1 for the root
     bool parentIsA = false;     // joint node: its parent is body a; body node: it is the joint's a
-    Mat6 d, dinv;               // pivot block and its inverse
-    Mat6 g;                     // D^-1 H(node, parent), kept from the factor for the solves
-    Mat6 gt;                    // its transpose (the down pass reads G's rows as columns)
+    // The pivot block D while the factor sums it (initNode, passToParent), then its inverse.
+    Mat6 dinv;
+    Mat6 g;  // D^-1 H(node, parent), kept from the factor for the solves
     Vec6 y, x;
   };
   struct Cluster {

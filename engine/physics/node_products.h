@@ -34,11 +34,20 @@ struct Col6 {  // six rows: four and two
   return r;
 }
 
-/// m^T v given mt = m^T column-major (its columns are m's rows), as Eigen's `m.transpose() * v`:
-/// each element a dot product taken in pairs, (t0 + (t2 + t4)) + (t1 + (t3 + t5)).
-[[gnu::always_inline]] inline Col6 transposedProduct(const double* mt, const double* v) {
-  return (column(mt, 0, v[0]) + (column(mt, 2, v[2]) + column(mt, 4, v[4]))) +
-         (column(mt, 1, v[1]) + (column(mt, 3, v[3]) + column(mt, 5, v[5])));
+/// m^T v for a 6 x 6 column-major m, as Eigen's `m.transpose() * v`: element i is the dot
+/// product of column i and v taken in pairs, (p0 + (p2 + p4)) + (p1 + (p3 + p5)) with p_k =
+/// m(k,i) v_k.
+[[gnu::always_inline]] inline Col6 transposedProduct(const double* m, const double* v) {
+  const V4 vlo = *reinterpret_cast<const V4*>(v);
+  const V2 vhi = *reinterpret_cast<const V2*>(v + 4);
+  double s[6];
+  for (int i = 0; i < 6; ++i) {
+    const V4 lo = *reinterpret_cast<const V4*>(m + 6 * i) * vlo;      // p0 p1 p2 p3
+    const V2 hi = *reinterpret_cast<const V2*>(m + 6 * i + 4) * vhi;  // p4 p5
+    const V2 pairs = V2{lo[0], lo[1]} + (V2{lo[2], lo[3]} + hi);      // the even sum, the odd sum
+    s[i] = pairs[0] + pairs[1];
+  }
+  return {V4{s[0], s[1], s[2], s[3]}, V2{s[4], s[5]}};
 }
 
 [[gnu::always_inline]] inline void store(double* x, const Col6& v) {
@@ -53,8 +62,8 @@ struct Col6 {  // six rows: four and two
 }
 
 /// The down pass over nodes[order[i]] (nodes[i] where order is null), i from to - 1 down to from:
-/// x = D^-1 y and, but for a parent `skip`, the parent's y -= G^T y. Node: dinv, g's transpose gt,
-/// y and x (Eigen 6 x 6 and 6 x 1, column-major) and parent. prepare(k) is called before node k's
+/// x = D^-1 y and, but for a parent `skip`, the parent's y -= G^T y. Node: dinv, g, y and x (Eigen
+/// 6 x 6 and 6 x 1, column-major) and parent. prepare(k) is called before node k's
 /// y is first read or written (each time: it may make y there, once).
 template <class Node, class Prepare>
 [[gnu::always_inline]] inline void downPass(Node* nodes, int from, int to, const int* order, int skip,
@@ -66,7 +75,7 @@ template <class Node, class Prepare>
     store(n.x.data(), product(n.dinv.data(), n.y.data()));
     if (n.parent >= 0 && n.parent != skip) {
       prepare(n.parent);
-      subtract(nodes[n.parent].y.data(), transposedProduct(n.gt.data(), n.y.data()));
+      subtract(nodes[n.parent].y.data(), transposedProduct(n.g.data(), n.y.data()));
     }
   }
 }

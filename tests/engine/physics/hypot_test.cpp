@@ -15,10 +15,14 @@ TEST_CASE("hypotInline gives std::hypot's bits") {
   const double special[] = {0.0, -0.0, inf, -inf, std::nan(""), 0x1p511, 0x1p-459, 0x1p-1074};
   auto value = [&](int kind) {
     switch (kind) {
-      case 0: return normal(rng);
-      case 1: return std::ldexp(normal(rng), exponent(rng) % 40);  // within a few orders: the kernel
-      case 2: return std::ldexp(normal(rng), exponent(rng));       // anywhere: scaled and simple paths
-      default: return special[rng() % 8];
+      case 0:
+        return normal(rng);
+      case 1:
+        return std::ldexp(normal(rng), exponent(rng) % 40);  // within a few orders: the kernel
+      case 2:
+        return std::ldexp(normal(rng), exponent(rng));  // anywhere: scaled and simple paths
+      default:
+        return special[rng() % 8];
     }
   };
   int differ = 0, kernel = 0;

@@ -16,7 +16,7 @@ using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 struct Node {
   int parent = -1;
-  Mat6 dinv, g, gt;
+  Mat6 dinv, g;
   Vec6 y, x;
 };
 
@@ -65,7 +65,6 @@ TEST_CASE("node products: the tree solve's passes give Eigen's bits, with and wi
       Node& n = tree[k];
       n.parent = k == 0 ? -1 : int(rng() % k);
       for (int i = 0; i < 36; ++i) n.dinv.data()[i] = value(), n.g.data()[i] = value();
-      n.gt = n.g.transpose();
       for (int i = 0; i < 6; ++i) n.y[i] = value();
     }
     std::vector<Node> eigen = tree, plain = tree, vec = tree;

@@ -253,7 +253,7 @@ TEST_CASE("determinism: partial factors give a whole factor's bits") {
     CHECK((w->physicsConst().partialFactors() > 0) == !whole);
     return stateHash(*w);
   };
-  for (const std::pair<int, int> nt : {std::pair{10, 1}, {350, 1}, {350, 2}}) {
+  for (const std::pair<int, int>& nt : {std::pair{10, 1}, {350, 1}, {350, 2}}) {
     const int n = nt.first, threads = nt.second;  // (not a structured binding: INFO captures them)
     INFO(n << " modules, " << threads << " threads");
     CHECK(run(n, threads, false) == run(n, threads, true));

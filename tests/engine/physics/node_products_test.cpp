@@ -54,7 +54,8 @@ bool sameBits(const std::vector<Node>& a, const std::vector<Node>& b) {
 TEST_CASE("node products: the tree solve's passes give Eigen's bits, with and without AVX") {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal;
-  // Values over twelve orders of magnitude, so that any change of order in a sum shows.
+  // Values over about eight orders of magnitude (three sigma), so that a change of order in a sum
+  // shows.
   auto value = [&] { return normal(rng) * std::exp(3 * normal(rng)); };
   const bool avx = __builtin_cpu_supports("avx");
   int plainDiffer = 0, avxDiffer = 0, changed = 0;

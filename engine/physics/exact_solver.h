@@ -336,8 +336,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   Cluster& jointCluster(int j);  ///< the cluster of a joint of this substep
   void factor(Cluster& c);
   /// With `iteration`, each node's right-hand side is made (iterationResidual) as the down pass
-  /// first needs it, and its result applied (iterationApply) as the up pass leaves it: one pass
-  /// over the nodes each way instead of three, the same operations in the same order.
+  /// first needs it, and its result applied (iterationApply) as the up pass leaves it: two passes
+  /// over the nodes instead of four, the same operations in the same order.
   void solve(Cluster& c, bool iteration = false);
   void iterationResidual(int k);
   void iterationApply(int k);

@@ -1246,6 +1246,42 @@ void ExactSolver::splitTree(Cluster& c) {
   }
   for (int k = begin + children + 1; k < end; ++k)
     half[size_t(k - begin)] = half[size_t(m_nodes[size_t(k)].parent - begin)];
+  // Each half's nodes together in memory: the root, its children as they were, then the rest of
+  // half 0, then of half 1, each in its order. Breadth first from the middle of a chain, the
+  // halves' nodes alternated, and each thread's walk over its own half took every node's
+  // neighbours' cache lines too. Every node keeps its parent, each half its order, and the root's
+  // children theirs, so each pass does the same operations in the same order.
+  {
+    std::vector<int>& order = m_subtree;  // old node (less begin) by new place; sizes are done with
+    order.clear();
+    for (int k = begin; k <= begin + children; ++k) order.push_back(k - begin);
+    for (int h = 0; h < 2; ++h)
+      for (int k = begin + children + 1; k < end; ++k)
+        if (half[size_t(k - begin)] == h) order.push_back(k - begin);
+    std::vector<int>& place = m_queue;  // new place (less begin) by old node
+    place.resize(order.size());
+    for (size_t i = 0; i < order.size(); ++i) place[size_t(order[i])] = int(i);
+    m_nodeHeads.resize(order.size());
+    for (size_t i = 0; i < order.size(); ++i) {
+      const Node& n = m_nodes[size_t(begin + order[i])];
+      m_nodeHeads[i] = {n.body, n.joint, n.parent < 0 ? -1 : begin + place[size_t(n.parent - begin)],
+                        n.parentIsA};
+    }
+    std::vector<int>& newHalf = m_order;
+    newHalf.resize(order.size());
+    for (size_t i = 0; i < order.size(); ++i) {
+      const NodeHead& head = m_nodeHeads[i];
+      Node& n = m_nodes[size_t(begin) + i];
+      n.body = head.body;
+      n.joint = head.joint;
+      n.parent = head.parent;
+      n.parentIsA = head.parentIsA;
+      if (n.body >= 0) m_nodeOfBody[size_t(n.body)] = begin + int(i);
+      if (n.joint >= 0) m_rows[size_t(n.joint)].node = begin + int(i);
+      newHalf[i] = half[size_t(order[i])];
+    }
+    half.swap(newHalf);
+  }
   c.lane[0] = int(m_laneNodes.size());
   for (int h = 0; h < 2; ++h) {
     for (int k = begin + 1; k < end; ++k)

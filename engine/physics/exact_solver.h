@@ -413,7 +413,12 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void applyPositionChange(int k);  ///< node k's body, by its x
   void forEachCluster(int begin, const std::function<void(int)>& fn);
   HalfHelper* m_halfHelper = nullptr;
-  std::vector<int> m_laneNodes, m_subtree, m_half;
+  std::vector<int> m_laneNodes, m_subtree, m_half, m_order;
+  struct NodeHead {  // a node's place in its tree (splitTree's reordering)
+    int body, joint, parent;
+    bool parentIsA;
+  };
+  std::vector<NodeHead> m_nodeHeads;
   void finishJoints();
   Vec6 bodyVelocity(int b) const;
   void addBodyVelocity(int b, const Vec6& dv);

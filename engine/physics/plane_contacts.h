@@ -7,7 +7,9 @@
 // a SuperBot's bracket hulls came to rest 5 mm high and tilted 3 degrees against its plates. This
 // algorithm takes every vertex within the breaking threshold of the plane each time, reduces them
 // to the four that span the largest area (the deepest first), and gives them to the manifold,
-// which keeps each matching point's impulse for warm starting.
+// which keeps each matching point's impulse for warm starting. A vertex closing on the plane
+// faster than that also counts as far out as it closes in 1.5 steps (a speculative contact): a
+// body falling more than the threshold in a step otherwise went into the ground before it had one.
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btCollisionCreateFunc.h>

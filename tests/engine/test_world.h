@@ -26,6 +26,13 @@ inline void stepFor(World& w, double seconds) {
   for (long long i = 0; i < n; ++i) w.step();
 }
 
+/// The world's failed expectations, one message a line ("" when none).
+inline std::string failureText(const World& w) {
+  std::string text;
+  for (const Failure& f : w.failures()) text += f.message + "\n";
+  return text;
+}
+
 /// Rotation of link b relative to link a, as an angle about `axis` (in a's frame), radians.
 inline double relativeAngle(const World& w, int m, int a, int b, const Vec3& axis) {
   const Quat rel = w.linkPose(m, a).rot.conjugate() * w.linkPose(m, b).rot;

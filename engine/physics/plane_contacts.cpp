@@ -130,7 +130,9 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
     btScalar farthest = 0;
     if (ahead) {
       const btScalar arm = (hullInPlane.getOrigin() - centre).length() + shape->getAngularMotionDisc();
-      const btScalar fastest = std::max(btScalar(0), -normal.dot(linear)) + angular.length() * arm;
+      // (w x r) . n = r . (n x w): only the turning about axes in the plane brings a point closer.
+      const btScalar fastest =
+          std::max(btScalar(0), -normal.dot(linear)) + normal.cross(angular).length() * arm;
       farthest = fastest * stepAhead * btScalar(1.01);
       ahead = farthest > threshold;
     }

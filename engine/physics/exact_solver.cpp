@@ -1267,8 +1267,6 @@ void ExactSolver::splitTree(Cluster& c) {
       m_nodeHeads[i] = {n.body, n.joint, n.parent < 0 ? -1 : begin + place[size_t(n.parent - begin)],
                         n.parentIsA};
     }
-    std::vector<int>& newHalf = m_order;
-    newHalf.resize(order.size());
     for (size_t i = 0; i < order.size(); ++i) {
       const NodeHead& head = m_nodeHeads[i];
       Node& n = m_nodes[size_t(begin) + i];
@@ -1278,14 +1276,14 @@ void ExactSolver::splitTree(Cluster& c) {
       n.parentIsA = head.parentIsA;
       if (n.body >= 0) m_nodeOfBody[size_t(n.body)] = begin + int(i);
       if (n.joint >= 0) m_rows[size_t(n.joint)].node = begin + int(i);
-      newHalf[i] = half[size_t(order[i])];
     }
-    half.swap(newHalf);
   }
+  // Each half's lane, in node order (a node's half is its old place's).
+  const std::vector<int>& order = m_subtree;
   c.lane[0] = int(m_laneNodes.size());
   for (int h = 0; h < 2; ++h) {
     for (int k = begin + 1; k < end; ++k)
-      if (half[size_t(k - begin)] == h) m_laneNodes.push_back(k);
+      if (half[size_t(order[size_t(k - begin)])] == h) m_laneNodes.push_back(k);
     c.lane[h + 1] = int(m_laneNodes.size());
   }
   for (int k = begin + 1; k <= begin + children; ++k) m_laneNodes.push_back(k);

@@ -413,7 +413,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void applyPositionChange(int k);  ///< node k's body, by its x
   void forEachCluster(int begin, const std::function<void(int)>& fn);
   HalfHelper* m_halfHelper = nullptr;
-  std::vector<int> m_laneNodes, m_subtree, m_half, m_order;
+  std::vector<int> m_laneNodes, m_subtree, m_half;
   struct NodeHead {  // a node's place in its tree (splitTree's reordering)
     int body, joint, parent;
     bool parentIsA;

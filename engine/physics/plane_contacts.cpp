@@ -188,7 +188,8 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
         }
       }
     }
-    // The manifold keeps (and matches old points within) as far as its farthest point, no farther.
+    // The manifold keeps (and matches old points within) as far as its farthest point and kMargin,
+    // no farther: for a hull at rest that can be up to kMargin past its own threshold.
     btScalar reach = threshold;
     for (int i = 0; i < n; ++i) reach = std::max(reach, c[i].distance + kMargin);
     if (m_ownManifold) m_manifold->setContactBreakingThreshold(reach);

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <thread>
@@ -725,8 +726,11 @@ btScalar ExactSolver::contactSweep() {
       to = b < m_itemBarriers.size() ? m_itemBarriers[b] : items;
       if (to - from >= kHalvedSweepItems) {
         forBothHalves([p = &ctx](int h) {
+          // (Kept here and stored once: both halves' slots share a cache line.)
+          double largest = p->halves[h];
           for (int t = *p->from; t < *p->to; ++t)
-            if (p->self->m_itemSide[size_t(t)] == h) p->halves[h] = std::max(p->halves[h], (*p->sweep)(t));
+            if (p->self->m_itemSide[size_t(t)] == h) largest = std::max(largest, (*p->sweep)(t));
+          p->halves[h] = largest;
         });
       } else {
         for (int t = from; t < to; ++t) residual = std::max(residual, sweepItem(t));
@@ -829,8 +833,20 @@ void ExactSolver::forEachNode(const Cluster& c, const Fn& fn) {
 }
 
 void ExactSolver::runWithHalfHelper(const std::function<void(int, const std::function<void(int)>&)>& tasks,
-                                    const std::function<void()>& fn) {
+                                    const std::function<void()>& fn, HalfSite site) {
   if (!tasks) return fn();
+  HalfPace& pace = m_halfPace[int(site)];
+  const bool helped = alwaysHalfHelper || pace.helped();
+  const auto start = std::chrono::steady_clock::now();
+  if (helped)
+    runHelped(tasks, fn);
+  else
+    fn();
+  pace.took(helped, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+void ExactSolver::runHelped(const std::function<void(int, const std::function<void(int)>&)>& tasks,
+                            const std::function<void()>& fn) {
   HalfHelper helper;
   // (One pointer captured: std::function keeps it without allocating.)
   struct {

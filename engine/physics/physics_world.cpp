@@ -297,6 +297,7 @@ struct PhysicsWorld::Impl {
     world.setGravity(toBt(s.gravity));
     solver.patches = s.solver == SolverKind::Exact;
     solver.wholeFactors = s.wholeFactors;
+    solver.alwaysHalfHelper = s.alwaysHalfHelper;
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);
     // Two friction directions per contact point (Bullet adds only one by default): with one, a
@@ -761,6 +762,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
   m->settings = s;
   m->solver.patches = s.solver == SolverKind::Exact;
   m->solver.wholeFactors = s.wholeFactors;
+  m->solver.alwaysHalfHelper = s.alwaysHalfHelper;
   for (auto& h : m->helpers) h->patches = m->solver.patches;
   if (switched)
     for (Impl::Hinge& h : m->hinges) {
@@ -1225,7 +1227,8 @@ void PhysicsWorld::step(double dt, int substeps) {
       if (std::none_of(m->helpers.begin(), m->helpers.end(), [](auto& s) { return s->hasClusters(); })) {
         // Everything was solved on the primary (a long tree's halves on two threads).
         if (m->solver.hasSplitTrees())
-          m->solver.runWithHalfHelper(m->tasks, [&] { m->solver.postStabilise(); });
+          m->solver.runWithHalfHelper(
+              m->tasks, [&] { m->solver.postStabilise(); }, ExactSolver::HalfSite::Stabilise);
         else
           m->solver.postStabilise();
       } else {  // each solver's own clusters, which no other solver touches

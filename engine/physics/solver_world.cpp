@@ -308,7 +308,8 @@ void SolverWorld::solveBatches(btContactSolverInfo& info, int count) {
     // One batch (one island holds most of the world): a second thread takes the second half of
     // each long tree in it (ExactSolver::splitTree).
     if (m_batches[0].constraints.size() >= ExactSolver::kSplitJoints)
-      m_primary->runWithHalfHelper(m_tasks, [&] { solve(m_primary, 0); });
+      m_primary->runWithHalfHelper(
+          m_tasks, [&] { solve(m_primary, 0); }, ExactSolver::HalfSite::Solve);
     else
       solve(m_primary, 0);
     return;

@@ -188,10 +188,11 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
         }
       }
     }
-    // The manifold keeps (and matches old points within) as far as its farthest point and kMargin,
-    // no farther: for a hull at rest that can be up to kMargin past its own threshold.
+    // The manifold keeps (and matches old points within) its own threshold, or as far as its
+    // farthest speculative point and kMargin: a hull at rest keeps its points as before.
     btScalar reach = threshold;
-    for (int i = 0; i < n; ++i) reach = std::max(reach, c[i].distance + kMargin);
+    for (int i = 0; i < n; ++i)
+      if (c[i].distance >= threshold) reach = std::max(reach, c[i].distance + kMargin);
     if (m_ownManifold) m_manifold->setContactBreakingThreshold(reach);
     std::array<int, kMaxPoints> keep{};
     const int kept = reduce(c, n, keep);

@@ -2,19 +2,48 @@
 // atomic counter until none are left.
 #include "world/behaviour_pool.h"
 
+#include <chrono>
+
 namespace rm3d {
 
+namespace {
+
+inline void cpuRelax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
+}  // namespace
+
 BehaviourPool::BehaviourPool(int threads, int chunk) : m_chunk(chunk < 1 ? 1 : chunk) {
+  const unsigned cores = std::thread::hardware_concurrency();
+  m_watch = threads > 1 && cores > 0 && unsigned(threads) <= cores;
   for (int i = 1; i < threads; ++i) m_workers.emplace_back([this] { work(); });
 }
 
 BehaviourPool::~BehaviourPool() {
   {
     std::lock_guard<std::mutex> lock(m_mutex);
-    m_quit = true;
+    m_quit.store(true);
   }
   m_wake.notify_all();
   for (std::thread& t : m_workers) t.join();
+}
+
+template <class Done>
+void BehaviourPool::await(std::condition_variable& cv, const Done& done) {
+  if (m_watch) {
+    constexpr int kPausesPerLook = 64;  // pauses between looks at the clock
+    const auto until = std::chrono::steady_clock::now() + kWatch;
+    for (int i = 1;; ++i) {
+      if (done()) return;
+      if (i % kPausesPerLook == 0 && std::chrono::steady_clock::now() > until) break;
+      cpuRelax();
+    }
+  }
+  std::unique_lock<std::mutex> lock(m_mutex);
+  cv.wait(lock, done);
 }
 
 void BehaviourPool::drain() {
@@ -38,29 +67,25 @@ void BehaviourPool::run(int n, const std::function<void(int)>& fn, int chunk) {
     m_n = n;
     m_runChunk = c;
     m_next.store(0);
-    m_busy = int(m_workers.size());
-    ++m_generation;
+    m_busy.store(int(m_workers.size()));
+    m_generation.fetch_add(1, std::memory_order_release);  // (the run's fields are set before)
   }
   m_wake.notify_all();
   drain();
-  std::unique_lock<std::mutex> lock(m_mutex);
-  m_done.wait(lock, [this] { return m_busy == 0; });
+  await(m_done, [this] { return m_busy.load(std::memory_order_acquire) == 0; });
   m_fn = nullptr;
 }
 
 void BehaviourPool::work() {
   uint64_t seen = 0;
   for (;;) {
-    {
-      std::unique_lock<std::mutex> lock(m_mutex);
-      m_wake.wait(lock, [&] { return m_quit || m_generation != seen; });
-      if (m_quit) return;
-      seen = m_generation;
-    }
+    await(m_wake, [&] { return m_quit.load() || m_generation.load(std::memory_order_acquire) != seen; });
+    if (m_quit.load()) return;
+    seen = m_generation.load(std::memory_order_acquire);
     drain();
-    {
-      std::lock_guard<std::mutex> lock(m_mutex);
-      if (--m_busy == 0) m_done.notify_one();
+    if (m_busy.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      std::lock_guard<std::mutex> lock(m_mutex);  // (the caller may be between its check and its wait)
+      m_done.notify_one();
     }
   }
 }

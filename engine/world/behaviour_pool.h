@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <cstdint>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -25,9 +26,19 @@ class BehaviourPool {
   void run(int n, const std::function<void(int)>& fn, int chunk = 0);
   int threads() const { return int(m_workers.size()) + 1; }
 
+  /// A step hands the pool several runs (behaviours, contacts, bodies, solver batches) a few
+  /// hundred microseconds apart or less; a thread woken from sleep took tens of microseconds to
+  /// start. So a worker that has finished a run, and the caller waiting for the workers, watch
+  /// for the next event this long before they sleep; not where there are more threads than cores
+  /// (a watching thread would take the core of one with work).
+  static constexpr auto kWatch = std::chrono::microseconds(200);
+
  private:
   void work();
   void drain();
+  /// Waits until done() is true: watching for kWatch where the pool may, then on `cv`.
+  template <class Done>
+  void await(std::condition_variable& cv, const Done& done);
 
   std::vector<std::thread> m_workers;
   std::mutex m_mutex;
@@ -35,11 +46,12 @@ class BehaviourPool {
   const std::function<void(int)>* m_fn = nullptr;
   int m_n = 0;
   int m_chunk = 16;
-  int m_runChunk = 16;  // the chunk of the run under way
+  int m_runChunk = 16;   // the chunk of the run under way
+  bool m_watch = false;  // fewer threads than cores: waits watch a while first
   std::atomic<int> m_next{0};
-  int m_busy = 0;
-  uint64_t m_generation = 0;
-  bool m_quit = false;
+  std::atomic<int> m_busy{0};
+  std::atomic<uint64_t> m_generation{0};
+  std::atomic<bool> m_quit{false};
 };
 
 }  // namespace rm3d

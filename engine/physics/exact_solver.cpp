@@ -835,14 +835,8 @@ void ExactSolver::forEachNode(const Cluster& c, const Fn& fn) {
 void ExactSolver::runWithHalfHelper(const std::function<void(int, const std::function<void(int)>&)>& tasks,
                                     const std::function<void()>& fn, HalfSite site) {
   if (!tasks) return fn();
-  HalfPace& pace = m_halfPace[int(site)];
-  const bool helped = alwaysHalfHelper || pace.helped();
-  const auto start = std::chrono::steady_clock::now();
-  if (helped)
-    runHelped(tasks, fn);
-  else
-    fn();
-  pace.took(helped, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  runPaced(
+      m_halfPace[int(site)], alwaysThreads, [&] { runHelped(tasks, fn); }, fn);
 }
 
 void ExactSolver::runHelped(const std::function<void(int, const std::function<void(int)>&)>& tasks,

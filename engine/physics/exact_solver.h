@@ -54,7 +54,7 @@
 #include <utility>
 #include <vector>
 
-#include "physics/half_pace.h"
+#include "core/pace.h"
 
 namespace rm3d {
 
@@ -192,14 +192,14 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   };
   static void helpHalves(HalfHelper& h);
   /// Runs fn() here with a half helper from `tasks` (two tasks: this thread and one more), or
-  /// just fn() without tasks, or alone where the clock says the helper does not pay (HalfPace; `site`
+  /// just fn() without tasks, or alone where the clock says the helper does not pay (Pace; `site`
   /// names the caller: each times its own work).
   enum class HalfSite { Solve, Stabilise };
   void runWithHalfHelper(const std::function<void(int, const std::function<void(int)>&)>& tasks,
                          const std::function<void()>& fn, HalfSite site);
   /// Every long tree's second half offered to a second thread, whatever the clock says (tests:
-  /// the helper's way must give the same bits; PhysicsSettings::alwaysHalfHelper).
-  bool alwaysHalfHelper = false;
+  /// the helper's way must give the same bits; PhysicsSettings::alwaysThreads).
+  bool alwaysThreads = false;
   /// A cluster of this substep is a long tree solved in halves.
   bool hasSplitTrees() const { return !m_laneNodes.empty(); }
   /// Contact sweeps of this substep run in a split tree's halves (planHalvedSweep).
@@ -422,7 +422,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void runHelped(const std::function<void(int, const std::function<void(int)>&)>& tasks,
                  const std::function<void()>& fn);
   HalfHelper* m_halfHelper = nullptr;
-  HalfPace m_halfPace[2];  ///< by HalfSite
+  Pace m_halfPace[2];  ///< by HalfSite
   std::vector<int> m_laneNodes, m_subtree, m_half;
   struct NodeHead {  // a node's place in its tree (splitTree's reordering)
     int body, joint, parent;

@@ -297,7 +297,7 @@ struct PhysicsWorld::Impl {
     world.setGravity(toBt(s.gravity));
     solver.patches = s.solver == SolverKind::Exact;
     solver.wholeFactors = s.wholeFactors;
-    solver.alwaysHalfHelper = s.alwaysHalfHelper;
+    solver.alwaysThreads = s.alwaysThreads;
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);
     // Two friction directions per contact point (Bullet adds only one by default): with one, a
@@ -762,7 +762,9 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
   m->settings = s;
   m->solver.patches = s.solver == SolverKind::Exact;
   m->solver.wholeFactors = s.wholeFactors;
-  m->solver.alwaysHalfHelper = s.alwaysHalfHelper;
+  m->solver.alwaysThreads = s.alwaysThreads;
+  m->world.setAlwaysThreads(s.alwaysThreads);
+  m->dispatcher.setAlwaysThreads(s.alwaysThreads);
   for (auto& h : m->helpers) h->patches = m->solver.patches;
   if (switched)
     for (Impl::Hinge& h : m->hinges) {
@@ -1015,6 +1017,8 @@ void PhysicsWorld::setParallel(int threads, ForEach forEach) {
   }
   m->world.setBatchSolvers(&m->solver, std::move(helpers), m->tasks);
   m->dispatcher.setTasks(m->cloth ? 1 : threads, m->tasks);  // (not with cloth: see addCloth)
+  m->world.setAlwaysThreads(m->settings.alwaysThreads);
+  m->dispatcher.setAlwaysThreads(m->settings.alwaysThreads);
 }
 
 void PhysicsWorld::setLoadTracking(bool on) {

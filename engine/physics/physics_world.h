@@ -38,9 +38,9 @@ struct PhysicsSettings {
   /// The exact solver factors every tree whole, also where only motor rows changed (tests: its
   /// partial factors must give the same bits).
   bool wholeFactors = false;
-  /// A long tree's halves always on two threads where there are two, not only where the clock
-  /// says it pays (tests: ExactSolver::HalfPace; the bits are the same either way).
-  bool alwaysHalfHelper = false;
+  /// Every piece of a step that can go to the worker threads goes there, not only where the
+  /// clock says it pays (tests: core/pace.h; the bits are the same either way).
+  bool alwaysThreads = false;
 };
 
 struct PartDesc {

@@ -173,29 +173,34 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
 }
 
 template <class Fn>
-int SolverWorld::forEachIndex(int n, const Fn& fn) {
-  if (m_helpers.empty() || !m_tasks || n < 4 * kChunk) {
+int SolverWorld::forEachIndex(Pace& pace, int n, const Fn& fn) {
+  auto alone = [&] {
     for (int i = 0; i < n; ++i) fn(i);
+  };
+  if (m_helpers.empty() || !m_tasks || n < 4 * kChunk) {
+    alone();
     return 0;
   }
-  std::atomic<int> next{0};
-  // (One pointer captured: std::function keeps it without allocating.)
-  const struct {
-    int n;
-    std::atomic<int>* next;
-    const Fn* fn;
-  } ctx{n, &next, &fn};
-  m_tasks(1 + int(m_helpers.size()), [p = &ctx](int) {
-    for (int b = p->next->fetch_add(kChunk); b < p->n; b = p->next->fetch_add(kChunk))
-      for (int i = b; i < std::min(p->n, b + kChunk); ++i) (*p->fn)(i);
-  });
-  return n;
+  auto threads = [&] {
+    std::atomic<int> next{0};
+    // (One pointer captured: std::function keeps it without allocating.)
+    const struct {
+      int n;
+      std::atomic<int>* next;
+      const Fn* fn;
+    } ctx{n, &next, &fn};
+    m_tasks(1 + int(m_helpers.size()), [p = &ctx](int) {
+      for (int b = p->next->fetch_add(kChunk); b < p->n; b = p->next->fetch_add(kChunk))
+        for (int i = b; i < std::min(p->n, b + kChunk); ++i) (*p->fn)(i);
+    });
+  };
+  return runPaced(pace, m_alwaysThreads, threads, alone) ? n : 0;
 }
 
 template <class Fn>
-int SolverWorld::forEachBody(const Fn& fn) {
+int SolverWorld::forEachBody(Pace& pace, const Fn& fn) {
   btRigidBody** bodies = m_nonStaticRigidBodies.size() ? &m_nonStaticRigidBodies[0] : nullptr;
-  return forEachIndex(m_nonStaticRigidBodies.size(), [&](int i) { fn(bodies[i]); });
+  return forEachIndex(pace, m_nonStaticRigidBodies.size(), [&](int i) { fn(bodies[i]); });
 }
 
 void SolverWorld::updateAabbs() {
@@ -208,7 +213,7 @@ void SolverWorld::updateAabbs() {
   if (m_boxes.size() < n) m_boxes.resize(n);
   const bool continuous = getDispatchInfo().m_useContinuous;
   const bool dbvt = dynamic_cast<btDbvtBroadphase*>(getBroadphase()) != nullptr;
-  forEachIndex(n, [&](int i) {
+  forEachIndex(m_boxPace, n, [&](int i) {
     const btCollisionObject* o = m_collisionObjects[i];
     Box& b = m_boxes[i];
     b.update = m_forceUpdateAllAabbs || o->isActive();
@@ -258,7 +263,7 @@ void SolverWorld::predictUnconstraintMotion(btScalar timeStep) {
   if (getSoftBodyArray().size() > 0) return btSoftRigidDynamicsWorld::predictUnconstraintMotion(timeStep);
   BT_PROFILE("predictUnconstraintMotion");
   // As btDiscreteDynamicsWorld::predictUnconstraintMotion, body by body.
-  forEachBody([timeStep](btRigidBody* body) {
+  forEachBody(m_predictPace, [timeStep](btRigidBody* body) {
     if (body->isStaticOrKinematicObject()) return;
     body->applyDamping(timeStep);
     body->predictIntegratedTransform(timeStep, body->getInterpolationWorldTransform());
@@ -272,7 +277,7 @@ void SolverWorld::integrateTransforms(btScalar timeStep) {
   BT_PROFILE("integrateTransforms");
   // As btDiscreteDynamicsWorld::integrateTransformsInternal without its motion clamping, which
   // only bodies with a CCD motion threshold take (none here).
-  m_threadedBodies = forEachBody([timeStep](btRigidBody* body) {
+  m_threadedBodies = forEachBody(m_integratePace, [timeStep](btRigidBody* body) {
     body->setHitFraction(1.f);
     if (!body->isActive() || body->isStaticOrKinematicObject()) return;
     btTransform predicted;
@@ -314,12 +319,20 @@ void SolverWorld::solveBatches(btContactSolverInfo& info, int count) {
       solve(m_primary, 0);
     return;
   }
+  // (Alone, the primary solves them all, in order: the same bits.)
   const int tasks = std::min(count, 1 + int(m_helpers.size()));
-  std::atomic<int> next{0};
-  m_tasks(tasks, [&](int t) {
-    ExactSolver* s = t == 0 ? m_primary : m_helpers[size_t(t - 1)];
-    for (int i = next++; i < count; i = next++) solve(s, i);
-  });
+  runPaced(
+      m_batchPace, m_alwaysThreads,
+      [&] {
+        std::atomic<int> next{0};
+        m_tasks(tasks, [&](int t) {
+          ExactSolver* s = t == 0 ? m_primary : m_helpers[size_t(t - 1)];
+          for (int i = next++; i < count; i = next++) solve(s, i);
+        });
+      },
+      [&] {
+        for (int i = 0; i < count; ++i) solve(m_primary, i);
+      });
 }
 
 }  // namespace rm3d

@@ -16,6 +16,8 @@
 #include <functional>
 #include <vector>
 
+#include "core/pace.h"
+
 namespace rm3d {
 
 class ExactSolver;
@@ -30,6 +32,9 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   /// world's constraint solver) and the helpers (its batch solvers, ExactSolver::shareStateOf) at
   /// once, one per task; no helpers: each batch is solved as it is made, on this thread.
   void setBatchSolvers(ExactSolver* primary, std::vector<ExactSolver*> helpers, Tasks tasks);
+  /// Every pass that can go to the threads goes there, not only where the clock says it pays
+  /// (tests: core/pace.h).
+  void setAlwaysThreads(bool always) { m_alwaysThreads = always; }
   /// Bodies the last integration ran on the worker threads (0: one loop on this thread).
   int threadedBodies() const { return m_threadedBodies; }
   struct Batch {
@@ -58,13 +63,13 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
  private:
   void solveBatches(btContactSolverInfo& info, int count);
   static constexpr int kChunk = 256;  ///< bodies (objects) a thread takes at a time
-  /// fn(i) for i in [0, n), on the threads when n is large; returns how many went to the threads
-  /// (0: all on this one).
+  /// fn(i) for i in [0, n), on the threads when n is large and `pace` says it pays; returns how
+  /// many went to the threads (0: all on this one).
   template <class Fn>
-  int forEachIndex(int n, const Fn& fn);
+  int forEachIndex(Pace& pace, int n, const Fn& fn);
   /// fn(body) for every non-static rigid body, as forEachIndex.
   template <class Fn>
-  int forEachBody(const Fn& fn);
+  int forEachBody(Pace& pace, const Fn& fn);
 
   std::vector<int> m_islandStart, m_islandCount;  ///< by island id: its run in m_sortedConstraints
   ExactSolver* m_primary = nullptr;
@@ -72,6 +77,10 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   Tasks m_tasks;
   std::vector<Batch> m_batches;  ///< this substep's, reused
   int m_threadedBodies = 0;
+  bool m_alwaysThreads = false;
+  /// Whether the threads pay (core/pace.h): the bounding boxes, the motion prediction, the
+  /// integration, the solver batches.
+  Pace m_boxPace, m_predictPace, m_integratePace, m_batchPace;
   struct Box {
     btVector3 min, max;
     bool update;

@@ -102,6 +102,15 @@ void TaskDispatcher::dispatchAllCollisionPairs(btOverlappingPairCache* pairCache
     m_threadedPairs = 0;
     return btCollisionDispatcher::dispatchAllCollisionPairs(pairCache, info, dispatcher);
   }
+  runPaced(
+      m_pace, m_always, [&] { dispatchOnThreads(pairCache, info); },
+      [&] {
+        m_threadedPairs = 0;
+        btCollisionDispatcher::dispatchAllCollisionPairs(pairCache, info, dispatcher);
+      });
+}
+
+void TaskDispatcher::dispatchOnThreads(btOverlappingPairCache* pairCache, const btDispatcherInfo& info) {
   btBroadphasePairArray& pairs = pairCache->getOverlappingPairArray();
   const int n = pairs.size();
   m_threadedPairs = n;

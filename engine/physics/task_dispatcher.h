@@ -22,6 +22,8 @@
 #include <thread>
 #include <vector>
 
+#include "core/pace.h"
+
 namespace rm3d {
 
 class TaskDispatcher : public btCollisionDispatcher {
@@ -32,6 +34,9 @@ class TaskDispatcher : public btCollisionDispatcher {
   /// With `threads` > 1 and `tasks`, the pairs run on that many threads; otherwise on this one
   /// (as in a world with cloth: its pairs share the cloth's contact lists).
   void setTasks(int threads, Tasks tasks);
+  /// The pairs on the threads wherever they may go, not only where the clock says it pays
+  /// (tests: core/pace.h).
+  void setAlwaysThreads(bool always) { m_always = always; }
 
   void dispatchAllCollisionPairs(btOverlappingPairCache* pairCache, const btDispatcherInfo& info,
                                  btDispatcher* dispatcher) override;
@@ -64,11 +69,15 @@ class TaskDispatcher : public btCollisionDispatcher {
   void runPairs(int t, btBroadphasePairArray& pairs, int n, std::atomic<int>& next,
                 const btDispatcherInfo& info);
   void note(btPersistentManifold* manifold, bool release);
+  /// The pairs on the threads (dispatchAllCollisionPairs, where they may go and it pays).
+  void dispatchOnThreads(btOverlappingPairCache* pairCache, const btDispatcherInfo& info);
 
   int m_threads = 1;
   Tasks m_tasks;
   bool m_deferring = false;  // the pairs are running: manifolds are noted, not listed
   int m_threadedPairs = 0;
+  bool m_always = false;
+  Pace m_pace;         // whether the threads pay
   std::mutex m_mutex;  // the pools
   std::vector<std::unique_ptr<Lane>> m_lanes;
   std::vector<Change> m_changes;

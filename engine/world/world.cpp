@@ -149,7 +149,7 @@ void World::ensurePhysics() {
   ps.jointIterations = m_settings.jointIterations;
   ps.erp = m_settings.erp;
   ps.wholeFactors = m_options.wholeFactors;
-  ps.alwaysHalfHelper = m_options.alwaysHalfHelper;
+  ps.alwaysThreads = m_options.alwaysThreads;
   m_physics = std::make_unique<PhysicsWorld>(ps);
   if (m_pool->threads() > 1)
     m_physics->setParallel(m_pool->threads(),
@@ -572,7 +572,15 @@ void World::runBehaviours() {
   // Everything a behaviour can read is fixed before the phase (module_handle.h states the rule).
   if (m_proximityWanted.load(std::memory_order_relaxed)) buildProximity();
   const int n = int(m_modules.size());
-  m_pool->run(n, [this](int i) { runBehaviour(i); });
+  if (m_pool->threads() > 1) {
+    runPaced(
+        m_behaviourPace, m_options.alwaysThreads, [&] { m_pool->run(n, [this](int i) { runBehaviour(i); }); },
+        [&] {
+          for (int i = 0; i < n; ++i) runBehaviour(i);
+        });
+  } else {
+    for (int i = 0; i < n; ++i) runBehaviour(i);
+  }
   applyDockRequests();
   reportModuleOutput();
 }

@@ -18,6 +18,7 @@
 #include <tuple>
 #include <vector>
 
+#include "core/pace.h"
 #include "core/rng.h"
 #include "core/trace_series.h"
 #include "core/types.h"
@@ -49,7 +50,7 @@ struct RunOptions {
   int threads = 1;                            ///< behaviour worker threads
   int chunkSize = 16;                         ///< modules a worker takes at a time (tests use 1)
   bool wholeFactors = false;                  ///< tests: PhysicsSettings::wholeFactors
-  bool alwaysHalfHelper = false;              ///< tests: PhysicsSettings::alwaysHalfHelper
+  bool alwaysThreads = false;                 ///< tests: PhysicsSettings::alwaysThreads
   size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
   int64_t behaviourBudget = 10'000'000;       ///< Lua instructions per callback
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks
@@ -403,6 +404,7 @@ class World {
   bool m_contactSensors = false;
   std::unique_ptr<WorldProgram> m_program;
   std::unique_ptr<BehaviourPool> m_pool;
+  Pace m_behaviourPace;  ///< whether the behaviours pay on the threads (core/pace.h)
   bool m_groundAdded = false;
   double m_groundFriction = 0.8, m_groundRestitution = 0;
   bool m_started = false;

@@ -25,6 +25,7 @@
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -283,6 +284,10 @@ struct PhysicsWorld::Impl {
   std::vector<Vec3> partVelBefore, bodyOmegaBefore, partExtForce, partExtTorque;
   bool contactTracking = false;
   std::vector<char> partTouching;
+  // The passes of a step over every hinge and every manifold, on the worker threads where they
+  // pay (solver_world.h's forEachIndex, the same bits either way).
+  Pace anglePace, touchPace;
+  HomeRanges homes;
   mutable std::mutex rayMutex;  // Debian's Bullet shares one ray-test stack per broadphase
   // Particle colliders: each hull shape's planes (part, shape ->
   // first plane and count in hullPlanes), found once per part.
@@ -342,6 +347,20 @@ struct PhysicsWorld::Impl {
     partShapes.push_back(makeShape(d, data));
     convexShapes.emplace(std::move(key), partShapes.back());
     return partShapes.back();
+  }
+
+  /// fn(i) for every i in [0, n): on the worker threads where there are any, n is large enough
+  /// and the clock says it pays (each index on the same thread from one step to the next), else
+  /// here in order. fn(i) must touch only what index i owns.
+  template <class Fn>
+  void forEachIndex(Pace& pace, int n, int chunk, const Fn& fn) {
+    auto alone = [&] {
+      for (int i = 0; i < n; ++i) fn(i);
+    };
+    if (!tasks || helpers.empty() || n < 4 * chunk) return alone();
+    runPaced(
+        pace, settings.alwaysThreads, [&] { homes.forEach(tasks, 1 + int(helpers.size()), n, chunk, fn); },
+        alone);
   }
 
   void destroyBody(Body& b) {
@@ -1240,37 +1259,36 @@ void PhysicsWorld::step(double dt, int substeps) {
                  [&](int t) { (t == 0 ? m->solver : *m->helpers[size_t(t - 1)]).postStabilise(); });
       }
       m->solver.followPatchPoses();
-      for (Impl::Hinge& hg : m->hinges) {
-        if (!hg.link) continue;
-        const ExactJoint& e = m->solver.joints[size_t(&hg - m->hinges.data())];
+    }
+    // Each hinge's load and angle (each hinge writes only its own).
+    m->forEachIndex(m->anglePace, int(m->hinges.size()), 64, [&](int i) {
+      Impl::Hinge& hg = m->hinges[size_t(i)];
+      if (exact && hg.link) {
+        const ExactJoint& e = m->solver.joints[size_t(i)];
         hg.torque += std::clamp(e.axialImpulse, -e.maxImpulse, e.maxImpulse) / dt;
         hg.saturated = hg.saturated || e.saturated;
       }
-    }
-    for (Impl::Hinge& hg : m->hinges) {
       if (hg.c && hg.feedback) m->addPgsTorque(hg);
       m->updateAngle(hg);
-    }
+    });
     if (m->tracking) m->accumulateLoads(h, s == 0);
   }
   if (m->contactTracking) {
     m->partTouching.assign(m->parts.size(), 0);
-    for (int i = 0; i < m->dispatcher.getNumManifolds(); ++i) {
+    // (Manifold by manifold on the threads: two may mark the same part, each with a 1.)
+    auto touch = [&](int p) {
+      if (p >= 0) std::atomic_ref<char>(m->partTouching[size_t(p)]).store(1, std::memory_order_relaxed);
+    };
+    m->forEachIndex(m->touchPace, m->dispatcher.getNumManifolds(), 64, [&](int i) {
       const btPersistentManifold* man = m->dispatcher.getManifoldByIndexInternal(i);
       const int b0 = man->getBody0()->getUserIndex(), b1 = man->getBody1()->getUserIndex();
       for (int k = 0; k < man->getNumContacts(); ++k) {
         const btManifoldPoint& pt = man->getContactPoint(k);
         if (pt.getDistance() > btScalar(0.002)) continue;  // a touch, not a near miss
-        if (b0 >= 0) {
-          const int p = m->partOfChild(b0, pt.m_index0);
-          if (p >= 0) m->partTouching[size_t(p)] = 1;
-        }
-        if (b1 >= 0) {
-          const int p = m->partOfChild(b1, pt.m_index1);
-          if (p >= 0) m->partTouching[size_t(p)] = 1;
-        }
+        if (b0 >= 0) touch(m->partOfChild(b0, pt.m_index0));
+        if (b1 >= 0) touch(m->partOfChild(b1, pt.m_index1));
       }
-    }
+    });
   }
   m->forces.clear();
   if (m->cloth) m->cloth->afterStep();

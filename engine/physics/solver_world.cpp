@@ -181,19 +181,7 @@ int SolverWorld::forEachIndex(Pace& pace, int n, const Fn& fn) {
     alone();
     return 0;
   }
-  auto threads = [&] {
-    std::atomic<int> next{0};
-    // (One pointer captured: std::function keeps it without allocating.)
-    const struct {
-      int n;
-      std::atomic<int>* next;
-      const Fn* fn;
-    } ctx{n, &next, &fn};
-    m_tasks(1 + int(m_helpers.size()), [p = &ctx](int) {
-      for (int b = p->next->fetch_add(kChunk); b < p->n; b = p->next->fetch_add(kChunk))
-        for (int i = b; i < std::min(p->n, b + kChunk); ++i) (*p->fn)(i);
-    });
-  };
+  auto threads = [&] { m_homes.forEach(m_tasks, 1 + int(m_helpers.size()), n, kChunk, fn); };
   return runPaced(pace, m_alwaysThreads, threads, alone) ? n : 0;
 }
 
@@ -298,8 +286,10 @@ void SolverWorld::solveBatches(btContactSolverInfo& info, int count) {
     const Batch& b = m_batches[size_t(i)];
     if (b.manifolds.size()) m_primary->claimPatchSlots(&b.manifolds[0], b.manifolds.size());
   }
-  // Each thread's solver takes the next batch until none is left. Which solver solves a batch
-  // changes nothing: each keeps only its own batches' scratch, and shares the primary's state.
+  // Each thread's solver takes the batches of its own range first, then any left in the others'
+  // (core/home_ranges.h: a batch goes to the same thread from one substep to the next while the
+  // islands stay as they are). Which solver solves a batch changes nothing: each keeps only its own batches'
+  // scratch, and shares the primary's state.
   btIDebugDraw* draw = getDebugDrawer();
   btDispatcher* dispatcher = getDispatcher();
   auto solve = [&](ExactSolver* s, int i) {
@@ -324,10 +314,10 @@ void SolverWorld::solveBatches(btContactSolverInfo& info, int count) {
   runPaced(
       m_batchPace, m_alwaysThreads,
       [&] {
-        std::atomic<int> next{0};
+        m_homes.begin(count, tasks, 1);
         m_tasks(tasks, [&](int t) {
           ExactSolver* s = t == 0 ? m_primary : m_helpers[size_t(t - 1)];
-          for (int i = next++; i < count; i = next++) solve(s, i);
+          m_homes.run(t, [&](int b, int) { solve(s, b); });
         });
       },
       [&] {

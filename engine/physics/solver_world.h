@@ -16,6 +16,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/home_ranges.h"
 #include "core/pace.h"
 
 namespace rm3d {
@@ -81,6 +82,7 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   /// Whether the threads pay (core/pace.h): the bounding boxes, the motion prediction, the
   /// integration, the solver batches.
   Pace m_boxPace, m_predictPace, m_integratePace, m_batchPace;
+  HomeRanges m_homes;  // the bodies' (or batches') ranges of the run under way, one per thread
   struct Box {
     btVector3 min, max;
     bool update;

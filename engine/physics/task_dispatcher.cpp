@@ -68,13 +68,12 @@ void TaskDispatcher::freeCollisionAlgorithm(void* ptr) {
   btCollisionDispatcher::freeCollisionAlgorithm(ptr);
 }
 
-void TaskDispatcher::runPairs(int t, btBroadphasePairArray& pairs, int n, std::atomic<int>& next,
-                              const btDispatcherInfo& info) {
+void TaskDispatcher::runPairs(int t, btBroadphasePairArray& pairs, const btDispatcherInfo& info) {
   Lane& l = *m_lanes[size_t(t)];
   l.thread.store(std::this_thread::get_id(), std::memory_order_relaxed);
   l.phase = 1;
-  for (int k = next.fetch_add(kChunk); k < n; k = next.fetch_add(kChunk)) {
-    for (int i = k; i < std::min(n, k + kChunk); ++i) {
+  m_homes.run(t, [&](int k, int end) {
+    for (int i = k; i < end; ++i) {
       btBroadphasePair& pair = pairs[i];
       if (!pair.m_algorithm) continue;
       auto* o0 = static_cast<btCollisionObject*>(pair.m_pProxy0->m_clientObject);
@@ -88,7 +87,7 @@ void TaskDispatcher::runPairs(int t, btBroadphasePairArray& pairs, int n, std::a
       l.pair = i;
       pair.m_algorithm->processCollision(&w0, &w1, info, &result);
     }
-  }
+  });
   l.thread.store(std::thread::id(), std::memory_order_relaxed);  // this thread may take another lane
 }
 
@@ -136,17 +135,16 @@ void TaskDispatcher::dispatchOnThreads(btOverlappingPairCache* pairCache, const 
     pair.m_algorithm = findAlgorithm(&w0, &w1, nullptr, BT_CONTACT_POINT_ALGORITHMS);
   }
   first.thread.store(std::thread::id(), std::memory_order_relaxed);
-  // The pairs, on the threads, as the near callback runs them.
-  std::atomic<int> next{0};
+  // The pairs, on the threads, as the near callback runs them: each thread its own range of them
+  // first, the same from one substep to the next (core/home_ranges.h).
+  m_homes.begin(n, m_threads, kChunk);
   // (One pointer captured: std::function keeps it without allocating.)
   struct {
     TaskDispatcher* self;
     btBroadphasePairArray* pairs;
     const btDispatcherInfo* info;
-    std::atomic<int>* next;
-    int n;
-  } ctx{this, &pairs, &info, &next, n};
-  m_tasks(m_threads, [p = &ctx](int t) { p->self->runPairs(t, *p->pairs, p->n, *p->next, *p->info); });
+  } ctx{this, &pairs, &info};
+  m_tasks(m_threads, [p = &ctx](int t) { p->self->runPairs(t, *p->pairs, *p->info); });
   m_deferring = false;
   // The manifolds made and let go, listed and unlisted as Bullet's loop would have, pair by pair.
   m_changes.clear();

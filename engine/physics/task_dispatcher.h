@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/home_ranges.h"
 #include "core/pace.h"
 
 namespace rm3d {
@@ -65,9 +66,9 @@ class TaskDispatcher : public btCollisionDispatcher {
     std::vector<Change> changes;
   };
   Lane* lane();  ///< the calling thread's, or null
-  /// Task t: takes kChunk pairs at a time from `next` and runs them (as the near callback would).
-  void runPairs(int t, btBroadphasePairArray& pairs, int n, std::atomic<int>& next,
-                const btDispatcherInfo& info);
+  /// Task t: takes kChunk pairs at a time, its own range's first (m_homes), and runs them (as the
+  /// near callback would).
+  void runPairs(int t, btBroadphasePairArray& pairs, const btDispatcherInfo& info);
   void note(btPersistentManifold* manifold, bool release);
   /// The pairs on the threads (dispatchAllCollisionPairs, where they may go and it pays).
   void dispatchOnThreads(btOverlappingPairCache* pairCache, const btDispatcherInfo& info);
@@ -78,6 +79,7 @@ class TaskDispatcher : public btCollisionDispatcher {
   int m_threadedPairs = 0;
   bool m_always = false;
   Pace m_pace;         // whether the threads pay
+  HomeRanges m_homes;  // the pairs' ranges, one per thread
   std::mutex m_mutex;  // the pools
   std::vector<std::unique_ptr<Lane>> m_lanes;
   std::vector<Change> m_changes;

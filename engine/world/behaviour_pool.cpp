@@ -19,7 +19,8 @@ inline void cpuRelax() {
 BehaviourPool::BehaviourPool(int threads, int chunk) : m_chunk(chunk < 1 ? 1 : chunk) {
   const unsigned cores = std::thread::hardware_concurrency();
   m_watch = threads > 1 && cores > 0 && unsigned(threads) <= cores;
-  for (int i = 1; i < threads; ++i) m_workers.emplace_back([this] { work(); });
+  m_claimed = std::make_unique<std::atomic<bool>[]>(size_t(threads < 1 ? 1 : threads));
+  for (int i = 1; i < threads; ++i) m_workers.emplace_back([this, i] { work(i); });
 }
 
 BehaviourPool::~BehaviourPool() {
@@ -46,7 +47,14 @@ void BehaviourPool::await(std::condition_variable& cv, const Done& done) {
   cv.wait(lock, done);
 }
 
-void BehaviourPool::drain() {
+void BehaviourPool::drain(int self) {
+  if (m_own) {  // one task a thread: each its own first, then any another has not started
+    for (int k = 0; k < m_n; ++k) {
+      const int i = (self + k) % m_n;
+      if (!m_claimed[size_t(i)].exchange(true, std::memory_order_acq_rel)) (*m_fn)(i);
+    }
+    return;
+  }
   for (;;) {
     const int begin = m_next.fetch_add(m_runChunk);
     if (begin >= m_n) return;
@@ -66,23 +74,26 @@ void BehaviourPool::run(int n, const std::function<void(int)>& fn, int chunk) {
     m_fn = &fn;
     m_n = n;
     m_runChunk = c;
+    m_own = c == 1 && n <= threads();
+    if (m_own)
+      for (int i = 0; i < n; ++i) m_claimed[size_t(i)].store(false, std::memory_order_relaxed);
     m_next.store(0);
     m_busy.store(int(m_workers.size()));
     m_generation.fetch_add(1, std::memory_order_release);  // (the run's fields are set before)
   }
   m_wake.notify_all();
-  drain();
+  drain(0);
   await(m_done, [this] { return m_busy.load(std::memory_order_acquire) == 0; });
   m_fn = nullptr;
 }
 
-void BehaviourPool::work() {
+void BehaviourPool::work(int self) {
   uint64_t seen = 0;
   for (;;) {
     await(m_wake, [&] { return m_quit.load() || m_generation.load(std::memory_order_acquire) != seen; });
     if (m_quit.load()) return;
     seen = m_generation.load(std::memory_order_acquire);
-    drain();
+    drain(self);
     if (m_busy.fetch_sub(1, std::memory_order_acq_rel) == 1) {
       std::lock_guard<std::mutex> lock(m_mutex);  // (the caller may be between its check and its wait)
       m_done.notify_one();

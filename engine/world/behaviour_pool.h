@@ -6,6 +6,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -22,7 +23,8 @@ class BehaviourPool {
   BehaviourPool& operator=(const BehaviourPool&) = delete;
 
   /// Calls fn(i) for every i in [0, n) and returns when all calls are done; `chunk` > 0 overrides
-  /// the pool's chunk for this call (1: each index taken alone, for n coarse blocks of work).
+  /// the pool's chunk for this call (1: each index taken alone, for n coarse blocks of work; with
+  /// no more indices than threads, index k always runs on the same thread: 0 on the caller).
   void run(int n, const std::function<void(int)>& fn, int chunk = 0);
   int threads() const { return int(m_workers.size()) + 1; }
 
@@ -34,8 +36,9 @@ class BehaviourPool {
   static constexpr auto kWatch = std::chrono::microseconds(200);
 
  private:
-  void work();
-  void drain();
+  void work(int self);
+  /// The calling thread's share of the run; `self`: 0 for the caller, k for the k-th worker.
+  void drain(int self);
   /// Waits until done() is true: watching for kWatch where the pool may, then on `cv`.
   template <class Done>
   void await(std::condition_variable& cv, const Done& done);
@@ -46,8 +49,14 @@ class BehaviourPool {
   const std::function<void(int)>* m_fn = nullptr;
   int m_n = 0;
   int m_chunk = 16;
-  int m_runChunk = 16;   // the chunk of the run under way
-  bool m_watch = false;  // fewer threads than cores: waits watch a while first
+  int m_runChunk = 16;  // the chunk of the run under way
+  // The run under way is one task a thread (chunk 1, no more tasks than threads): the k-th thread
+  // starts with task k, run after run, so the data a task keeps from one run to the next (a
+  // thread's solver, its share of the bodies) stays in that core's cache instead of crossing to
+  // another; a thread done with its own takes any task whose thread has not yet started it.
+  bool m_own = false;
+  std::unique_ptr<std::atomic<bool>[]> m_claimed;  // per task of such a run: started
+  bool m_watch = false;                            // fewer threads than cores: waits watch a while first
   std::atomic<int> m_next{0};
   std::atomic<int> m_busy{0};
   std::atomic<uint64_t> m_generation{0};

@@ -14,3 +14,16 @@ TEST_CASE("each index runs once with 1, 2 and 4 threads, many times over") {
     for (auto& h : hits) CHECK(h.load() == 50);
   }
 }
+
+TEST_CASE("a run of one task a thread runs each once, with fewer tasks than threads too") {
+  for (int threads : {2, 3, 4}) {
+    rm3d::BehaviourPool pool(threads);
+    for (int n = 1; n <= threads; ++n) {
+      std::vector<std::atomic<int>> hits(static_cast<size_t>(n));
+      for (int round = 0; round < 200; ++round)
+        pool.run(
+            n, [&](int i) { hits[size_t(i)]++; }, 1);
+      for (auto& h : hits) CHECK(h.load() == 200);
+    }
+  }
+}

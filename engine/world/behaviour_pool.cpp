@@ -1,5 +1,5 @@
-// A small fork-join pool: the caller and the workers take chunks of module indices from an
-// atomic counter until none are left.
+// A small fork-join pool: the caller and the workers take chunks of indices, each from its own
+// range first (core/home_ranges.h), until none are left.
 #include "world/behaviour_pool.h"
 
 #include <chrono>
@@ -55,12 +55,9 @@ void BehaviourPool::drain(int self) {
     }
     return;
   }
-  for (;;) {
-    const int begin = m_next.fetch_add(m_runChunk);
-    if (begin >= m_n) return;
-    const int end = begin + m_runChunk < m_n ? begin + m_runChunk : m_n;
+  m_homes.run(self, [this](int begin, int end) {
     for (int i = begin; i < end; ++i) (*m_fn)(i);
-  }
+  });
 }
 
 void BehaviourPool::run(int n, const std::function<void(int)>& fn, int chunk) {
@@ -73,11 +70,10 @@ void BehaviourPool::run(int n, const std::function<void(int)>& fn, int chunk) {
     std::lock_guard<std::mutex> lock(m_mutex);
     m_fn = &fn;
     m_n = n;
-    m_runChunk = c;
     m_own = c == 1 && n <= threads();
     if (m_own)
       for (int i = 0; i < n; ++i) m_claimed[size_t(i)].store(false, std::memory_order_relaxed);
-    m_next.store(0);
+    if (!m_own) m_homes.begin(n, threads(), c);
     m_busy.store(int(m_workers.size()));
     m_generation.fetch_add(1, std::memory_order_release);  // (the run's fields are set before)
   }

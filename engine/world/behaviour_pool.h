@@ -11,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "core/home_ranges.h"
+
 namespace rm3d {
 
 class BehaviourPool {
@@ -49,7 +51,6 @@ class BehaviourPool {
   const std::function<void(int)>* m_fn = nullptr;
   int m_n = 0;
   int m_chunk = 16;
-  int m_runChunk = 16;  // the chunk of the run under way
   // The run under way is one task a thread (chunk 1, no more tasks than threads): the k-th thread
   // starts with task k, run after run, so the data a task keeps from one run to the next (a
   // thread's solver, its share of the bodies) stays in that core's cache instead of crossing to
@@ -57,7 +58,7 @@ class BehaviourPool {
   bool m_own = false;
   std::unique_ptr<std::atomic<bool>[]> m_claimed;  // per task of such a run: started
   bool m_watch = false;                            // fewer threads than cores: waits watch a while first
-  std::atomic<int> m_next{0};
+  HomeRanges m_homes;  // the run's indices, a range per thread (a module's VM stays on one core)
   std::atomic<int> m_busy{0};
   std::atomic<uint64_t> m_generation{0};
   std::atomic<bool> m_quit{false};

@@ -13,7 +13,8 @@ namespace {
 
 // Runs the tasks in the given order on this thread, one after the other; returns each item's taker
 // (-1: none) and each task's first chunk's start (-1: it took none).
-std::pair<std::vector<int>, std::vector<int>> runInOrder(int n, int tasks, int chunk, const std::vector<int>& order) {
+std::pair<std::vector<int>, std::vector<int>> runInOrder(int n, int tasks, int chunk,
+                                                         const std::vector<int>& order) {
   rm3d::HomeRanges homes;
   homes.begin(n, tasks, chunk);
   std::vector<int> taker(size_t(n), -1), first(size_t(tasks), -1);

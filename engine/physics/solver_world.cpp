@@ -23,8 +23,8 @@ int islandOf(const btTypedConstraint* c) {
 }
 
 struct IslandOrder {
-  bool operator()(const btTypedConstraint* l, const btTypedConstraint* r) const {
-    return islandOf(l) < islandOf(r);
+  bool operator()(const SolverWorld::IslandJoint& l, const SolverWorld::IslandJoint& r) const {
+    return l.island < r.island;
   }
 };
 
@@ -129,6 +129,119 @@ class ContactIslands : public btSimulationIslandManager {
         getUnionFind().unite(a->getIslandTag(), b->getIslandTag());
     }
   }
+
+  /// As btSimulationIslandManager::buildAndProcessIslands (Bullet 3.24, split islands), with the
+  /// manifolds sorted by island on their island ids side by side, each read once: Bullet's sort
+  /// read two bodies per comparison, scattered over memory, and grew faster than the world. The
+  /// sort is Bullet's own (btAlignedObjectArray::quickSort), on the same keys in the same first
+  /// order, so it makes the same order, and the batches are the same bits.
+  void buildAndProcess(btDispatcher* dispatcher, btCollisionWorld* world, IslandCallback* callback) {
+    btCollisionObjectArray& objects = world->getCollisionObjectArray();
+    btUnionFind& islands = getUnionFind();
+    {
+      BT_PROFILE("islandUnionFindAndQuickSort");
+      islands.sortIslands();
+      const int count = islands.getNumElements();
+      for (int start = 0, end = 1; start < count; start = end) {
+        const int id = islands.getElement(start).m_id;
+        for (end = start + 1; end < count && islands.getElement(end).m_id == id; ++end) {
+        }
+        bool allSleeping = true;
+        for (int k = start; k < end && allSleeping; ++k) {
+          const btCollisionObject* o = objects[islands.getElement(k).m_sz];
+          if (o->getIslandTag() == id &&
+              (o->getActivationState() == ACTIVE_TAG || o->getActivationState() == DISABLE_DEACTIVATION))
+            allSleeping = false;
+        }
+        for (int k = start; k < end; ++k) {
+          btCollisionObject* o = objects[islands.getElement(k).m_sz];
+          if (o->getIslandTag() != id) continue;
+          if (allSleeping) {
+            o->setActivationState(ISLAND_SLEEPING);
+          } else if (o->getActivationState() == ISLAND_SLEEPING) {
+            o->setActivationState(WANTS_DEACTIVATION);
+            o->setDeactivationTime(btScalar(0));
+          }
+        }
+      }
+      m_manifolds.resize(0);
+      const bool deterministic = world->getDispatchInfo().m_deterministicOverlappingPairs;
+      for (int i = 0; i < dispatcher->getNumManifolds(); ++i) {
+        btPersistentManifold* m = dispatcher->getManifoldByIndexInternal(i);
+        if (deterministic && m->getNumContacts() == 0) continue;
+        btCollisionObject* a = const_cast<btCollisionObject*>(m->getBody0());
+        btCollisionObject* b = const_cast<btCollisionObject*>(m->getBody1());
+        if (a->getActivationState() == ISLAND_SLEEPING && b->getActivationState() == ISLAND_SLEEPING)
+          continue;
+        if (a->isKinematicObject() && a->getActivationState() != ISLAND_SLEEPING && a->hasContactResponse())
+          b->activate();
+        if (b->isKinematicObject() && b->getActivationState() != ISLAND_SLEEPING && b->hasContactResponse())
+          a->activate();
+        if (getSplitIslands() && dispatcher->needsResponse(a, b))
+          m_manifolds.push_back({a->getIslandTag() >= 0 ? a->getIslandTag() : b->getIslandTag(), m});
+      }
+    }
+    BT_PROFILE("processIslands");
+    const int count = islands.getNumElements();
+    if (!getSplitIslands()) {
+      callback->processIsland(objects.size() ? &objects[0] : nullptr, objects.size(),
+                              dispatcher->getInternalManifoldPointer(), dispatcher->getNumManifolds(), -1);
+      return;
+    }
+    if (deterministicOrder(world)) {
+      m_manifolds.quickSort(DeterministicOrder());
+    } else {
+      m_manifolds.quickSort(KeyOrder());
+    }
+    const int manifolds = m_manifolds.size();
+    m_sorted.resize(manifolds);
+    for (int i = 0; i < manifolds; ++i) m_sorted[i] = m_manifolds[i].manifold;
+    int first = 0;  // the next island's manifolds start here
+    for (int start = 0, end = 1; start < count; start = end) {
+      const int id = islands.getElement(start).m_id;
+      bool sleeping = true;
+      for (end = start; end < count && islands.getElement(end).m_id == id; ++end) {
+        btCollisionObject* o = objects[islands.getElement(end).m_sz];
+        m_bodies.push_back(o);
+        if (o->isActive()) sleeping = false;
+      }
+      int last = first;
+      if (first < manifolds && m_manifolds[first].island == id)
+        for (last = first + 1; last < manifolds && m_manifolds[last].island == id; ++last) {
+        }
+      if (!sleeping)
+        callback->processIsland(&m_bodies[0], m_bodies.size(), last > first ? &m_sorted[first] : nullptr,
+                                last - first, id);
+      first = last;
+      m_bodies.resize(0);
+    }
+  }
+
+ private:
+  struct Keyed {
+    int island;
+    btPersistentManifold* manifold;
+  };
+  struct KeyOrder {
+    bool operator()(const Keyed& l, const Keyed& r) const { return l.island < r.island; }
+  };
+  /// Bullet's deterministic order (btPersistentManifoldSortPredicateDeterministic).
+  struct DeterministicOrder {
+    bool operator()(const Keyed& l, const Keyed& r) const {
+      if (l.island != r.island) return l.island < r.island;
+      const int l0 = l.manifold->getBody0()->getBroadphaseHandle()->m_uniqueId;
+      const int r0 = r.manifold->getBody0()->getBroadphaseHandle()->m_uniqueId;
+      if (l0 != r0) return l0 < r0;
+      return l.manifold->getBody1()->getBroadphaseHandle()->m_uniqueId <
+             r.manifold->getBody1()->getBroadphaseHandle()->m_uniqueId;
+    }
+  };
+  static bool deterministicOrder(btCollisionWorld* world) {
+    return world->getDispatchInfo().m_deterministicOverlappingPairs;
+  }
+  btAlignedObjectArray<Keyed> m_manifolds;
+  btAlignedObjectArray<btPersistentManifold*> m_sorted;
+  btAlignedObjectArray<btCollisionObject*> m_bodies;
 };
 
 }  // namespace
@@ -144,14 +257,19 @@ SolverWorld::SolverWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadp
 
 void SolverWorld::solveConstraints(btContactSolverInfo& info) {
   // As btDiscreteDynamicsWorld::solveConstraints, with the islands' runs found in one pass.
-  m_sortedConstraints.resize(m_constraints.size());
-  for (int i = 0; i < m_constraints.size(); ++i) m_sortedConstraints[i] = m_constraints[i];
-  m_sortedConstraints.quickSort(IslandOrder());
-  const int n = m_sortedConstraints.size();
+  // Each joint's island read once, then Bullet's sort (the same algorithm, so the same order) on
+  // the ids side by side: sorting the joints themselves read two bodies per comparison, scattered
+  // over memory (1.3 ms a substep at 10,000 modules).
+  const int n = m_constraints.size();
+  m_islandJoints.resize(n);
+  for (int i = 0; i < n; ++i) m_islandJoints[i] = {islandOf(m_constraints[i]), m_constraints[i]};
+  m_islandJoints.quickSort(IslandOrder());
+  m_sortedConstraints.resize(n);
+  for (int i = 0; i < n; ++i) m_sortedConstraints[i] = m_islandJoints[i].joint;
   m_islandStart.assign(size_t(getNumCollisionObjects()) + 1, -1);
   m_islandCount.assign(m_islandStart.size(), 0);
   for (int i = 0; i < n; ++i) {
-    const int island = islandOf(m_sortedConstraints[i]);
+    const int island = m_islandJoints[i].island;
     if (island < 0) continue;
     if (size_t(island) >= m_islandStart.size()) {
       m_islandStart.resize(size_t(island) + 1, -1);
@@ -166,7 +284,7 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
   Batches batches(*m_constraintSolver, info, getDebugDrawer(), getDispatcher(), sorted, n, m_islandStart,
                   m_islandCount, parallel ? &m_batches : nullptr, &count);
   m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
-  m_islandManager->buildAndProcessIslands(getDispatcher(), this, &batches);
+  static_cast<ContactIslands*>(m_islandManager)->buildAndProcess(getDispatcher(), this, &batches);
   batches.flush();
   if (parallel && count > 0) solveBatches(info, count);
   m_constraintSolver->allSolved(info, m_debugDrawer);

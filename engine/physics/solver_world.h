@@ -43,6 +43,10 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
     btAlignedObjectArray<btPersistentManifold*> manifolds;
     btAlignedObjectArray<btTypedConstraint*> constraints;
   };
+  struct IslandJoint {  ///< a joint and its island, to sort by
+    int island;
+    btTypedConstraint* joint;
+  };
 
  protected:
   void solveConstraints(btContactSolverInfo& info) override;
@@ -72,7 +76,8 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   template <class Fn>
   int forEachBody(Pace& pace, const Fn& fn);
 
-  std::vector<int> m_islandStart, m_islandCount;  ///< by island id: its run in m_sortedConstraints
+  btAlignedObjectArray<IslandJoint> m_islandJoints;  ///< the joints by island, sorted
+  std::vector<int> m_islandStart, m_islandCount;     ///< by island id: its run in m_sortedConstraints
   ExactSolver* m_primary = nullptr;
   std::vector<ExactSolver*> m_helpers;
   Tasks m_tasks;

@@ -5,6 +5,7 @@
 #include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <algorithm>
 
@@ -66,6 +67,16 @@ void TaskDispatcher::freeCollisionAlgorithm(void* ptr) {
   if (!m_deferring) return btCollisionDispatcher::freeCollisionAlgorithm(ptr);
   std::lock_guard<std::mutex> hold(m_mutex);
   btCollisionDispatcher::freeCollisionAlgorithm(ptr);
+}
+
+bool TaskDispatcher::needsCollision(const btCollisionObject* body0, const btCollisionObject* body1) {
+  if (!body0->isActive() && !body1->isActive()) return false;
+  auto jointless = [](const btCollisionObject* o) {
+    const btRigidBody* rb = btRigidBody::upcast(o);
+    return rb && rb->getNumConstraintRefs() == 0;
+  };
+  if (jointless(body0) || jointless(body1)) return true;
+  return body0->checkCollideWith(body1) && body1->checkCollideWith(body0);
 }
 
 void TaskDispatcher::runPairs(int t, btBroadphasePairArray& pairs, const btDispatcherInfo& info) {

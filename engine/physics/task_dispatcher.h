@@ -46,6 +46,13 @@ class TaskDispatcher : public btCollisionDispatcher {
   void releaseManifold(btPersistentManifold* manifold) override;
   void* allocateCollisionAlgorithm(int size) override;
   void freeCollisionAlgorithm(void* ptr) override;
+  /// As Bullet's, without searching a body's list of the bodies it ignores where the other body
+  /// has no joint: every joint here is added with collisions between its bodies off
+  /// (btDiscreteDynamicsWorld::addConstraint(c, true)), which lists it on both bodies and makes each
+  /// ignore the other, so a rigid body that lists no joint (the ground, most obstacles) is in no
+  /// body's list. The search read a list kept apart in memory for every pair with the ground: 3%
+  /// of a superbots_1000 step.
+  bool needsCollision(const btCollisionObject* body0, const btCollisionObject* body1) override;
   /// Pairs the last dispatch ran on the threads (0: Bullet's loop ran them).
   int threadedPairs() const { return m_threadedPairs; }
 

@@ -285,9 +285,8 @@ struct PhysicsWorld::Impl {
   bool contactTracking = false;
   std::vector<char> partTouching;
   // The passes of a step over every hinge and every manifold, on the worker threads where they
-  // pay (solver_world.h's forEachIndex, the same bits either way).
+  // pay (SolverWorld::forEachIndex, the same bits either way).
   Pace anglePace, touchPace;
-  HomeRanges homes;
   mutable std::mutex rayMutex;  // Debian's Bullet shares one ray-test stack per broadphase
   // Particle colliders: each hull shape's planes (part, shape ->
   // first plane and count in hullPlanes), found once per part.
@@ -347,20 +346,6 @@ struct PhysicsWorld::Impl {
     partShapes.push_back(makeShape(d, data));
     convexShapes.emplace(std::move(key), partShapes.back());
     return partShapes.back();
-  }
-
-  /// fn(i) for every i in [0, n): on the worker threads where there are any, n is large enough
-  /// and the clock says it pays (each index on the same thread from one step to the next), else
-  /// here in order. fn(i) must touch only what index i owns.
-  template <class Fn>
-  void forEachIndex(Pace& pace, int n, int chunk, const Fn& fn) {
-    auto alone = [&] {
-      for (int i = 0; i < n; ++i) fn(i);
-    };
-    if (!tasks || helpers.empty() || n < 4 * chunk) return alone();
-    runPaced(
-        pace, settings.alwaysThreads, [&] { homes.forEach(tasks, 1 + int(helpers.size()), n, chunk, fn); },
-        alone);
   }
 
   void destroyBody(Body& b) {
@@ -1261,7 +1246,7 @@ void PhysicsWorld::step(double dt, int substeps) {
       m->solver.followPatchPoses();
     }
     // Each hinge's load and angle (each hinge writes only its own).
-    m->forEachIndex(m->anglePace, int(m->hinges.size()), 64, [&](int i) {
+    m->world.forEachIndex(m->anglePace, int(m->hinges.size()), 64, [&](int i) {
       Impl::Hinge& hg = m->hinges[size_t(i)];
       if (exact && hg.link) {
         const ExactJoint& e = m->solver.joints[size_t(i)];
@@ -1279,7 +1264,7 @@ void PhysicsWorld::step(double dt, int substeps) {
     auto touch = [&](int p) {
       if (p >= 0) std::atomic_ref<char>(m->partTouching[size_t(p)]).store(1, std::memory_order_relaxed);
     };
-    m->forEachIndex(m->touchPace, m->dispatcher.getNumManifolds(), 64, [&](int i) {
+    m->world.forEachIndex(m->touchPace, m->dispatcher.getNumManifolds(), 64, [&](int i) {
       const btPersistentManifold* man = m->dispatcher.getManifoldByIndexInternal(i);
       const int b0 = man->getBody0()->getUserIndex(), b1 = man->getBody1()->getUserIndex();
       for (int k = 0; k < man->getNumContacts(); ++k) {

@@ -138,10 +138,11 @@ class ContactIslands : public btSimulationIslandManager {
   void buildAndProcess(btDispatcher* dispatcher, btCollisionWorld* world, IslandCallback* callback) {
     btCollisionObjectArray& objects = world->getCollisionObjectArray();
     btUnionFind& islands = getUnionFind();
+    const bool deterministic = world->getDispatchInfo().m_deterministicOverlappingPairs;
+    const int count = islands.getNumElements();
     {
       BT_PROFILE("islandUnionFindAndQuickSort");
       islands.sortIslands();
-      const int count = islands.getNumElements();
       for (int start = 0, end = 1; start < count; start = end) {
         const int id = islands.getElement(start).m_id;
         for (end = start + 1; end < count && islands.getElement(end).m_id == id; ++end) {
@@ -165,7 +166,6 @@ class ContactIslands : public btSimulationIslandManager {
         }
       }
       m_manifolds.resize(0);
-      const bool deterministic = world->getDispatchInfo().m_deterministicOverlappingPairs;
       for (int i = 0; i < dispatcher->getNumManifolds(); ++i) {
         btPersistentManifold* m = dispatcher->getManifoldByIndexInternal(i);
         if (deterministic && m->getNumContacts() == 0) continue;
@@ -182,17 +182,15 @@ class ContactIslands : public btSimulationIslandManager {
       }
     }
     BT_PROFILE("processIslands");
-    const int count = islands.getNumElements();
     if (!getSplitIslands()) {
       callback->processIsland(objects.size() ? &objects[0] : nullptr, objects.size(),
                               dispatcher->getInternalManifoldPointer(), dispatcher->getNumManifolds(), -1);
       return;
     }
-    if (deterministicOrder(world)) {
+    if (deterministic)
       m_manifolds.quickSort(DeterministicOrder());
-    } else {
+    else
       m_manifolds.quickSort(KeyOrder());
-    }
     const int manifolds = m_manifolds.size();
     m_sorted.resize(manifolds);
     for (int i = 0; i < manifolds; ++i) m_sorted[i] = m_manifolds[i].manifold;
@@ -236,9 +234,6 @@ class ContactIslands : public btSimulationIslandManager {
              r.manifold->getBody1()->getBroadphaseHandle()->m_uniqueId;
     }
   };
-  static bool deterministicOrder(btCollisionWorld* world) {
-    return world->getDispatchInfo().m_deterministicOverlappingPairs;
-  }
   btAlignedObjectArray<Keyed> m_manifolds;
   btAlignedObjectArray<btPersistentManifold*> m_sorted;
   btAlignedObjectArray<btCollisionObject*> m_bodies;
@@ -291,22 +286,9 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
 }
 
 template <class Fn>
-int SolverWorld::forEachIndex(Pace& pace, int n, const Fn& fn) {
-  auto alone = [&] {
-    for (int i = 0; i < n; ++i) fn(i);
-  };
-  if (m_helpers.empty() || !m_tasks || n < 4 * kChunk) {
-    alone();
-    return 0;
-  }
-  auto threads = [&] { m_homes.forEach(m_tasks, 1 + int(m_helpers.size()), n, kChunk, fn); };
-  return runPaced(pace, m_alwaysThreads, threads, alone) ? n : 0;
-}
-
-template <class Fn>
 int SolverWorld::forEachBody(Pace& pace, const Fn& fn) {
   btRigidBody** bodies = m_nonStaticRigidBodies.size() ? &m_nonStaticRigidBodies[0] : nullptr;
-  return forEachIndex(pace, m_nonStaticRigidBodies.size(), [&](int i) { fn(bodies[i]); });
+  return forEachIndex(pace, m_nonStaticRigidBodies.size(), kChunk, [&](int i) { fn(bodies[i]); });
 }
 
 void SolverWorld::updateAabbs() {
@@ -319,7 +301,7 @@ void SolverWorld::updateAabbs() {
   if (m_boxes.size() < n) m_boxes.resize(n);
   const bool continuous = getDispatchInfo().m_useContinuous;
   const bool dbvt = dynamic_cast<btDbvtBroadphase*>(getBroadphase()) != nullptr;
-  forEachIndex(m_boxPace, n, [&](int i) {
+  forEachIndex(m_boxPace, n, kChunk, [&](int i) {
     const btCollisionObject* o = m_collisionObjects[i];
     Box& b = m_boxes[i];
     b.update = m_forceUpdateAllAabbs || o->isActive();

@@ -43,6 +43,22 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
     btAlignedObjectArray<btPersistentManifold*> manifolds;
     btAlignedObjectArray<btTypedConstraint*> constraints;
   };
+  /// fn(i) for i in [0, n), `chunk` at a time: on the batch solvers' threads (each index on the
+  /// same thread from one call to the next, core/home_ranges.h) when there are threads, n is at
+  /// least 4 chunks and `pace` says it pays (always with setAlwaysThreads), else here in order.
+  /// fn(i) must touch only what index i owns. Returns how many went to the threads (0: none).
+  template <class Fn>
+  int forEachIndex(Pace& pace, int n, int chunk, const Fn& fn) {
+    auto alone = [&] {
+      for (int i = 0; i < n; ++i) fn(i);
+    };
+    if (m_helpers.empty() || !m_tasks || n < 4 * chunk) {
+      alone();
+      return 0;
+    }
+    auto threads = [&] { m_homes.forEach(m_tasks, 1 + int(m_helpers.size()), n, chunk, fn); };
+    return runPaced(pace, m_alwaysThreads, threads, alone) ? n : 0;
+  }
   struct IslandJoint {  ///< a joint and its island, to sort by
     int island;
     btTypedConstraint* joint;
@@ -68,10 +84,6 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
  private:
   void solveBatches(btContactSolverInfo& info, int count);
   static constexpr int kChunk = 256;  ///< bodies (objects) a thread takes at a time
-  /// fn(i) for i in [0, n), on the threads when n is large and `pace` says it pays; returns how
-  /// many went to the threads (0: all on this one).
-  template <class Fn>
-  int forEachIndex(Pace& pace, int n, const Fn& fn);
   /// fn(body) for every non-static rigid body, as forEachIndex.
   template <class Fn>
   int forEachBody(Pace& pace, const Fn& fn);

@@ -19,7 +19,6 @@ inline void cpuRelax() {
 BehaviourPool::BehaviourPool(int threads, int chunk) : m_chunk(chunk < 1 ? 1 : chunk) {
   const unsigned cores = std::thread::hardware_concurrency();
   m_watch = threads > 1 && cores > 0 && unsigned(threads) <= cores;
-  m_claimed = std::make_unique<std::atomic<bool>[]>(size_t(threads < 1 ? 1 : threads));
   for (int i = 1; i < threads; ++i) m_workers.emplace_back([this, i] { work(i); });
 }
 
@@ -48,13 +47,6 @@ void BehaviourPool::await(std::condition_variable& cv, const Done& done) {
 }
 
 void BehaviourPool::drain(int self) {
-  if (m_own) {  // one task a thread: each its own first, then any another has not started
-    for (int k = 0; k < m_n; ++k) {
-      const int i = (self + k) % m_n;
-      if (!m_claimed[size_t(i)].exchange(true, std::memory_order_acq_rel)) (*m_fn)(i);
-    }
-    return;
-  }
   m_homes.run(self, [this](int begin, int end) {
     for (int i = begin; i < end; ++i) (*m_fn)(i);
   });
@@ -69,11 +61,7 @@ void BehaviourPool::run(int n, const std::function<void(int)>& fn, int chunk) {
   {
     std::lock_guard<std::mutex> lock(m_mutex);
     m_fn = &fn;
-    m_n = n;
-    m_own = c == 1 && n <= threads();
-    if (m_own)
-      for (int i = 0; i < n; ++i) m_claimed[size_t(i)].store(false, std::memory_order_relaxed);
-    if (!m_own) m_homes.begin(n, threads(), c);
+    m_homes.begin(n, threads(), c);
     m_busy.store(int(m_workers.size()));
     m_generation.fetch_add(1, std::memory_order_release);  // (the run's fields are set before)
   }

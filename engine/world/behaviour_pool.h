@@ -6,7 +6,6 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
-#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -26,7 +25,7 @@ class BehaviourPool {
 
   /// Calls fn(i) for every i in [0, n) and returns when all calls are done; `chunk` > 0 overrides
   /// the pool's chunk for this call (1: each index taken alone, for n coarse blocks of work; with
-  /// no more indices than threads, index k always runs on the same thread: 0 on the caller).
+  /// no more indices than threads, index k starts on the k-th thread: 0 on the caller).
   void run(int n, const std::function<void(int)>& fn, int chunk = 0);
   int threads() const { return int(m_workers.size()) + 1; }
 
@@ -49,16 +48,13 @@ class BehaviourPool {
   std::mutex m_mutex;
   std::condition_variable m_wake, m_done;
   const std::function<void(int)>* m_fn = nullptr;
-  int m_n = 0;
   int m_chunk = 16;
-  // The run under way is one task a thread (chunk 1, no more tasks than threads): the k-th thread
-  // starts with task k, run after run, so the data a task keeps from one run to the next (a
-  // thread's solver, its share of the bodies) stays in that core's cache instead of crossing to
-  // another; a thread done with its own takes any task whose thread has not yet started it.
-  bool m_own = false;
-  std::unique_ptr<std::atomic<bool>[]> m_claimed;  // per task of such a run: started
-  bool m_watch = false;                            // fewer threads than cores: waits watch a while first
-  HomeRanges m_homes;  // the run's indices, a range per thread (a module's VM stays on one core)
+  bool m_watch = false;  // fewer threads than cores: waits watch a while first
+  // The run's indices, a range per thread: a module's VM stays on one core from run to run, and in
+  // a run of one task a thread (chunk 1, no more tasks than threads) the k-th thread starts with
+  // task k, so the data a task keeps (a thread's solver, its share of the bodies) stays in that
+  // core's cache; a thread done with its own takes what another has not started.
+  HomeRanges m_homes;
   std::atomic<int> m_busy{0};
   std::atomic<uint64_t> m_generation{0};
   std::atomic<bool> m_quit{false};

@@ -52,6 +52,21 @@ TEST_CASE("each task starts on its own range, then takes what is left of the oth
   CHECK(chunks == expect);
 }
 
+TEST_CASE("with no more items than tasks, item i is task i's") {
+  for (int n : {1, 2, 3, 4}) {
+    for (int t = 0; t < 4; ++t) {
+      // Task t comes first: it takes its own item, or (none of its own) the first other in turn.
+      rm3d::HomeRanges homes;
+      homes.begin(n, 4, 1);
+      int first = -1;
+      homes.run(t, [&](int b, int) {
+        if (first < 0) first = b;
+      });
+      CHECK(first == (t < n ? t : 0));
+    }
+  }
+}
+
 TEST_CASE("a task whose thread never comes leaves nothing undone") {
   for (int tasks : {1, 2, 3, 8}) {
     for (int n : {0, 1, 7, 64, 1001}) {

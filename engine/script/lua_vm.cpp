@@ -267,8 +267,7 @@ void LuaVm::hook(lua_State* L, lua_Debug*) {
   vm->m_count += n;
   if (n != kHookInterval) lua_sethook(L, &LuaVm::hook, LUA_MASKCOUNT, kHookInterval);
   if (vm->m_budget > 0 && vm->m_count > vm->m_budget) vm->abort(L, Abort::Budget);
-  if (vm->m_interruptStamp.load(std::memory_order_relaxed) == vm->m_stamp.load(std::memory_order_relaxed))
-    vm->abort(L, Abort::Watchdog);
+  if (vm->m_interruptStamp.load(std::memory_order_relaxed) == vm->stamp()) vm->abort(L, Abort::Watchdog);
 }
 
 void LuaVm::charge(lua_State* L, int64_t n, const char* what) {
@@ -279,8 +278,7 @@ void LuaVm::charge(lua_State* L, int64_t n, const char* what) {
     if (vm->m_budget > 0 && vm->m_count > vm->m_budget) {
       vm->m_abort = Abort::Budget;
       vm->m_abortWhat = what;
-    } else if (vm->m_interruptStamp.load(std::memory_order_relaxed) ==
-               vm->m_stamp.load(std::memory_order_relaxed)) {
+    } else if (vm->m_interruptStamp.load(std::memory_order_relaxed) == vm->stamp()) {
       vm->m_abort = Abort::Watchdog;
       vm->noteWatchdogStop();
     }
@@ -317,9 +315,11 @@ LuaVm::~LuaVm() {
 
 void LuaVm::setWatchdog(Watchdog* w) {
   if (m_watchdog == w) return;
-  if (m_watchdog) m_watchdog->remove(this);
+  const uint64_t stamp = this->stamp();
+  if (m_watchdog) m_watchdog->remove(m_slotIndex);
   m_watchdog = w;
-  if (m_watchdog) m_watchdog->add(this);
+  m_ownSlot.stamp.store(stamp, std::memory_order_relaxed);
+  m_slot = m_watchdog ? m_watchdog->add(this, stamp, m_slotIndex) : &m_ownSlot;
 }
 
 LuaVm* LuaVm::from(lua_State* L) {
@@ -415,21 +415,26 @@ void LuaVm::beginCall(const char* what) {
   m_what.store(what, std::memory_order_relaxed);
   m_outer = tlCurrent;
   tlCurrent = this;
-  if (m_outer) {
-    m_outer->m_busy.store(false, std::memory_order_relaxed);
-    m_outer->m_stamp.store(m_outer->m_stamp.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+  if (m_outer) m_outer->publish(false);
+  publish(true);
+}
+
+void LuaVm::publish(bool busy) {
+  // Busy after the new stamp, idle before it: the watchdog never sees the old stamp busy again.
+  if (busy) {
+    m_slot->stamp.store(stamp() + 1, std::memory_order_relaxed);
+    m_slot->busy.store(true, std::memory_order_relaxed);
+  } else {
+    m_slot->busy.store(false, std::memory_order_relaxed);
+    m_slot->stamp.store(stamp() + 1, std::memory_order_relaxed);
   }
-  m_stamp.store(m_stamp.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
-  m_busy.store(true, std::memory_order_relaxed);
 }
 
 void LuaVm::endCall() {
-  m_busy.store(false, std::memory_order_relaxed);
-  m_stamp.store(m_stamp.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+  publish(false);
   tlCurrent = m_outer;
   if (m_outer) {
-    m_outer->m_stamp.store(m_outer->m_stamp.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
-    m_outer->m_busy.store(true, std::memory_order_relaxed);
+    m_outer->publish(true);
     m_outer = nullptr;
   }
   if (m_abort != Abort::None) {

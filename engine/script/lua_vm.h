@@ -24,13 +24,13 @@
 #include <vector>
 
 #include "core/text_file.h"
+#include "script/watchdog.h"
 
 struct lua_State;
 struct lua_Debug;
 
 namespace rm3d {
 
-class Watchdog;
 class SourceFiles;
 
 class LuaVm {
@@ -97,9 +97,9 @@ class LuaVm {
 
   // For the watchdog (read from its thread).
   /// Changes at every call begin and end and when a nested call on another VM starts or ends.
-  uint64_t stamp() const { return m_stamp.load(std::memory_order_relaxed); }
+  uint64_t stamp() const { return m_slot->stamp.load(std::memory_order_relaxed); }
   /// True while an outermost call runs and no nested call of another VM runs under it.
-  bool busy() const { return m_busy.load(std::memory_order_relaxed); }
+  bool busy() const { return m_slot->busy.load(std::memory_order_relaxed); }
   /// Asks the call identified by `stamp` to stop (no effect if it has returned meanwhile).
   void interrupt(uint64_t stamp, double seconds);
   /// A limit tripped in the current call (every further instruction raises).
@@ -121,6 +121,8 @@ class LuaVm {
   void openSandbox();
   void beginCall(const char* what);
   void endCall();
+  /// A new stamp, and busy or not (beginCall, endCall).
+  void publish(bool busy);
 
   lua_State* m_L = nullptr;
   size_t m_limit = 0;
@@ -135,9 +137,10 @@ class LuaVm {
   void* m_user = nullptr;
   Watchdog* m_watchdog = nullptr;
   SourceFiles* m_sources = nullptr;
-  LuaVm* m_outer = nullptr;  ///< the VM whose call this thread was in when ours began
-  std::atomic<uint64_t> m_stamp{0};
-  std::atomic<bool> m_busy{false};
+  LuaVm* m_outer = nullptr;        ///< the VM whose call this thread was in when ours began
+  WatchSlot m_ownSlot;             ///< the stamp and busy flag while no watchdog watches
+  WatchSlot* m_slot = &m_ownSlot;  ///< where they are now (the watchdog's slot while it watches)
+  int m_slotIndex = -1;            ///< the watchdog's number for m_slot
   std::atomic<uint64_t> m_interruptStamp{~uint64_t(0)};
   std::atomic<double> m_interruptSeconds{0};
   std::atomic<const char*> m_what{nullptr};

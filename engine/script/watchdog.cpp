@@ -24,16 +24,27 @@ Watchdog::~Watchdog() {
   m_thread.join();
 }
 
-void Watchdog::add(LuaVm* vm) {
+WatchSlot* Watchdog::add(LuaVm* vm, uint64_t stamp, int& index) {
   std::lock_guard<std::mutex> lock(m_mutex);
-  m_entries.push_back(Entry{vm, vm->stamp(), 0.0, false});
+  if (!m_free.empty()) {
+    index = m_free.back();
+    m_free.pop_back();
+  } else {
+    index = int(m_entries.size());
+    if (index % kChunk == 0) m_slots.push_back(std::make_unique<WatchSlot[]>(kChunk));
+    m_entries.push_back(Entry{});
+  }
+  WatchSlot& s = slot(index);
+  s.stamp.store(stamp, std::memory_order_relaxed);
+  s.busy.store(false, std::memory_order_relaxed);
+  m_entries[size_t(index)] = Entry{vm, stamp, 0.0, false};
+  return &s;
 }
 
-void Watchdog::remove(LuaVm* vm) {
+void Watchdog::remove(int index) {
   std::lock_guard<std::mutex> lock(m_mutex);
-  m_entries.erase(
-      std::remove_if(m_entries.begin(), m_entries.end(), [vm](const Entry& e) { return e.vm == vm; }),
-      m_entries.end());
+  m_entries[size_t(index)].vm = nullptr;
+  m_free.push_back(index);
 }
 
 void Watchdog::run() {
@@ -48,13 +59,15 @@ void Watchdog::run() {
     const auto now = Clock::now();
     const double elapsed = std::chrono::duration<double>(now - last).count();
     last = now;
-    for (Entry& e : m_entries) {
-      const uint64_t stamp = e.vm->stamp();
-      const bool busy = e.vm->busy();
-      if (!busy || stamp != e.stamp || e.vm->stamp() != stamp) {
-        e.stamp = e.vm->stamp();
-        e.busyFor = 0;
-        e.fired = false;
+    for (size_t i = 0; i < m_entries.size(); ++i) {
+      Entry& e = m_entries[i];
+      if (!e.vm) continue;
+      const WatchSlot& s = slot(int(i));
+      const uint64_t stamp = s.stamp.load(std::memory_order_relaxed);
+      const bool busy = s.busy.load(std::memory_order_relaxed);
+      if (!busy || stamp != e.stamp || s.stamp.load(std::memory_order_relaxed) != stamp) {
+        const uint64_t last = s.stamp.load(std::memory_order_relaxed);
+        if (e.busyFor != 0 || e.fired || e.stamp != last) e = Entry{e.vm, last, 0.0, false};
         continue;
       }
       e.busyFor += elapsed;

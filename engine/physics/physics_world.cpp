@@ -323,6 +323,8 @@ struct PhysicsWorld::Impl {
       bool processOverlap(btBroadphasePair&) override { return true; }
     } all;
     world.getPairCache()->processAllOverlappingPairs(&all, &dispatcher);
+    // Then the joints and bodies out of the world (the removals below then find nothing to do).
+    world.removeAllJointsAndBodies();
     for (Capture& c : captures) removeCaptureLink(c);
     for (Hinge& h : hinges) removeHinge(h);
     for (Body& b : bodies) destroyBody(b);

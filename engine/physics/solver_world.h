@@ -36,6 +36,16 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   /// Every pass that can go to the threads goes there, not only where the clock says it pays
   /// (tests: core/pace.h).
   void setAlwaysThreads(bool always) { m_alwaysThreads = always; }
+  /// Takes every joint and rigid body out of the world (a teardown) in the order that keeps
+  /// Bullet's searches short: its lists are searched from the front and a removal moves the last
+  /// entry to the hole, so removing the first entry each time costs O(1). Removed in any other
+  /// order, each removal searched the whole list: 0.3 s of a 10,000-module world's teardown.
+  void removeAllJointsAndBodies() {
+    while (getNumConstraints() > 0) removeConstraint(getConstraint(0));
+    while (m_nonStaticRigidBodies.size() > 0) removeRigidBody(m_nonStaticRigidBodies[0]);
+    for (int i = m_collisionObjects.size(); i-- > 0;)
+      if (btRigidBody* rb = btRigidBody::upcast(m_collisionObjects[i])) removeRigidBody(rb);
+  }
   /// Bodies the last integration ran on the worker threads (0: one loop on this thread).
   int threadedBodies() const { return m_threadedBodies; }
   struct Batch {

@@ -13,10 +13,10 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "physics/body_pool.h"
 #include "physics/cloth_system.h"
 #include "physics/exact_solver.h"
 #include "physics/plane_contacts.h"
+#include "physics/slot_pool.h"
 #include "physics/solver_world.h"
 #include "physics/task_dispatcher.h"
 
@@ -234,12 +234,13 @@ struct PhysicsWorld::Impl {
 
   /// Bullet's defaults keep 4096 contact manifolds and 4096 pair algorithms in pools made with the
   /// world, 4.5 MB written through at once: 5 to 20 ms of page faults for every world made, most of
-  /// the cost of a small world (a Batch of 64 holds 288 MB of them). 1024 of each cover a few hundred
-  /// modules; beyond that Bullet takes more from the heap as pairs meet, as it did past 4096.
+  /// the cost of a small world (a Batch of 64 held 288 MB of them). The dispatcher takes both from
+  /// pools of its own that grow as pairs meet (physics/slot_pool.h); the configuration's pools are
+  /// made with room for one of each (only the algorithms' slot size is read from it).
   static btDefaultCollisionConstructionInfo poolSizes() {
     btDefaultCollisionConstructionInfo ci;
-    ci.m_defaultMaxPersistentManifoldPoolSize = 1024;
-    ci.m_defaultMaxCollisionAlgorithmPoolSize = 1024;
+    ci.m_defaultMaxPersistentManifoldPoolSize = 1;
+    ci.m_defaultMaxCollisionAlgorithmPoolSize = 1;
     return ci;
   }
 
@@ -258,7 +259,11 @@ struct PhysicsWorld::Impl {
   std::optional<double> groundFriction;  // set by addGroundPlane: the ground is there (cloth, particles)
   OwnerFilter filter;
   std::vector<Part> parts;
-  BodyPool bodyPool;  // the bodies' memory, side by side (declared before `bodies`: it outlives them)
+  // The bodies' memory, side by side (declared before `bodies`: it outlives them). Bullet's
+  // per-substep passes (integration, bounding boxes, islands, the hinge loops) touch every body
+  // once; allocated one at a time among the world's other allocations, 40,000 bodies lay
+  // scattered over hundreds of megabytes and every pass streamed them from memory.
+  SlotPool bodyPool{sizeof(btRigidBody), 256};
   std::vector<Body> bodies;
   struct Capture {
     CaptureDesc d;
@@ -353,7 +358,8 @@ struct PhysicsWorld::Impl {
   void destroyBody(Body& b) {
     if (!b.rb) return;
     world.removeRigidBody(b.rb);
-    bodyPool.destroy(b.rb);
+    b.rb->~btRigidBody();
+    bodyPool.give(b.rb);
     delete b.compound;
     b.rb = nullptr;
     b.compound = nullptr;
@@ -452,7 +458,7 @@ struct PhysicsWorld::Impl {
     // ball set spinning in place spins for ever and keeps everything near it awake.
     ci.m_rollingFriction = btScalar(parts[ids[0]].rollingFriction);
     ci.m_spinningFriction = btScalar(parts[ids[0]].rollingFriction);
-    b.rb = bodyPool.make(ci);
+    b.rb = new (bodyPool.take(sizeof(btRigidBody))) btRigidBody(ci);
     b.rb->setUserIndex(index);
     for (int id : ids)
       for (const ShapeData& d : parts[id].shapeData)

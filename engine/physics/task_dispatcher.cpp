@@ -3,9 +3,12 @@
 
 #include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
 #include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
+#include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/CollisionShapes/btCollisionShape.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <LinearMath/btPoolAllocator.h>
 
 #include <algorithm>
 
@@ -19,6 +22,37 @@ constexpr int kMinParallelPairs = 256;
 constexpr int kChunk = 32;
 
 }  // namespace
+
+TaskDispatcher::TaskDispatcher(btCollisionConfiguration* config)
+    : btCollisionDispatcher(config),
+      m_manifolds(sizeof(btPersistentManifold), 256),
+      m_algorithms(size_t(config->getCollisionAlgorithmPool()->getElementSize()), 256) {}
+
+btPersistentManifold* TaskDispatcher::makeManifold(const btCollisionObject* body0,
+                                                   const btCollisionObject* body1) {
+  const btScalar breaking =
+      (m_dispatcherFlags & CD_USE_RELATIVE_CONTACT_BREAKING_THRESHOLD)
+          ? btMin(body0->getCollisionShape()->getContactBreakingThreshold(gContactBreakingThreshold),
+                  body1->getCollisionShape()->getContactBreakingThreshold(gContactBreakingThreshold))
+          : gContactBreakingThreshold;
+  const btScalar processing =
+      btMin(body0->getContactProcessingThreshold(), body1->getContactProcessingThreshold());
+  auto* m = new (m_manifolds.take(sizeof(btPersistentManifold)))
+      btPersistentManifold(body0, body1, 0, breaking, processing);
+  m->m_index1a = m_manifoldsPtr.size();
+  m_manifoldsPtr.push_back(m);
+  return m;
+}
+
+void TaskDispatcher::freeManifold(btPersistentManifold* manifold) {
+  clearManifold(manifold);
+  const int i = manifold->m_index1a;
+  m_manifoldsPtr.swap(i, m_manifoldsPtr.size() - 1);
+  m_manifoldsPtr[i]->m_index1a = i;
+  m_manifoldsPtr.pop_back();
+  manifold->~btPersistentManifold();
+  m_manifolds.give(manifold);
+}
 
 void TaskDispatcher::setTasks(int threads, Tasks tasks) {
   m_threads = tasks ? std::max(1, threads) : 1;
@@ -41,11 +75,11 @@ void TaskDispatcher::note(btPersistentManifold* manifold, bool release) {
 
 btPersistentManifold* TaskDispatcher::getNewManifold(const btCollisionObject* body0,
                                                      const btCollisionObject* body1) {
-  if (!m_deferring || !lane()) return btCollisionDispatcher::getNewManifold(body0, body1);
+  if (!m_deferring || !lane()) return makeManifold(body0, body1);
   btPersistentManifold* m;
   {
     std::lock_guard<std::mutex> hold(m_mutex);
-    m = btCollisionDispatcher::getNewManifold(body0, body1);
+    m = makeManifold(body0, body1);
     m_manifoldsPtr.pop_back();  // listed later, in pair order
   }
   note(m, false);
@@ -53,20 +87,20 @@ btPersistentManifold* TaskDispatcher::getNewManifold(const btCollisionObject* bo
 }
 
 void TaskDispatcher::releaseManifold(btPersistentManifold* manifold) {
-  if (!m_deferring || !lane()) return btCollisionDispatcher::releaseManifold(manifold);
+  if (!m_deferring || !lane()) return freeManifold(manifold);
   note(manifold, true);  // cleared, unlisted and freed later, in pair order
 }
 
 void* TaskDispatcher::allocateCollisionAlgorithm(int size) {
-  if (!m_deferring) return btCollisionDispatcher::allocateCollisionAlgorithm(size);
+  if (!m_deferring) return m_algorithms.take(size_t(size));
   std::lock_guard<std::mutex> hold(m_mutex);
-  return btCollisionDispatcher::allocateCollisionAlgorithm(size);
+  return m_algorithms.take(size_t(size));
 }
 
 void TaskDispatcher::freeCollisionAlgorithm(void* ptr) {
-  if (!m_deferring) return btCollisionDispatcher::freeCollisionAlgorithm(ptr);
+  if (!m_deferring) return m_algorithms.give(ptr);
   std::lock_guard<std::mutex> hold(m_mutex);
-  btCollisionDispatcher::freeCollisionAlgorithm(ptr);
+  m_algorithms.give(ptr);
 }
 
 bool TaskDispatcher::needsCollision(const btCollisionObject* body0, const btCollisionObject* body1) {
@@ -164,7 +198,7 @@ void TaskDispatcher::dispatchOnThreads(btOverlappingPairCache* pairCache, const 
   std::sort(m_changes.begin(), m_changes.end());
   for (const Change& c : m_changes) {
     if (c.release) {
-      btCollisionDispatcher::releaseManifold(c.manifold);
+      freeManifold(c.manifold);
     } else {
       c.manifold->m_index1a = m_manifoldsPtr.size();
       m_manifoldsPtr.push_back(c.manifold);

@@ -24,6 +24,7 @@
 
 #include "core/home_ranges.h"
 #include "core/pace.h"
+#include "physics/slot_pool.h"
 
 namespace rm3d {
 
@@ -31,7 +32,9 @@ class TaskDispatcher : public btCollisionDispatcher {
  public:
   /// Runs fn(t) for t in [0, n), each on its own thread where it can.
   using Tasks = std::function<void(int n, const std::function<void(int)>& fn)>;
-  explicit TaskDispatcher(btCollisionConfiguration* config) : btCollisionDispatcher(config) {}
+  /// Manifolds and algorithms come from the dispatcher's own pools (physics/slot_pool.h), not
+  /// from the configuration's (which may be made with room for one of each).
+  explicit TaskDispatcher(btCollisionConfiguration* config);
   /// With `threads` > 1 and `tasks`, the pairs run on that many threads; otherwise on this one
   /// (as in a world with cloth: its pairs share the cloth's contact lists).
   void setTasks(int threads, Tasks tasks);
@@ -77,6 +80,9 @@ class TaskDispatcher : public btCollisionDispatcher {
   /// near callback would).
   void runPairs(int t, btBroadphasePairArray& pairs, const btDispatcherInfo& info);
   void note(btPersistentManifold* manifold, bool release);
+  /// Bullet's getNewManifold and releaseManifold (3.24), from and to m_manifolds.
+  btPersistentManifold* makeManifold(const btCollisionObject* body0, const btCollisionObject* body1);
+  void freeManifold(btPersistentManifold* manifold);
   /// The pairs on the threads (dispatchAllCollisionPairs, where they may go and it pays).
   void dispatchOnThreads(btOverlappingPairCache* pairCache, const btDispatcherInfo& info);
 
@@ -87,7 +93,9 @@ class TaskDispatcher : public btCollisionDispatcher {
   bool m_always = false;
   Pace m_pace;         // whether the threads pay
   HomeRanges m_homes;  // the pairs' ranges, one per thread
-  std::mutex m_mutex;  // the pools
+  std::mutex m_mutex;  // the pools, while the pairs run on the threads
+  SlotPool m_manifolds;
+  SlotPool m_algorithms;
   std::vector<std::unique_ptr<Lane>> m_lanes;
   std::vector<Change> m_changes;
 };

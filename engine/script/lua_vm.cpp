@@ -169,7 +169,7 @@ void* LuaVm::alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
   auto* vm = static_cast<LuaVm*>(ud);
   if (ptr == nullptr) osize = 0;  // osize encodes the object type when allocating
   if (nsize == 0) {
-    std::free(ptr);
+    vm->m_heap.realloc(ptr, osize, 0);
     vm->m_used -= osize;
     if (vm->m_memArmed && vm->m_used <= vm->m_limit) vm->m_memArmed = false;
     return nullptr;
@@ -186,7 +186,7 @@ void* LuaVm::alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
       }
     }
   }
-  void* p = std::realloc(ptr, nsize);
+  void* p = vm->m_heap.realloc(ptr, osize, nsize);
   if (p) vm->m_used = vm->m_used - osize + nsize;
   return p;
 }

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "core/text_file.h"
+#include "script/vm_heap.h"
 #include "script/watchdog.h"
 
 struct lua_State;
@@ -124,6 +125,7 @@ class LuaVm {
   /// A new stamp, and busy or not (beginCall, endCall).
   void publish(bool busy);
 
+  VmHeap m_heap;  ///< the state's memory (declared before m_L: lua_close gives it all back first)
   lua_State* m_L = nullptr;
   size_t m_limit = 0;
   size_t m_used = 0;

@@ -29,7 +29,7 @@ namespace rm3d {
 
 class VmHeap {
  public:
-  static constexpr size_t kGrain = 16;   ///< class size step (and the blocks' alignment)
+  static constexpr size_t kGrain = 16;    ///< class size step (and the blocks' alignment)
   static constexpr size_t kClasses = 32;  ///< classes of 16 to 512 bytes
   static constexpr size_t kLargest = kGrain * kClasses;
 

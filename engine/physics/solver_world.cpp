@@ -257,7 +257,13 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
   // over memory (1.3 ms a substep at 10,000 modules).
   const int n = m_constraints.size();
   m_islandJoints.resize(n);
-  for (int i = 0; i < n; ++i) m_islandJoints[i] = {islandOf(m_constraints[i]), m_constraints[i]};
+  for (int i = 0; i < n; ++i) {
+    // (The joints and their bodies lie anywhere: each fetched some joints ahead.)
+    if (i + 16 < n) __builtin_prefetch(m_constraints[i + 16]);
+    if (i + 8 < n)  // (btCollisionObject's island tag lies 228 bytes in, in Bullet 3.24)
+      __builtin_prefetch(reinterpret_cast<const char*>(&m_constraints[i + 8]->getRigidBodyA()) + 228);
+    m_islandJoints[i] = {islandOf(m_constraints[i]), m_constraints[i]};
+  }
   m_islandJoints.quickSort(IslandOrder());
   m_sortedConstraints.resize(n);
   for (int i = 0; i < n; ++i) m_sortedConstraints[i] = m_islandJoints[i].joint;

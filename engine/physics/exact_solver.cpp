@@ -10,6 +10,7 @@
 #include <limits>
 #include <thread>
 
+#include "physics/bullet_layout.h"
 #include "physics/node_products.h"
 
 namespace rm3d {
@@ -1551,8 +1552,7 @@ void ExactSolver::postStabilise() {
   if (m_clusters.empty()) return;
   // The next cluster's bodies are fetched while this one is stabilised: with many modules they
   // have left the caches since the integration (a `superbots_10000` substep reads 40,000 bodies
-  // here). What is fetched: the pose (read by positionError) and the velocities (read by
-  // setCenterOfMassTransform), 8 and 436 bytes into a btRigidBody in Bullet 3.24.
+  // here): the pose (read by positionError) and the velocities (setCenterOfMassTransform).
   const int count = int(m_clusters.size());
   forEachCluster(0, [&](int ci) {
     if (ci + 1 < count) {
@@ -1560,8 +1560,8 @@ void ExactSolver::postStabilise() {
       if (next.end - next.begin <= kPrefetchNodes)
         for (int k = next.begin; k < next.end; ++k)
           if (const int b = m_nodes[size_t(k)].body; b >= 0) {
-            const char* rb = reinterpret_cast<const char*>(m_bodies[size_t(b)].rb);
-            for (int at : {8, 72, 436}) __builtin_prefetch(rb + at);
+            using namespace bullet_layout;
+            for (int at : {kPose, kPose + 63, kVelocities + 16}) fetch(m_bodies[size_t(b)].rb, at);
           }
     }
     stabiliseCluster(m_clusters[size_t(ci)]);

@@ -13,6 +13,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "physics/bullet_layout.h"
 #include "physics/cloth_system.h"
 #include "physics/exact_solver.h"
 #include "physics/plane_contacts.h"
@@ -1261,8 +1262,8 @@ void PhysicsWorld::step(double dt, int substeps) {
       if (exact && i + 4 < hinges && m->hinges[size_t(i + 4)].link) {
         const ExactJoint& f = m->solver.joints[size_t(i + 4)];
         for (const btRigidBody* rb : {f.a, f.b}) {
-          __builtin_prefetch(rb);
-          __builtin_prefetch(reinterpret_cast<const char*>(rb) + 64);
+          bullet_layout::fetch(rb, bullet_layout::kPose);
+          bullet_layout::fetch(rb, bullet_layout::kPose + 63);
         }
       }
       Impl::Hinge& hg = m->hinges[size_t(i)];

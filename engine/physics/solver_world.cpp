@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 
+#include "physics/bullet_layout.h"
 #include "physics/exact_solver.h"
 
 namespace rm3d {
@@ -135,7 +136,11 @@ class ContactIslands : public btSimulationIslandManager {
   /// read two bodies per comparison, scattered over memory, and grew faster than the world. The
   /// sort is Bullet's own (btAlignedObjectArray::quickSort), on the same keys in the same first
   /// order, so it makes the same order, and the batches are the same bits.
+  ///
+  /// With many modules the bodies and manifolds have left the caches, and these passes reach them
+  /// out of memory's order: each is fetched kAhead items ahead (physics/bullet_layout.h).
   void buildAndProcess(btDispatcher* dispatcher, btCollisionWorld* world, IslandCallback* callback) {
+    using namespace bullet_layout;
     btCollisionObjectArray& objects = world->getCollisionObjectArray();
     btUnionFind& islands = getUnionFind();
     const bool deterministic = world->getDispatchInfo().m_deterministicOverlappingPairs;
@@ -166,7 +171,14 @@ class ContactIslands : public btSimulationIslandManager {
         }
       }
       m_manifolds.resize(0);
-      for (int i = 0; i < dispatcher->getNumManifolds(); ++i) {
+      const int manifolds = dispatcher->getNumManifolds();
+      btPersistentManifold* const* list = dispatcher->getInternalManifoldPointer();
+      for (int i = 0; i < manifolds; ++i) {
+        if (i + 2 * kAhead < manifolds) fetch(list[i + 2 * kAhead], kManifoldBodies);
+        if (i + kAhead < manifolds) {
+          fetch(list[i + kAhead]->getBody0(), kActivation);
+          fetch(list[i + kAhead]->getBody1(), kActivation);
+        }
         btPersistentManifold* m = dispatcher->getManifoldByIndexInternal(i);
         if (deterministic && m->getNumContacts() == 0) continue;
         btCollisionObject* a = const_cast<btCollisionObject*>(m->getBody0());
@@ -194,15 +206,19 @@ class ContactIslands : public btSimulationIslandManager {
     const int manifolds = m_manifolds.size();
     m_sorted.resize(manifolds);
     for (int i = 0; i < manifolds; ++i) m_sorted[i] = m_manifolds[i].manifold;
-    int first = 0;  // the next island's manifolds start here
+    int first = 0;    // the next island's manifolds start here
+    int fetched = 0;  // the manifolds fetched ahead so far (each island's are checked for points)
     for (int start = 0, end = 1; start < count; start = end) {
       const int id = islands.getElement(start).m_id;
       bool sleeping = true;
       for (end = start; end < count && islands.getElement(end).m_id == id; ++end) {
+        if (end + kAhead < count) fetch(objects[islands.getElement(end + kAhead).m_sz], kActivation);
         btCollisionObject* o = objects[islands.getElement(end).m_sz];
         m_bodies.push_back(o);
         if (o->isActive()) sleeping = false;
       }
+      for (; fetched < std::min(first + kAhead, manifolds); ++fetched)
+        fetch(m_sorted[fetched], kManifoldCount);
       int last = first;
       if (first < manifolds && m_manifolds[first].island == id)
         for (last = first + 1; last < manifolds && m_manifolds[last].island == id; ++last) {
@@ -216,6 +232,7 @@ class ContactIslands : public btSimulationIslandManager {
   }
 
  private:
+  static constexpr int kAhead = 8;
   struct Keyed {
     int island;
     btPersistentManifold* manifold;
@@ -259,9 +276,8 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
   m_islandJoints.resize(n);
   for (int i = 0; i < n; ++i) {
     // (The joints and their bodies lie anywhere: each fetched some joints ahead.)
-    if (i + 16 < n) __builtin_prefetch(m_constraints[i + 16]);
-    if (i + 8 < n)  // (btCollisionObject's island tag lies 228 bytes in, in Bullet 3.24)
-      __builtin_prefetch(reinterpret_cast<const char*>(&m_constraints[i + 8]->getRigidBodyA()) + 228);
+    if (i + 16 < n) bullet_layout::fetch(m_constraints[i + 16], 0);
+    if (i + 8 < n) bullet_layout::fetch(&m_constraints[i + 8]->getRigidBodyA(), bullet_layout::kIslandTag);
     m_islandJoints[i] = {islandOf(m_constraints[i]), m_constraints[i]};
   }
   m_islandJoints.quickSort(IslandOrder());

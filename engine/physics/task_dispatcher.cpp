@@ -12,6 +12,8 @@
 
 #include <algorithm>
 
+#include "physics/bullet_layout.h"
+
 namespace rm3d {
 
 namespace {
@@ -25,17 +27,17 @@ constexpr int kChunk = 32;
 /// through the bodies) and its algorithm.
 constexpr int kProxiesAhead = 12, kBodiesAhead = 8, kShapesAhead = 4;
 
-/// The cache lines of a body that a pair's run reads (btCollisionObject's transform, shape,
-/// activation and type, btRigidBody's joints), as laid out in Bullet 3.24.
+/// What a pair's run reads of a body: btCollisionObject's pose, shape, activation, type and
+/// collision check, and btRigidBody's joints (needsCollision).
 void prefetchBody(const btCollisionObject* o) {
-  const char* c = reinterpret_cast<const char*>(o);
-  for (int off : {0, 64, 192, 256, 576}) __builtin_prefetch(c + off);
+  using namespace bullet_layout;
+  for (int at : {kPose, kPose + 63, kShape, kActivation, kInternalType, kCollideWith, kConstraintRefs})
+    fetch(o, at);
 }
 
 void prefetchShape(const btCollisionObject* o) {
-  const char* c = reinterpret_cast<const char*>(o->getCollisionShape());
-  __builtin_prefetch(c);
-  __builtin_prefetch(c + 64);
+  bullet_layout::fetch(o->getCollisionShape(), 0);
+  bullet_layout::fetch(o->getCollisionShape(), 64);
 }
 
 /// Before pair i runs (the pairs lie in order in their array; what they point to, anywhere).
@@ -55,8 +57,8 @@ void prefetchShape(const btCollisionObject* o) {
     prefetchShape(static_cast<const btCollisionObject*>(p.m_pProxy0->m_clientObject));
     prefetchShape(static_cast<const btCollisionObject*>(p.m_pProxy1->m_clientObject));
     if (p.m_algorithm) {
-      __builtin_prefetch(p.m_algorithm);
-      __builtin_prefetch(reinterpret_cast<const char*>(p.m_algorithm) + 64);
+      bullet_layout::fetch(p.m_algorithm, 0);
+      bullet_layout::fetch(p.m_algorithm, 64);
     }
   }
 }

@@ -324,6 +324,16 @@ void SolverWorld::updateAabbs() {
   const bool continuous = getDispatchInfo().m_useContinuous;
   const bool dbvt = dynamic_cast<btDbvtBroadphase*>(getBroadphase()) != nullptr;
   forEachIndex(m_boxPace, n, kChunk, [&](int i) {
+    // The objects lie in order, their proxies and shapes anywhere: the object 16 ahead's fields,
+    // then the proxy and shape of the one 8 ahead (with 10,000 modules, outside the caches).
+    using namespace bullet_layout;
+    if (i + 16 < n) fetch(m_collisionObjects[i + 16], kShape);
+    if (i + 8 < n) {
+      const btCollisionObject* ahead = m_collisionObjects[i + 8];
+      fetch(ahead->getBroadphaseHandle(), 0);
+      fetch(ahead->getCollisionShape(), 0);
+      fetch(ahead->getCollisionShape(), 64);
+    }
     const btCollisionObject* o = m_collisionObjects[i];
     Box& b = m_boxes[i];
     b.update = m_forceUpdateAllAabbs || o->isActive();

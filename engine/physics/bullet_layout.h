@@ -2,9 +2,11 @@
 // fetching them ahead (__builtin_prefetch). With 10,000 modules the bodies, manifolds and
 // broadphase proxies no longer fit in the caches, and a pass that reaches them in an order other
 // than memory's waits on each. The fields are protected or private, so their places are written
-// here (measured with offsetof); a fetch of the wrong line is only a fetch wasted, never a wrong
-// result.
+// here (measured with offsetof, and checked by tests/engine/physics/bullet_layout_test.cpp); a
+// fetch of the wrong line is only a fetch wasted, never a wrong result.
 #pragma once
+
+#include <string>
 
 namespace rm3d::bullet_layout {
 
@@ -22,9 +24,19 @@ constexpr int kConstraintRefs = 600;  ///< m_constraintRefs
 constexpr int kManifoldBodies = 840;  ///< m_body0, m_body1
 constexpr int kManifoldCount = 856;   ///< m_cachedPoints
 
+/// Empty when every place above holds what Bullet's public calls set or return (on bodies and a
+/// manifold made for the check); else the first place that does not, and what it held.
+std::string mismatch();
+
 /// Fetches the cache line that holds byte `at` of `p`.
 inline void fetch(const void* p, int at) {
   __builtin_prefetch(static_cast<const char*>(p) + at);
+}
+
+/// Fetches the lines of a body's pose (64 bytes from kPose: one line or two).
+inline void fetchPose(const void* body) {
+  fetch(body, kPose);
+  fetch(body, kPose + 63);
 }
 
 }  // namespace rm3d::bullet_layout

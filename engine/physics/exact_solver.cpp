@@ -59,9 +59,9 @@ constexpr double kLever = 10;
 // this many items between the items that touch both halves, and with at most kHalvedSweepBarriers
 // such items.
 constexpr int kHalvedSweepItems = 64;
+constexpr size_t kHalvedSweepBarriers = 64;
 /// Clusters of up to this many nodes have their bodies fetched ahead (postStabilise).
 constexpr int kPrefetchNodes = 64;
-constexpr size_t kHalvedSweepBarriers = 64;
 
 Vec3d toEigen(const btVector3& v) {
   return Vec3d(v.x(), v.y(), v.z());
@@ -1560,8 +1560,8 @@ void ExactSolver::postStabilise() {
       if (next.end - next.begin <= kPrefetchNodes)
         for (int k = next.begin; k < next.end; ++k)
           if (const int b = m_nodes[size_t(k)].body; b >= 0) {
-            using namespace bullet_layout;
-            for (int at : {kPose, kPose + 63, kVelocities + 16}) fetch(m_bodies[size_t(b)].rb, at);
+            bullet_layout::fetchPose(m_bodies[size_t(b)].rb);
+            bullet_layout::fetch(m_bodies[size_t(b)].rb, bullet_layout::kVelocities + 16);
           }
     }
     stabiliseCluster(m_clusters[size_t(ci)]);

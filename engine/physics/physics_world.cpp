@@ -1261,10 +1261,8 @@ void PhysicsWorld::step(double dt, int substeps) {
       // caches since the integration.
       if (exact && i + 4 < hinges && m->hinges[size_t(i + 4)].link) {
         const ExactJoint& f = m->solver.joints[size_t(i + 4)];
-        for (const btRigidBody* rb : {f.a, f.b}) {
-          bullet_layout::fetch(rb, bullet_layout::kPose);
-          bullet_layout::fetch(rb, bullet_layout::kPose + 63);
-        }
+        bullet_layout::fetchPose(f.a);
+        bullet_layout::fetchPose(f.b);
       }
       Impl::Hinge& hg = m->hinges[size_t(i)];
       if (exact && hg.link) {

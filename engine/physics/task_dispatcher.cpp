@@ -31,8 +31,8 @@ constexpr int kProxiesAhead = 12, kBodiesAhead = 8, kShapesAhead = 4;
 /// collision check, and btRigidBody's joints (needsCollision).
 void prefetchBody(const btCollisionObject* o) {
   using namespace bullet_layout;
-  for (int at : {kPose, kPose + 63, kShape, kActivation, kInternalType, kCollideWith, kConstraintRefs})
-    fetch(o, at);
+  fetchPose(o);
+  for (int at : {kShape, kActivation, kInternalType, kCollideWith, kConstraintRefs}) fetch(o, at);
 }
 
 void prefetchShape(const btCollisionObject* o) {

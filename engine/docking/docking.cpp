@@ -215,7 +215,15 @@ void Docking::dock(const DockingScene& s) {
   // docks can reach (ModuleTypeDef::dockReach); a sweep along x finds the boxes that overlap.
   // Only those modules' docks are posed and searched below, so isolated modules cost one pose.
   m_dockBoxes.clear();
-  for (size_t i = 0; i < s.modules.size(); ++i) {
+  for (size_t i = 0, n = s.modules.size(); i < n; ++i) {
+    // With thousands of modules their dock states and bodies lie outside the caches: the dock
+    // states of the module 8 ahead, and the root link's pose of the one 4 ahead, fetched now.
+    if (i + 8 < n) __builtin_prefetch(s.modules[i + 8].docks.data());
+    if (i + 4 < n) {
+      const Module& ahead = s.modules[i + 4];
+      if (size_t(ahead.type->rootLink) < ahead.parts.size())
+        s.physics.fetchPartPose(ahead.parts[size_t(ahead.type->rootLink)]);
+    }
     const Module& m = s.modules[i];
     bool anyFree = false;
     for (const DockState& st : m.docks) anyFree |= st.enabled && !st.engaged;
@@ -224,19 +232,21 @@ void Docking::dock(const DockingScene& s) {
     const Vec3 r = Vec3::Constant(m.type->dockReach);
     m_dockBoxes.push_back({c - r, c + r, i, false});
   }
-  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(), [](const DockBox& a, const DockBox& b) {
-    return a.lo.x() < b.lo.x() || (a.lo.x() == b.lo.x() && a.module < b.module);
-  });
-  for (size_t a = 0; a < m_dockBoxes.size(); ++a)
-    for (size_t b = a + 1; b < m_dockBoxes.size() && m_dockBoxes[b].lo.x() <= m_dockBoxes[a].hi.x(); ++b) {
-      DockBox& ba = m_dockBoxes[a];
-      DockBox& bb = m_dockBoxes[b];
+  // The boxes stay in module order; the sweep sorts their lower x ends (16 bytes each, not the
+  // 64-byte boxes, which it then sorted back into module order).
+  m_sweep.clear();
+  for (size_t k = 0; k < m_dockBoxes.size(); ++k) m_sweep.push_back({m_dockBoxes[k].lo.x(), uint32_t(k)});
+  std::sort(m_sweep.begin(), m_sweep.end(),
+            [](const SweepEnd& a, const SweepEnd& b) { return a.x < b.x || (a.x == b.x && a.box < b.box); });
+  for (size_t a = 0; a < m_sweep.size(); ++a) {
+    DockBox& ba = m_dockBoxes[m_sweep[a].box];
+    for (size_t b = a + 1; b < m_sweep.size() && m_sweep[b].x <= ba.hi.x(); ++b) {
+      DockBox& bb = m_dockBoxes[m_sweep[b].box];
       if (ba.lo.y() <= bb.hi.y() && bb.lo.y() <= ba.hi.y() && ba.lo.z() <= bb.hi.z() &&
           bb.lo.z() <= ba.hi.z())
         ba.near = bb.near = true;
     }
-  std::sort(m_dockBoxes.begin(), m_dockBoxes.end(),
-            [](const DockBox& a, const DockBox& b) { return a.module < b.module; });
+  }
   // Fine pass: the free docks of modules near another, hashed into cells.
   m_freeDocks.clear();
   for (const DockBox& box : m_dockBoxes) {

@@ -110,7 +110,12 @@ class Docking {
     size_t module;
     bool near;
   };
-  std::vector<DockBox> m_dockBoxes;
+  std::vector<DockBox> m_dockBoxes;  ///< in module order
+  struct SweepEnd {
+    double x;      ///< a box's lower x end
+    uint32_t box;  ///< its index in m_dockBoxes
+  };
+  std::vector<SweepEnd> m_sweep;     ///< the boxes by lower x end
   std::vector<uint64_t> m_cellKeys;  ///< dock hash: slot -> cell key
   std::vector<int> m_cellHead;       ///< slot -> first dock in the cell, or -1
   std::vector<int> m_cellNext;       ///< dock -> next dock in its cell, or -1

@@ -33,6 +33,12 @@ inline void fetch(const void* p, int at) {
   __builtin_prefetch(static_cast<const char*>(p) + at);
 }
 
+/// Fetches the lines that hold bytes [from, to) of `p`.
+inline void fetchRange(const void* p, int from, int to) {
+  for (int at = from; at < to; at += 64) fetch(p, at);
+  fetch(p, to - 1);
+}
+
 /// Fetches the lines of a body's pose (64 bytes from kPose: one line or two).
 inline void fetchPose(const void* body) {
   fetch(body, kPose);

@@ -1306,6 +1306,13 @@ Pose PhysicsWorld::partPose(int part) const {
   return m->partPose(part);
 }
 
+void PhysicsWorld::fetchPartPose(int part) const {
+  if (part < 0 || size_t(part) >= m->parts.size()) return;
+  const int body = m->parts[size_t(part)].body;
+  if (body >= 0 && size_t(body) < m->bodies.size() && m->bodies[size_t(body)].rb)
+    bullet_layout::fetchPose(m->bodies[size_t(body)].rb);
+}
+
 double PhysicsWorld::lowestPoint(const std::vector<int>& parts) const {
   double low = std::numeric_limits<double>::infinity();
   for (int id : parts) {
@@ -1385,6 +1392,12 @@ BodyDivergence PhysicsWorld::divergenceScan(double maxSpeed, double maxAngularSp
   };
   auto sum = [](const btVector3& a) { return double(a.x()) + double(a.y()) + double(a.z()); };
   for (int i = 0, n = rbs.size(); i < n; ++i) {
+    if (i + 4 < n) {  // with many modules the bodies have left the caches: the one 4 ahead's lines
+      using namespace bullet_layout;
+      fetchPose(rbs[i + 4]);
+      fetch(rbs[i + 4], kActivation);
+      fetchRange(rbs[i + 4], kVelocities, kVelocities + 32);
+    }
     const btRigidBody* rb = rbs[i];
     if (rb->isStaticOrKinematicObject() || !rb->isActive()) continue;  // asleep: checked when it moved
     const btTransform& t = rb->getWorldTransform();

@@ -181,6 +181,9 @@ class PhysicsWorld {
   void step(double dt, int substeps);
 
   Pose partPose(int part) const;
+  /// Starts fetching what partPose(part) will read into the caches (a pass over many modules
+  /// calls it a few modules ahead); no effect on any result.
+  void fetchPartPose(int part) const;
   /// The lowest height (world z) any collision shape of these parts reaches, margins included.
   double lowestPoint(const std::vector<int>& parts) const;
   Vec3 partLinearVelocity(int part) const;

@@ -113,21 +113,51 @@ class Batches : public btSimulationIslandManager::IslandCallback {
 class ContactIslands : public btSimulationIslandManager {
  public:
   void updateActivationState(btCollisionWorld* world, btDispatcher* dispatcher) override {
+    // As Bullet's, each object, manifold and manifold's bodies fetched ahead (buildAndProcess).
+    using namespace bullet_layout;
     int index = 0;
     btCollisionObjectArray& objects = world->getCollisionObjectArray();
-    for (int i = 0; i < objects.size(); ++i) {  // as Bullet's
+    for (int i = 0, n = objects.size(); i < n; ++i) {
+      if (i + kAhead < n) fetch(objects[i + kAhead], kIslandTag);
       btCollisionObject* o = objects[i];
       if (!o->isStaticOrKinematicObject()) o->setIslandTag(index++);
       o->setCompanionId(-1);
       o->setHitFraction(btScalar(1));
     }
     initUnionFind(index);
-    for (int i = 0; i < dispatcher->getNumManifolds(); ++i) {
+    btPersistentManifold* const* list = dispatcher->getInternalManifoldPointer();
+    for (int i = 0, n = dispatcher->getNumManifolds(); i < n; ++i) {
+      if (i + 2 * kAhead < n) fetch(list[i + 2 * kAhead], kManifoldBodies);
+      if (i + kAhead < n) {
+        fetch(list[i + kAhead]->getBody0(), kIslandTag);
+        fetch(list[i + kAhead]->getBody1(), kIslandTag);
+      }
       const btPersistentManifold* m = dispatcher->getManifoldByIndexInternal(i);
       const btCollisionObject* a = m->getBody0();
       const btCollisionObject* b = m->getBody1();
       if (m->getNumContacts() > 0 && a->mergesSimulationIslands() && b->mergesSimulationIslands())
         getUnionFind().unite(a->getIslandTag(), b->getIslandTag());
+    }
+  }
+
+  void storeIslandActivationState(btCollisionWorld* world) override {
+    // As Bullet's (3.24, with STATIC_SIMULATION_ISLAND_OPTIMIZATION), each object fetched ahead.
+    using namespace bullet_layout;
+    btCollisionObjectArray& objects = world->getCollisionObjectArray();
+    btUnionFind& islands = getUnionFind();
+    int index = 0;
+    for (int i = 0, n = objects.size(); i < n; ++i) {
+      if (i + kAhead < n) fetch(objects[i + kAhead], kIslandTag);
+      btCollisionObject* o = objects[i];
+      if (!o->isStaticOrKinematicObject()) {
+        o->setIslandTag(islands.find(index));
+        islands.getElement(index).m_sz = i;
+        o->setCompanionId(-1);
+        ++index;
+      } else {
+        o->setIslandTag(-1);
+        o->setCompanionId(-2);
+      }
     }
   }
 
@@ -307,10 +337,31 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
   m_constraintSolver->allSolved(info, m_debugDrawer);
 }
 
-template <class Fn>
-int SolverWorld::forEachBody(Pace& pace, const Fn& fn) {
-  btRigidBody** bodies = m_nonStaticRigidBodies.size() ? &m_nonStaticRigidBodies[0] : nullptr;
-  return forEachIndex(pace, m_nonStaticRigidBodies.size(), kChunk, [&](int i) { fn(bodies[i]); });
+void SolverWorld::calculateSimulationIslands() {
+  BT_PROFILE("calculateSimulationIslands");
+  // As btDiscreteDynamicsWorld::calculateSimulationIslands (3.24), each joint and its bodies'
+  // island tags fetched ahead.
+  using namespace bullet_layout;
+  btSimulationIslandManager* islands = getSimulationIslandManager();
+  islands->updateActivationState(this, getDispatcher());
+  btUnionFind& find = islands->getUnionFind();
+  auto unite = [&](const btCollisionObject* a, const btCollisionObject* b) {
+    if (a && !a->isStaticOrKinematicObject() && b && !b->isStaticOrKinematicObject())
+      find.unite(a->getIslandTag(), b->getIslandTag());
+  };
+  for (int i = 0; i < m_predictiveManifolds.size(); ++i)
+    unite(m_predictiveManifolds[i]->getBody0(), m_predictiveManifolds[i]->getBody1());
+  const int n = m_constraints.size();
+  for (int i = 0; i < n; ++i) {
+    if (i + 16 < n) fetchRange(m_constraints[i + 16], 0, 128);
+    if (i + 8 < n) {
+      fetch(&m_constraints[i + 8]->getRigidBodyA(), kIslandTag);
+      fetch(&m_constraints[i + 8]->getRigidBodyB(), kIslandTag);
+    }
+    const btTypedConstraint* c = m_constraints[i];
+    if (c->isEnabled()) unite(&c->getRigidBodyA(), &c->getRigidBodyB());
+  }
+  islands->storeIslandActivationState(this);
 }
 
 void SolverWorld::updateAabbs() {
@@ -324,10 +375,11 @@ void SolverWorld::updateAabbs() {
   const bool continuous = getDispatchInfo().m_useContinuous;
   const bool dbvt = dynamic_cast<btDbvtBroadphase*>(getBroadphase()) != nullptr;
   forEachIndex(m_boxPace, n, kChunk, [&](int i) {
-    // The objects lie in order, their proxies and shapes anywhere: the object 16 ahead's fields,
-    // then the proxy and shape of the one 8 ahead (with 10,000 modules, outside the caches).
+    // The objects lie in order, their proxies and shapes anywhere: the object 16 ahead's poses
+    // (its world and interpolated transforms), shape and activation, then the proxy and shape of
+    // the one 8 ahead (with 10,000 modules, outside the caches).
     using namespace bullet_layout;
-    if (i + 16 < n) fetch(m_collisionObjects[i + 16], kShape);
+    if (i + 16 < n) fetchRange(m_collisionObjects[i + 16], 0, kActivation + 4);
     if (i + 8 < n) {
       const btCollisionObject* ahead = m_collisionObjects[i + 8];
       fetch(ahead->getBroadphaseHandle(), 0);
@@ -379,11 +431,63 @@ void SolverWorld::updateAabbs() {
   }
 }
 
+int SolverWorld::stepSimulation(btScalar timeStep, int maxSubSteps, btScalar fixedTimeStep) {
+  // One substep (a variable step: maxSubSteps 0) whose forces are cleared at its end, with
+  // nothing that could read a body between the passes folded together.
+  m_fused = maxSubSteps == 0 && !btFuzzyZero(timeStep) && getSoftBodyArray().size() == 0 &&
+            m_actions.size() == 0 && !m_internalTickCallback && !m_internalPreTickCallback &&
+            !m_synchronizeAllMotionStates && !m_applySpeculativeContactRestitution;
+  m_gravityDue = false;
+  const int substeps = btSoftRigidDynamicsWorld::stepSimulation(timeStep, maxSubSteps, fixedTimeStep);
+  m_fused = false;
+  return substeps;
+}
+
+void SolverWorld::saveKinematicState(btScalar timeStep) {
+  // Fused: done body by body in predictUnconstraintMotion. Bullet walks every collision object
+  // here, for a body flagged kinematic after it was added as a static one; RM3D makes no
+  // kinematic bodies, and any other kinematic body is among the non-static ones.
+  if (!m_fused) return btSoftRigidDynamicsWorld::saveKinematicState(timeStep);
+  m_kinematicStep = timeStep;
+}
+
+void SolverWorld::applyGravity() {
+  if (!m_fused) return btSoftRigidDynamicsWorld::applyGravity();
+  m_gravityDue = true;  // body by body in predictUnconstraintMotion
+}
+
+void SolverWorld::updateActivationState(btScalar timeStep) {
+  if (!m_fused) btSoftRigidDynamicsWorld::updateActivationState(timeStep);  // else in integrateTransforms
+}
+
+void SolverWorld::synchronizeMotionStates() {
+  if (!m_fused) btSoftRigidDynamicsWorld::synchronizeMotionStates();  // else in integrateTransforms
+}
+
+void SolverWorld::clearForces() {
+  if (!m_fused) btSoftRigidDynamicsWorld::clearForces();  // else in integrateTransforms
+}
+
+template <class Fn>
+int SolverWorld::forEachBody(Pace& pace, const Fn& fn) {
+  btRigidBody** bodies = m_nonStaticRigidBodies.size() ? &m_nonStaticRigidBodies[0] : nullptr;
+  return forEachIndex(pace, m_nonStaticRigidBodies.size(), kChunk, [&](int i) { fn(bodies[i]); });
+}
+
 void SolverWorld::predictUnconstraintMotion(btScalar timeStep) {
   if (getSoftBodyArray().size() > 0) return btSoftRigidDynamicsWorld::predictUnconstraintMotion(timeStep);
   BT_PROFILE("predictUnconstraintMotion");
-  // As btDiscreteDynamicsWorld::predictUnconstraintMotion, body by body.
-  forEachBody(m_predictPace, [timeStep](btRigidBody* body) {
+  // As btDiscreteDynamicsWorld::predictUnconstraintMotion, body by body; fused, after each
+  // body's part of saveKinematicState and applyGravity.
+  const bool fused = m_fused, gravity = m_gravityDue;
+  const btScalar kinematicStep = m_kinematicStep;
+  m_gravityDue = false;
+  forEachBody(m_predictPace, [=](btRigidBody* body) {
+    if (fused) {
+      if (body->getActivationState() != ISLAND_SLEEPING && body->isKinematicObject())
+        body->saveKinematicState(kinematicStep);
+      if (gravity && body->isActive()) body->applyGravity();
+    }
     if (body->isStaticOrKinematicObject()) return;
     body->applyDamping(timeStep);
     body->predictIntegratedTransform(timeStep, body->getInterpolationWorldTransform());
@@ -396,14 +500,39 @@ void SolverWorld::integrateTransforms(btScalar timeStep) {
     return btSoftRigidDynamicsWorld::integrateTransforms(timeStep);
   BT_PROFILE("integrateTransforms");
   // As btDiscreteDynamicsWorld::integrateTransformsInternal without its motion clamping, which
-  // only bodies with a CCD motion threshold take (none here).
-  m_threadedBodies = forEachBody(m_integratePace, [timeStep](btRigidBody* body) {
+  // only bodies with a CCD motion threshold take (none here); fused, then each body's part of
+  // updateActivationState, synchronizeMotionStates and clearForces.
+  const bool fused = m_fused;
+  m_threadedBodies = forEachBody(m_integratePace, [=, this](btRigidBody* body) {
     body->setHitFraction(1.f);
-    if (!body->isActive() || body->isStaticOrKinematicObject()) return;
-    btTransform predicted;
-    body->predictIntegratedTransform(timeStep, predicted);
-    body->proceedToTransform(predicted);
+    if (body->isActive() && !body->isStaticOrKinematicObject()) {
+      btTransform predicted;
+      body->predictIntegratedTransform(timeStep, predicted);
+      body->proceedToTransform(predicted);
+    }
+    if (!fused) return;
+    activation(body, timeStep);
+    if (body->isActive()) synchronizeSingleMotionState(body);
+    body->clearForces();
   });
+}
+
+void SolverWorld::activation(btRigidBody* body, btScalar timeStep) {
+  // As btDiscreteDynamicsWorld::updateActivationState, for one body.
+  body->updateDeactivation(timeStep);
+  if (body->wantsSleeping()) {
+    if (body->isStaticOrKinematicObject()) {
+      body->setActivationState(ISLAND_SLEEPING);
+    } else {
+      if (body->getActivationState() == ACTIVE_TAG) body->setActivationState(WANTS_DEACTIVATION);
+      if (body->getActivationState() == ISLAND_SLEEPING) {
+        body->setAngularVelocity(btVector3(0, 0, 0));
+        body->setLinearVelocity(btVector3(0, 0, 0));
+      }
+    }
+  } else if (body->getActivationState() != DISABLE_DEACTIVATION) {
+    body->setActivationState(ACTIVE_TAG);
+  }
 }
 
 void SolverWorld::setBatchSolvers(ExactSolver* primary, std::vector<ExactSolver*> helpers, Tasks tasks) {

@@ -46,6 +46,14 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
     for (int i = m_collisionObjects.size(); i-- > 0;)
       if (btRigidBody* rb = btRigidBody::upcast(m_collisionObjects[i])) removeRigidBody(rb);
   }
+  /// Bullet runs seven passes over every body a substep, each reading its lines anew: with 10,000
+  /// modules (30 MB of bodies) each pass waits on memory. Where a call is one substep with
+  /// nothing between the passes that reads a body (no cloth, actions, tick callbacks, or motion
+  /// states synchronised all at once), they run as two: the kinematic state, gravity and damping
+  /// with the motion prediction; the activation state, motion state and force reset with the
+  /// integration. Each of these passes reads and writes only its own body, so each body sees the
+  /// same operations in the same order: the same bits.
+  int stepSimulation(btScalar timeStep, int maxSubSteps, btScalar fixedTimeStep) override;
   /// Bodies the last integration ran on the worker threads (0: one loop on this thread).
   int threadedBodies() const { return m_threadedBodies; }
   struct Batch {
@@ -86,17 +94,29 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   /// same bits. Worlds with cloth keep Bullet's loops.
   void predictUnconstraintMotion(btScalar timeStep) override;
   void integrateTransforms(btScalar timeStep) override;
+  /// Bullet's other passes over every body, each fused into one of the two above when
+  /// stepSimulation allows it (m_fused).
+  void saveKinematicState(btScalar timeStep) override;
+  void applyGravity() override;
+  void updateActivationState(btScalar timeStep) override;
+  void synchronizeMotionStates() override;
+  void clearForces() override;
   /// Bullet's bounding boxes of every active object, for many objects: worked out first (on the
   /// worker threads where there are threads), then handed to the broadphase in order on this
   /// thread, each box's broadphase entries fetched a few boxes ahead (the same bits).
   void updateAabbs() override;
+  /// As Bullet's, each joint's bodies fetched ahead.
+  void calculateSimulationIslands() override;
 
  private:
   void solveBatches(btContactSolverInfo& info, int count);
   static constexpr int kChunk = 256;  ///< bodies (objects) a thread takes at a time
-  /// fn(body) for every non-static rigid body, as forEachIndex.
+  /// fn(body) for every non-static rigid body, as forEachIndex. (The bodies lie in this order,
+  /// and the processor's own prefetching keeps up: fetching them ahead gained nothing.)
   template <class Fn>
   int forEachBody(Pace& pace, const Fn& fn);
+  /// updateActivationState's step for one body.
+  static void activation(btRigidBody* body, btScalar timeStep);
 
   btAlignedObjectArray<IslandJoint> m_islandJoints;  ///< the joints by island, sorted
   std::vector<int> m_islandStart, m_islandCount;     ///< by island id: its run in m_sortedConstraints
@@ -106,6 +126,9 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   std::vector<Batch> m_batches;  ///< this substep's, reused
   int m_threadedBodies = 0;
   bool m_alwaysThreads = false;
+  bool m_fused = false;          ///< this stepSimulation's passes run fused (stepSimulation)
+  btScalar m_kinematicStep = 0;  ///< saveKinematicState's step, for the fused pass
+  bool m_gravityDue = false;     ///< applyGravity was called: the fused pass applies it
   /// Whether the threads pay (core/pace.h): the bounding boxes, the motion prediction, the
   /// integration, the solver batches.
   Pace m_boxPace, m_predictPace, m_integratePace, m_batchPace;

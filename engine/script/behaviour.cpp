@@ -352,6 +352,18 @@ bool Behaviour::act(const double* a, int n, std::string& err) {
   return m_vm.protect(callAct, &c, 0, err, "act()");
 }
 
+void Behaviour::fetchState(bool deep) const {
+  if (!deep) {  // the step function's reference, and the Lua state's address
+    __builtin_prefetch(&m_ctx.stepRef);
+    __builtin_prefetch(m_vm.stateSlot());
+    return;
+  }
+  // The Lua state's first lines (its stack top, global state and call info).
+  const char* L = reinterpret_cast<const char*>(m_vm.L());
+  if (!L) return;
+  for (int at = 0; at < 192; at += 64) __builtin_prefetch(L + at);
+}
+
 bool Behaviour::step(double dt, std::string& err) {
   if (m_ctx.stepRef == LUA_NOREF) return true;
   lua_State* L = m_vm.L();

@@ -42,6 +42,7 @@ class Behaviour : public ModuleProgram {
   /// succeeds, makes its definitions current (globals such as `state` survive) and calls
   /// on_reload(). On failure (syntax or run-time error) nothing changes; err has file:line.
   bool reload(const std::string& path, const std::string& source, std::string& err) override;
+  void fetchState(bool deep) const override;
   LuaVm& vm() { return m_vm; }
   /// module.__describe() (what the percept machinery declares), or "" / "(error)".
   std::string describePercepts() override;

@@ -45,6 +45,8 @@ class LuaVm {
   LuaVm& operator=(const LuaVm&) = delete;
 
   lua_State* L() const { return m_L; }
+  /// Where the state's address is kept (to fetch it ahead: Behaviour::fetchState).
+  const void* stateSlot() const { return &m_L; }
 
   /// Folders `require` searches, in order (absolute paths).
   void setRequirePath(std::vector<std::string> dirs) { m_requirePath = std::move(dirs); }

@@ -50,6 +50,10 @@ class ModuleProgram {
   virtual int actSize(int joints) const { return -1; }
   /// act(a) with the module's action row. False and err on an error.
   virtual bool act(const double* a, int n, std::string& err) { return true; }
+  /// Starts fetching the state that step() will read into the caches, with thousands of modules
+  /// cold since the module's last step: the world calls it two modules ahead (the program's own
+  /// fields), then one ahead with `deep` (what those fields point to). No effect on any result.
+  virtual void fetchState(bool deep) const {}
 };
 
 class WorldProgram {

@@ -5,13 +5,18 @@
 #include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
 #include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
 #include <LinearMath/btQuickprof.h>
+#include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
 #include <atomic>
+#include <memory>
+#include <string>
 
 #include "physics/bullet_layout.h"
 #include "physics/exact_solver.h"
+#include "physics/fused_passes_check.h"
 
 namespace rm3d {
 
@@ -584,6 +589,73 @@ void SolverWorld::solveBatches(btContactSolverInfo& info, int count) {
       [&] {
         for (int i = 0; i < count; ++i) solve(m_primary, i);
       });
+}
+
+std::string fusedPassesMismatch() {
+  struct Scene {
+    btSoftBodyRigidBodyCollisionConfiguration config;
+    btCollisionDispatcher dispatcher{&config};
+    btDbvtBroadphase broadphase;
+    btSequentialImpulseConstraintSolver solver;
+    SolverWorld world{&dispatcher, &broadphase, &solver, &config};
+    btStaticPlaneShape ground{btVector3(0, 0, 1), 0};
+    btBoxShape box{btVector3(0.05f, 0.05f, 0.05f)};
+    std::unique_ptr<btRigidBody> floor, resting, pushed, floating;
+    Scene() {
+      world.setGravity(btVector3(0, 0, -9.81f));
+      floor = std::make_unique<btRigidBody>(0, nullptr, &ground);
+      btVector3 inertia;
+      box.calculateLocalInertia(1, inertia);
+      auto make = [&](const btVector3& at) {
+        btRigidBody::btRigidBodyConstructionInfo ci(1, nullptr, &box, inertia);
+        ci.m_startWorldTransform.setOrigin(at);
+        ci.m_linearDamping = 0.1f;
+        ci.m_angularDamping = 0.2f;
+        return std::make_unique<btRigidBody>(ci);
+      };
+      resting = make(btVector3(0, 0, 0.06f));
+      pushed = make(btVector3(1, 0, 0.05f));
+      pushed->setActivationState(DISABLE_DEACTIVATION);
+      floating = make(btVector3(-1, 0, 1));
+      floating->setFlags(BT_DISABLE_WORLD_GRAVITY);  // still: it falls asleep after 2 s
+      for (btRigidBody* b : {floor.get(), resting.get(), pushed.get(), floating.get()}) world.addRigidBody(b);
+    }
+    ~Scene() {
+      for (btRigidBody* b : {floating.get(), pushed.get(), resting.get(), floor.get()})
+        world.removeRigidBody(b);
+    }
+  };
+  Scene fused, apart;
+  const btScalar h = btScalar(1) / 60;
+  for (int step = 0; step < 240; ++step) {
+    for (Scene* s : {&fused, &apart}) s->pushed->applyCentralForce(btVector3(8, 3, 0));
+    fused.world.stepSimulation(h, 0, h);  // one substep a call: the passes fused
+    apart.world.stepSimulation(h, 1, h);  // Bullet's fixed-step path: one substep, passes apart
+  }
+  // (Compared by value, x, y and z: a vector's fourth float is padding.)
+  auto same3 = [](const btVector3& p, const btVector3& q) {
+    return p.x() == q.x() && p.y() == q.y() && p.z() == q.z();
+  };
+  auto same = [&](const btTransform& p, const btTransform& q) {
+    return same3(p.getOrigin(), q.getOrigin()) && same3(p.getBasis()[0], q.getBasis()[0]) &&
+           same3(p.getBasis()[1], q.getBasis()[1]) && same3(p.getBasis()[2], q.getBasis()[2]);
+  };
+  const char* names[] = {"the resting box", "the pushed box", "the floating box"};
+  const btRigidBody* f[] = {fused.resting.get(), fused.pushed.get(), fused.floating.get()};
+  const btRigidBody* a[] = {apart.resting.get(), apart.pushed.get(), apart.floating.get()};
+  for (int i = 0; i < 3; ++i) {
+    if (!same(f[i]->getWorldTransform(), a[i]->getWorldTransform()))
+      return std::string(names[i]) + ": its pose";
+    if (!same3(f[i]->getLinearVelocity(), a[i]->getLinearVelocity()) ||
+        !same3(f[i]->getAngularVelocity(), a[i]->getAngularVelocity()))
+      return std::string(names[i]) + ": its velocity";
+    if (f[i]->getActivationState() != a[i]->getActivationState())
+      return std::string(names[i]) + ": its activation state";
+  }
+  // The check reaches every fused step only if a box fell asleep and the pushed one moved.
+  if (fused.floating->getActivationState() != ISLAND_SLEEPING) return "the floating box never slept";
+  if (fused.pushed->getWorldTransform().getOrigin().x() < 2) return "the pushed box did not move";
+  return "";
 }
 
 }  // namespace rm3d

@@ -744,16 +744,26 @@ btScalar ExactSolver::contactSweep() {
   }
   // The twists only predicted how the groups move within the sweep: each grouped body now takes
   // the impulses that reached it, and the exact solve passes them through its hinges (so joint
-  // impulses, torques and loads carry them).
-  for (size_t b = size_t(m_groupFirstBody); b < m_bodyGroup.size(); ++b) {
-    if (m_bodyGroup[b] < 0) continue;
-    Vec6& p = m_bodyImpulse[b];
-    const Body& body = m_bodies[b];
-    Vec6 dv;
-    dv.head<3>() = body.invMass * p.head<3>();
-    dv.tail<3>() = body.invInertia * p.tail<3>();
-    addBodyVelocity(int(b), dv);
-    p.setZero();
+  // impulses, torques and loads carry them). Each body's own step: a halved sweep's bodies on
+  // their half's thread, so that the solve that follows finds them in its own core's cache (taken
+  // all here, they were the half helper's first misses in the solve).
+  auto passOn = [this](int side) {
+    for (size_t b = size_t(m_groupFirstBody); b < m_bodyGroup.size(); ++b) {
+      if (m_bodyGroup[b] < 0 || (side >= 0 && m_bodySide[b] != side)) continue;
+      Vec6& p = m_bodyImpulse[b];
+      const Body& body = m_bodies[b];
+      Vec6 dv;
+      dv.head<3>() = body.invMass * p.head<3>();
+      dv.tail<3>() = body.invInertia * p.tail<3>();
+      addBodyVelocity(int(b), dv);
+      p.setZero();
+    }
+  };
+  if (m_halvedSweep && m_halfHelper) {
+    forBothHalves([&passOn](int h) { passOn(h); });
+    passOn(2);
+  } else {
+    passOn(-1);
   }
   for (Group& g : m_groups) g.dv.setZero(), g.dw.setZero();
   return btScalar(residual);

@@ -9,7 +9,9 @@
 // taken, and the other again once every kProbe calls, so that a change (a scene growing, a machine
 // getting busy) is seen. A way's time is the median of its last kWindow calls (the way taken: its
 // last calls; the other: its last probes), and the way taken is left when the other's is under
-// kSwitch of its own.
+// kSwitch of its own. The way left is then timed afresh, every other call for its first kFirst
+// calls: its last calls, the ones that made it look slower, may have been slowed by the machine,
+// and with a probe once in 64 calls it took hundreds of calls to see that they were not.
 //
 // The median, because on a shared machine a call now and then takes several times as long (the
 // thread was descheduled), and such a call is noise, not a change of pace. An exponential average
@@ -38,34 +40,41 @@ class Pace {
   /// Whether this call goes to the threads.
   bool threaded() {
     ++m_calls;
-    if (m_count[0] < kFirst || m_count[1] < kFirst) return m_count[1] <= m_count[0];
+    if (m_fresh[0] < kFirst || m_fresh[1] < kFirst) {
+      if (!m_chosen) return m_fresh[1] <= m_fresh[0];  // at first: in turn, the threads first
+      return m_calls % 2 == 0 ? !m_way : m_way;        // the way just left: every other call
+    }
     if (!m_chosen) {
       m_way = m_time[1] < m_time[0];
       m_chosen = true;
+    } else if (m_time[!m_way] < kSwitch * m_time[m_way]) {
+      m_way = !m_way;
+      m_fresh[!m_way] = 0;  // the way left is timed afresh (its last calls may have been slowed)
     }
-    if (m_time[!m_way] < kSwitch * m_time[m_way]) m_way = !m_way;
     return m_calls % kProbe == 0 ? !m_way : m_way;
   }
   /// What the call took, s.
   void took(bool threaded, double seconds) {
     const int w = threaded;
-    m_recent[w][m_count[w] % kWindow] = seconds;
-    ++m_count[w];
-    // The median of the last calls, at most kWindow (the lower of the middle two of an even
-    // count): a few compares, at most 8 values.
-    const int n = int(std::min<long>(m_count[w], kWindow));
+    m_recent[w][m_next[w]] = seconds;
+    m_next[w] = (m_next[w] + 1) % kWindow;
+    m_fresh[w] = std::min(m_fresh[w] + 1, kWindow);
+    // The median of its calls since it was last timed afresh, at most kWindow (the lower of the
+    // middle two of an even count): a few compares, at most 8 values.
+    const int n = m_fresh[w];
     double v[kWindow];
-    std::copy(m_recent[w], m_recent[w] + n, v);
+    for (int i = 0; i < n; ++i) v[i] = m_recent[w][(m_next[w] + kWindow - 1 - i) % kWindow];
     std::sort(v, v + n);
     m_time[w] = v[(n - 1) / 2];
   }
 
  private:
   double m_recent[2][kWindow] = {};  ///< s: alone's and the threads' last calls (a ring each)
+  int m_next[2] = {0, 0};            ///< where each ring's next call goes
+  int m_fresh[2] = {0, 0};           ///< calls in each way's time (at most kWindow)
   double m_time[2] = {0, 0};         ///< s: their medians
-  long m_count[2] = {0, 0};
-  bool m_way = false;  ///< the way taken (true: the threads)
-  bool m_chosen = false;
+  bool m_way = false;                ///< the way taken (true: the threads)
+  bool m_chosen = false;             ///< the first calls are over
   long m_calls = 0;
 };
 

@@ -54,7 +54,9 @@ TEST_CASE("pace: the way taken growing slower than the other is left within a fe
     p.took(h, 3.0);
   }
   CHECK(threaded == Pace::kWindow / 2 + 1);
-  CHECK_FALSE(p.threaded());
+  // From then on alone, but for the threads timed afresh (kFirst calls, every other call) and the
+  // probes: still 3 s, so alone is kept.
+  CHECK(run(p, 2 * Pace::kProbe, 2.0, 3.0) == Pace::kFirst + 2);
 }
 
 TEST_CASE("pace: a slow call now and then does not turn it from the faster way") {
@@ -88,6 +90,22 @@ TEST_CASE("pace: a slow call now and then does not turn it from the faster way")
     q.took(h, (h ? 1.05 : 1.0) * slow());
   }
   CHECK(alone >= calls - Pace::kFirst - calls / Pace::kProbe);
+}
+
+TEST_CASE("pace: a way left on calls the machine slowed is taken again within a few calls") {
+  Pace p;
+  run(p, 2 * Pace::kFirst + 100, 1.2, 1.0);  // the threads taken, 1.0 s against 1.2
+  // Five threaded calls in a row slowed to 3 s (more than half its window): alone is taken.
+  for (int i = 0; i < Pace::kWindow / 2 + 1; ++i) {
+    REQUIRE(p.threaded());
+    p.took(true, 3.0);
+  }
+  CHECK_FALSE(p.threaded());
+  p.took(false, 1.2);
+  // The threads, timed afresh every other call, are back at 1.0 s: taken again after kFirst of
+  // them (a probe once in kProbe calls would have needed five, some 300 calls).
+  const int calls = 2 * Pace::kProbe;
+  CHECK(run(p, calls, 1.2, 1.0) >= calls - 2 * Pace::kFirst - 2);
 }
 
 TEST_CASE("pace: a way is kept while the other is within kSwitch of it") {

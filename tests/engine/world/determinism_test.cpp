@@ -244,6 +244,26 @@ require("snake_chain").build{n = 350, type = "superbot", behavior = "behaviors/s
                          });
 }
 
+// A resting chain relaying a message (as the bench's relay_1000, 300 SuperBots): its contact sweeps
+// run in its halves, and the grouped bodies of neither half (about the root) take contact impulses,
+// which the main thread passes on after the halves' own (ExactSolver::contactSweep).
+TEST_CASE("determinism: a 300-module resting chain's sweeps in halves, at 1, 2, 4 and 8 threads") {
+  sameAtEveryThreadCount(R"(
+world.set{duration = 100, seed = 3}
+world.ground{}
+local prev
+for i = 1, 300 do
+  local m = world.spawn("superbot", {at = {-(i - 1) * 0.19, 0, 0.043}, behavior = "behaviors/relay.lua"})
+  if prev then world.connect(prev, "back", m, "front") end
+  prev = m
+end
+)",
+                         20, [](World& w, int threads) {
+                           CHECK(w.physicsConst().splitTrees() == 1);
+                           if (threads == 2) CHECK(w.physicsConst().halvedSweeps() > 0);
+                         });
+}
+
 // A split tree's bits, pinned by a golden hash: its halves' nodes may be laid out and walked in
 // any way that keeps each half's order and the root's children's, and in no other. A 150-module
 // snake (449 joints) for 120 steps: in the first steps from rest, or at 350 modules, the root's

@@ -62,6 +62,8 @@ constexpr int kHalvedSweepItems = 64;
 constexpr size_t kHalvedSweepBarriers = 64;
 /// Clusters of up to this many nodes have their bodies fetched ahead (postStabilise).
 constexpr int kPrefetchNodes = 64;
+/// The factor fetches a node's row, joint or body this many nodes ahead (fetchInit, fetchPass).
+constexpr int kFetchAhead = 8;
 
 Vec3d toEigen(const btVector3& v) {
   return Vec3d(v.x(), v.y(), v.z());
@@ -95,18 +97,19 @@ Mat3d symmetricInverse3(const Mat3d& m) {
 /// blocks: P and the Schur complement S = R - Q^T P^-1 Q are definite too, so no pivoting, and
 /// two 3x3 inverses by cofactors cost less than half of a 6x6 LDL^T (40 ns against 90 here, the
 /// same rounding error).
-Mat6 symmetricInverse(const Mat6& a) {
+///
+/// In place: every element is read before the first is written (a returned matrix cost a 288-byte
+/// copy, half of the factor's own time outside its products).
+void invertSymmetric(Mat6& a) {
   const Mat3d pi = symmetricInverse3(a.topLeftCorner<3, 3>());
   const Mat3d q = a.topRightCorner<3, 3>();
   const Mat3d x = pi * q;
   const Mat3d si = symmetricInverse3(a.bottomRightCorner<3, 3>() - q.transpose() * x);
   const Mat3d y = x * si;
-  Mat6 out;
-  out.topLeftCorner<3, 3>() = pi + y * x.transpose();
-  out.topRightCorner<3, 3>() = -y;
-  out.bottomLeftCorner<3, 3>() = -y.transpose();
-  out.bottomRightCorner<3, 3>() = si;
-  return out;
+  a.topLeftCorner<3, 3>() = pi + y * x.transpose();
+  a.topRightCorner<3, 3>() = -y;
+  a.bottomLeftCorner<3, 3>() = -y.transpose();
+  a.bottomRightCorner<3, 3>() = si;
 }
 
 inline void cpuRelax() {
@@ -954,13 +957,17 @@ void ExactSolver::factor(Cluster& c) {
           if (m_need[size_t(m_laneNodes[size_t(i)])] && n.parent != c.begin) m_need[size_t(n.parent)] = 1;
         }
       }
-      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
-        if (needs(m_laneNodes[size_t(i)])) initNode(m_laneNodes[size_t(i)]);
+      const int* lane = m_laneNodes.data();
+      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) {
+        if (i + kFetchAhead < c.lane[h + 1] && needs(lane[i + kFetchAhead])) fetchInit(lane[i + kFetchAhead]);
+        if (needs(lane[i])) initNode(lane[i]);
+      }
       for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
-        const int k = m_laneNodes[size_t(i)];
+        if (i - kFetchAhead >= c.lane[h]) fetchPass(lane[i - kFetchAhead]);
+        const int k = lane[i];
         Node& n = m_nodes[size_t(k)];
         if (needs(k)) {
-          n.dinv = symmetricInverse(n.dinv);
+          invertSymmetric(n.dinv);
           if (n.parent != c.begin) passToParent(k, true);
         } else if (n.parent != c.begin && m_need[size_t(n.parent)]) {
           passToParent(k, false);
@@ -969,7 +976,7 @@ void ExactSolver::factor(Cluster& c) {
     });
     for (int i = c.lane[3] - 1; i >= c.lane[2]; --i)
       passToParent(m_laneNodes[size_t(i)], needs(m_laneNodes[size_t(i)]));
-    m_nodes[size_t(c.begin)].dinv = symmetricInverse(m_nodes[size_t(c.begin)].dinv);
+    invertSymmetric(m_nodes[size_t(c.begin)].dinv);
   } else {
     if (partial) {
       m_need[size_t(c.begin)] = m_rowChanged[size_t(c.begin)];
@@ -977,12 +984,15 @@ void ExactSolver::factor(Cluster& c) {
       for (int k = c.end - 1; k > c.begin; --k)
         if (m_need[size_t(k)]) m_need[size_t(m_nodes[size_t(k)].parent)] = 1;
     }
-    for (int k = c.begin; k < c.end; ++k)
+    for (int k = c.begin; k < c.end; ++k) {
+      if (k + kFetchAhead < c.end && needs(k + kFetchAhead)) fetchInit(k + kFetchAhead);
       if (needs(k)) initNode(k);
+    }
     for (int k = c.end - 1; k >= c.begin; --k) {  // leaves first
+      if (k - kFetchAhead >= c.begin) fetchPass(k - kFetchAhead);
       Node& n = m_nodes[size_t(k)];
       if (needs(k)) {
-        n.dinv = symmetricInverse(n.dinv);
+        invertSymmetric(n.dinv);
         if (n.parent >= 0) passToParent(k, true);
       } else if (n.parent >= 0 && m_need[size_t(n.parent)]) {
         passToParent(k, false);
@@ -1148,20 +1158,126 @@ void ExactSolver::solve(Cluster& c, bool iteration) {
 
 template <bool Iteration>
 [[gnu::always_inline]] inline void ExactSolver::downPass(int from, int to, const int* order, int skip) {
-  node_products::downPass(m_nodes.data(), from, to, order, skip, [this](int k) {
-    if (!Iteration || m_residualMade[size_t(k)]) return;
-    m_residualMade[size_t(k)] = 1;
-    iterationResidual(k);
-  });
+  node_products::downPass(
+      m_nodes.data(), from, to, order, skip,
+      [this](int k) {
+        if (!Iteration || m_residualMade[size_t(k)]) return;
+        m_residualMade[size_t(k)] = 1;
+        iterationResidual(k);
+      },
+      [this](int k) {
+        if (Iteration) fetchResidual(k);
+      });
 }
 
 template <bool Iteration>
 [[gnu::always_inline]] inline void ExactSolver::upPass(int from, int to, const int* order) {
-  node_products::upPass(m_nodes.data(), from, to, order, [this](int k) {
-    if (!Iteration) return;
-    m_residualMade[size_t(k)] = 0;
-    iterationApply(k);
-  });
+  node_products::upPass(
+      m_nodes.data(), from, to, order,
+      [this](int k) {
+        if (!Iteration) return;
+        m_residualMade[size_t(k)] = 0;
+        iterationApply(k);
+      },
+      [this](int k) {
+        if (Iteration) fetchApply(k);
+      });
+}
+
+// The rows and solver bodies lie in other orders than the tree's nodes, and with a long tree they
+// have left the caches between two solves (a 1000-module snake's 6000 nodes take 4 MB): what
+// node k's residual and its result's application will touch, fetched a few nodes ahead.
+[[gnu::always_inline]] inline void ExactSolver::fetchSolverBody(int sid, bool all) const {
+  const btSolverBody& s = m_tmpSolverBodyPool[sid];
+  __builtin_prefetch(&s.m_deltaLinearVelocity);
+  if (!all) return;
+  __builtin_prefetch(&s.m_linearVelocity);
+  __builtin_prefetch(&s.m_externalTorqueImpulse);
+}
+
+[[gnu::always_inline]] inline void ExactSolver::fetchResidual(int k) const {
+  const NodeBodies& nb = m_nodeBodies[size_t(k)];
+  const int j = m_nodes[size_t(k)].joint;
+  if (j < 0) return;  // (a body node's residual is 0)
+  const Row& r = m_rows[size_t(j)];
+  __builtin_prefetch(&r.na);
+  for (const Mat6* m : {&r.ja, &r.jb}) {  // (their right halves: 144 bytes)
+    __builtin_prefetch(&m->coeffRef(0, 3));
+    __builtin_prefetch(&m->coeffRef(2, 4));
+    __builtin_prefetch(&m->coeffRef(5, 5));
+  }
+  __builtin_prefetch(&r.bias);
+  __builtin_prefetch(&r.axialActive);
+  const ExactJoint& e = m_shared->joints[size_t(j)];
+  __builtin_prefetch(&e.compliance);
+  __builtin_prefetch(&e.state);
+  for (int side = 0; side < 2; ++side)
+    if (nb.sid[side] >= 0) {
+      __builtin_prefetch(&m_bodies[size_t(nb.body[side])].sid);
+      fetchSolverBody(nb.sid[side], true);
+    }
+}
+
+[[gnu::always_inline]] inline void ExactSolver::fetchApply(int k) const {
+  const NodeBodies& nb = m_nodeBodies[size_t(k)];
+  const int j = m_nodes[size_t(k)].joint;
+  if (j >= 0) {
+    const Row& r = m_rows[size_t(j)];
+    __builtin_prefetch(&r.lambda[0]);
+    __builtin_prefetch(&r.lambda[5]);
+  } else if (nb.sid[0] >= 0) {
+    __builtin_prefetch(&m_bodies[size_t(nb.body[0])].sid);
+    fetchSolverBody(nb.sid[0], false);
+  }
+}
+
+// The same for the factor: what initNode and passToParent read of a node's row, joint or body.
+[[gnu::always_inline]] inline void ExactSolver::fetchInit(int k) const {
+  const Node& n = m_nodes[size_t(k)];
+  if (n.joint >= 0) {
+    __builtin_prefetch(&m_rows[size_t(n.joint)].axialActive);
+    const ExactJoint& e = m_shared->joints[size_t(n.joint)];
+    __builtin_prefetch(&e.compliance);
+    __builtin_prefetch(&e.state);
+  } else {
+    const Body& b = m_bodies[size_t(n.body)];
+    __builtin_prefetch(&b.invMass);
+    __builtin_prefetch(&b.inertia(2, 2));
+  }
+}
+
+[[gnu::always_inline]] inline void ExactSolver::fetchPass(int k) const {
+  const int j = m_nodeBodies[size_t(k)].coupling;
+  if (j < 0) return;
+  const Row& r = m_rows[size_t(j)];
+  const Mat6& m = m_nodes[size_t(k)].parentIsA ? r.ja : r.jb;
+  __builtin_prefetch(&m.coeffRef(0, 0));
+  __builtin_prefetch(&m.coeffRef(0, 3));
+  __builtin_prefetch(&m.coeffRef(2, 4));
+  __builtin_prefetch(&m.coeffRef(5, 5));
+  __builtin_prefetch(&r.axialActive);
+}
+
+/// m_nodeBodies for the nodes from `begin` (this solver group's).
+void ExactSolver::noteNodeBodies(int begin) {
+  m_nodeBodies.resize(m_nodes.size());
+  auto note = [&](NodeBodies& nb, int side, int b) {
+    nb.body[side] = b;
+    nb.sid[side] = b >= 0 ? m_bodies[size_t(b)].sid : -1;
+  };
+  for (size_t k = size_t(begin); k < m_nodes.size(); ++k) {
+    const Node& n = m_nodes[k];
+    NodeBodies& nb = m_nodeBodies[k];
+    if (n.joint >= 0) {
+      note(nb, 0, m_rows[size_t(n.joint)].na);
+      note(nb, 1, m_rows[size_t(n.joint)].nb);
+      nb.coupling = n.joint;
+    } else {
+      note(nb, 0, n.body);
+      note(nb, 1, -1);
+      nb.coupling = n.parent >= 0 ? m_nodes[size_t(n.parent)].joint : -1;
+    }
+  }
 }
 
 void ExactSolver::solveDownPlain(int from, int to, const int* order, int skip, bool iteration) {
@@ -1382,7 +1498,9 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   m_groupBegin = int(m_clusters.size());
   if (m_rows.size() < m_shared->joints.size()) m_rows.resize(m_shared->joints.size());
   m_groupFirstBody = int(m_bodies.size());
+  const int firstNode = int(m_nodes.size());
   buildClusters(constraints, numConstraints);
+  noteNodeBodies(firstNode);
   m_groupHasJoints = !m_groupJoints.empty();
   // Clusters that touch anything else take no centripetal target (updateCentripetal).
   auto clusterOf = [&](int sid) {

@@ -349,6 +349,20 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void iterationResidual(int k);
   void iterationApply(int k);
   std::vector<char> m_residualMade;  // by node, during a down pass with `iteration`
+  /// By node: its bodies (a joint's two, a body node's own; -1 none) and their solver bodies, and
+  /// the joint whose rows couple it to its parent (-1: the root), to fetch them ahead of the
+  /// passes that read them (fetchResidual, fetchApply, fetchInit, fetchPass).
+  struct NodeBodies {
+    int body[2], sid[2];
+    int coupling;
+  };
+  std::vector<NodeBodies> m_nodeBodies;
+  void noteNodeBodies(int begin);
+  void fetchSolverBody(int sid, bool all) const;
+  void fetchResidual(int k) const;
+  void fetchApply(int k) const;
+  void fetchInit(int k) const;
+  void fetchPass(int k) const;
   /// The tree solve's passes over m_nodes[order[i]] for i in [from, to) (m_nodes[i] where order
   /// is null): down (last first), x = D^-1 y and, but for a parent `skip`, the parent's
   /// y -= G^T y; up, x -= G x_parent. Four rows at a time where the CPU has AVX

@@ -61,14 +61,19 @@ struct Col6 {  // six rows: four and two
   *reinterpret_cast<V2*>(x + 4) = *reinterpret_cast<const V2*>(x + 4) - v.hi;
 }
 
+/// How many nodes ahead of the one it works on a pass calls ahead(k): about a memory latency.
+constexpr int kAhead = 8;
+
 /// The down pass over nodes[order[i]] (nodes[i] where order is null), i from to - 1 down to from:
 /// x = D^-1 y and, but for a parent `skip`, the parent's y -= G^T y. Node: dinv, g, y and x (Eigen
 /// 6 x 6 and 6 x 1, column-major) and parent. prepare(k) is called before node k's
-/// y is first read or written (each time: it may make y there, once).
-template <class Node, class Prepare>
+/// y is first read or written (each time: it may make y there, once); ahead(k) kAhead nodes
+/// before node k's turn (to fetch what prepare will read).
+template <class Node, class Prepare, class Ahead>
 [[gnu::always_inline]] inline void downPass(Node* nodes, int from, int to, const int* order, int skip,
-                                            const Prepare& prepare) {
+                                            const Prepare& prepare, const Ahead& ahead) {
   for (int i = to - 1; i >= from; --i) {
+    if (i - kAhead >= from) ahead(order ? order[i - kAhead] : i - kAhead);
     const int k = order ? order[i] : i;
     Node& n = nodes[k];
     prepare(k);
@@ -80,11 +85,13 @@ template <class Node, class Prepare>
   }
 }
 
-/// The up pass over the same nodes, first to last: x -= G x_parent; then finish(k), x final.
-template <class Node, class Finish>
+/// The up pass over the same nodes, first to last: x -= G x_parent; then finish(k), x final;
+/// ahead(k) kAhead nodes before node k's turn.
+template <class Node, class Finish, class Ahead>
 [[gnu::always_inline]] inline void upPass(Node* nodes, int from, int to, const int* order,
-                                          const Finish& finish) {
+                                          const Finish& finish, const Ahead& ahead) {
   for (int i = from; i < to; ++i) {
+    if (i + kAhead < to) ahead(order ? order[i + kAhead] : i + kAhead);
     const int k = order ? order[i] : i;
     Node& n = nodes[k];
     if (n.parent >= 0) subtract(n.x.data(), product(n.g.data(), nodes[n.parent].x.data()));

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -21,13 +22,17 @@ struct Node {
 };
 
 void passesPlain(std::vector<Node>& nodes, const int* order, int count) {
-  rm3d::node_products::downPass(nodes.data(), 0, count, order, -1, [](int) {});
-  rm3d::node_products::upPass(nodes.data(), 0, count, order, [](int) {});
+  rm3d::node_products::downPass(
+      nodes.data(), 0, count, order, -1, [](int) {}, [](int) {});
+  rm3d::node_products::upPass(
+      nodes.data(), 0, count, order, [](int) {}, [](int) {});
 }
 
 [[gnu::target("avx")]] void passesAvx(std::vector<Node>& nodes, const int* order, int count) {
-  rm3d::node_products::downPass(nodes.data(), 0, count, order, -1, [](int) {});
-  rm3d::node_products::upPass(nodes.data(), 0, count, order, [](int) {});
+  rm3d::node_products::downPass(
+      nodes.data(), 0, count, order, -1, [](int) {}, [](int) {});
+  rm3d::node_products::upPass(
+      nodes.data(), 0, count, order, [](int) {}, [](int) {});
 }
 
 /// The same passes in Eigen, as ExactSolver wrote them before.
@@ -99,7 +104,8 @@ TEST_CASE("node products: the tree solve's passes give Eigen's bits, with and wi
 
 // The passes' hooks, as ExactSolver's iteration uses them: each node's y made by prepare() when the
 // down pass first needs it (it starts as NaN, so a use before prepare shows), and its x taken by
-// finish() once final. The same bits as making every y first and reading every x after.
+// finish() once final. The same bits as making every y first and reading every x after. And each
+// node announced by ahead() kAhead nodes before its turn (the solver fetches its rows then).
 TEST_CASE("node products: y made on first use and x taken when final give the whole passes' bits") {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> normal;
@@ -121,15 +127,29 @@ TEST_CASE("node products: y made on first use and x taken when final give the wh
     std::vector<char> made(tree.size(), 0);
     std::vector<Vec6> taken(tree.size(), Vec6::Constant(std::nan("")));
     int prepared = 0;
-    rm3d::node_products::downPass(hooked.data(), 0, int(hooked.size()), nullptr, -1, [&](int k) {
-      if (made[size_t(k)]) return;
-      made[size_t(k)] = 1;
-      ++prepared;
-      hooked[size_t(k)].y = rhs[size_t(k)];
-    });
-    rm3d::node_products::upPass(hooked.data(), 0, int(hooked.size()), nullptr,
-                                [&](int k) { taken[size_t(k)] = hooked[size_t(k)].x; });
+    std::vector<int> downAhead, upAhead;  // ahead(k)'s nodes, in call order
+    rm3d::node_products::downPass(
+        hooked.data(), 0, int(hooked.size()), nullptr, -1,
+        [&](int k) {
+          if (made[size_t(k)]) return;
+          made[size_t(k)] = 1;
+          ++prepared;
+          hooked[size_t(k)].y = rhs[size_t(k)];
+        },
+        [&](int k) { downAhead.push_back(k); });
+    rm3d::node_products::upPass(
+        hooked.data(), 0, int(hooked.size()), nullptr, [&](int k) { taken[size_t(k)] = hooked[size_t(k)].x; },
+        [&](int k) { upAhead.push_back(k); });
     CHECK(prepared == int(tree.size()));
+    // Each node but the first kAhead a pass reaches is announced once, kAhead nodes before its
+    // turn: down, the last nodes first; up, the first first.
+    const int n = int(tree.size()), ahead = rm3d::node_products::kAhead, announced = std::max(0, n - ahead);
+    REQUIRE(int(downAhead.size()) == announced);
+    REQUIRE(int(upAhead.size()) == announced);
+    for (int i = 0; i < announced; ++i) {
+      CHECK(downAhead[size_t(i)] == n - 1 - ahead - i);
+      CHECK(upAhead[size_t(i)] == ahead + i);
+    }
     int differ = 0;
     for (size_t k = 0; k < tree.size(); ++k)
       differ += std::memcmp(taken[k].data(), whole[k].x.data(), sizeof(Vec6)) != 0;

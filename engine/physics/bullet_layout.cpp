@@ -42,6 +42,11 @@ std::string mismatch() {
     check(read<int>(&a, kActivation) == state, "kActivation: the activation state",
           read<int>(&a, kActivation));
   }
+  a.setCompanionId(4321);
+  check(read<int>(&a, kCompanionId) == 4321, "kCompanionId: the companion id", read<int>(&a, kCompanionId));
+  a.setMassProps(4, btVector3(1, 1, 1));
+  check(read<float>(&a, kInverseMass) == 0.25f, "kInverseMass: the inverse mass",
+        (long long)(1000 * read<float>(&a, kInverseMass)));
   check(read<int>(&a, kInternalType) == btCollisionObject::CO_RIGID_BODY, "kInternalType: the type",
         read<int>(&a, kInternalType));
   check(offsetOf(&a, &a.getLinearVelocity()) == kVelocities, "kVelocities: the linear velocity",

@@ -14,11 +14,13 @@ namespace rm3d::bullet_layout {
 constexpr int kPose = 8;            ///< m_worldTransform: 64 bytes
 constexpr int kShape = 200;         ///< m_collisionShape
 constexpr int kIslandTag = 228;     ///< m_islandTag1
+constexpr int kCompanionId = 232;   ///< m_companionId (a body's solver body, in a solver group)
 constexpr int kActivation = 240;    ///< m_activationState1
 constexpr int kInternalType = 272;  ///< m_internalType
 constexpr int kCollideWith = 312;   ///< m_checkCollideWith
 // btRigidBody.
 constexpr int kVelocities = 420;      ///< m_linearVelocity, then m_angularVelocity
+constexpr int kInverseMass = 452;     ///< m_inverseMass
 constexpr int kConstraintRefs = 600;  ///< m_constraintRefs
 // btPersistentManifold.
 constexpr int kManifoldBodies = 840;  ///< m_body0, m_body1

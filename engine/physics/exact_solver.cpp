@@ -312,15 +312,44 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     return m_sidToBody[size_t(sid)];
   };
   const int firstBody = int(m_bodies.size());
+  // The joints and their bodies lie all over memory (made module by module): what bodyOf reads
+  // of a joint's bodies is fetched a few joints ahead, and the joint itself twice as far ahead.
+  auto exact = [](const btTypedConstraint* c) {
+    return c->getUserConstraintType() == ExactLink::kType && c->isEnabled();
+  };
   for (int i = 0; i < numConstraints; ++i) {
+    if (i + 2 * kFetchAhead < numConstraints) {
+      const btTypedConstraint* ahead = constraints[i + 2 * kFetchAhead];
+      __builtin_prefetch(ahead);
+      __builtin_prefetch(reinterpret_cast<const char*>(ahead) + sizeof(ExactLink) - 1);
+    }
+    if (i + kFetchAhead < numConstraints && exact(constraints[i + kFetchAhead])) {
+      const ExactJoint& e =
+          m_shared->joints[size_t(static_cast<ExactLink*>(constraints[i + kFetchAhead])->index())];
+      for (const btRigidBody* rb : {e.a, e.b}) {
+        bullet_layout::fetch(rb, bullet_layout::kCompanionId);
+        bullet_layout::fetch(rb, bullet_layout::kInverseMass);
+        bullet_layout::fetchRange(&rb->getInvInertiaTensorWorld(), 0, sizeof(btMatrix3x3));
+      }
+    }
     btTypedConstraint* c = constraints[i];
-    if (c->getUserConstraintType() != ExactLink::kType || !c->isEnabled()) continue;
+    if (!exact(c)) continue;
     const int j = static_cast<ExactLink*>(c)->index();
     Row& r = m_rows[size_t(j)];
     r.na = bodyOf(m_shared->joints[size_t(j)].a);
     r.nb = bodyOf(m_shared->joints[size_t(j)].b);
     if (r.na < 0 && r.nb < 0) continue;
     m_groupJoints.push_back(j);
+  }
+  // The substep's first group (the only one where a world is one structure) on the same joints
+  // and bodies as the last substep's: its trees again (unless asked for fresh ones).
+  const bool first = firstBody == 0 && m_nodes.empty() && m_clusters.empty() && m_loopJoints.empty() &&
+                     m_laneNodes.empty() && !m_shared->freshTrees;
+  if (first) {
+    m_treeKey.clear();
+    for (int j : m_groupJoints)
+      m_treeKey.insert(m_treeKey.end(), {j, m_rows[size_t(j)].na, m_rows[size_t(j)].nb});
+    if (reuseTrees()) return;
   }
   const int nb = int(m_bodies.size()) - firstBody;
   // Body -> joints adjacency (CSR).
@@ -452,6 +481,52 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     c.centripetal = c.loopEnd == c.loopBegin && anchors <= 1;
     m_clusters.push_back(std::move(c));
   }
+  if (first) keepTrees();
+}
+
+/// The last first group's trees, if they were made from the same joints on the same bodies
+/// (m_treeKey): buildClusters' walk is a function of those alone, so the same nodes, clusters,
+/// lanes and loop joints, bit for bit. Only the clusters' islands are looked up again.
+bool ExactSolver::reuseTrees() {
+  if (!m_trees.valid || m_trees.key != m_treeKey) return false;
+  m_nodeOfBody.resize(m_bodies.size(), -1);
+  m_bodyCluster.resize(m_bodies.size(), -1);
+  for (int j : m_groupJoints) m_rows[size_t(j)].node = -1;
+  for (const Cluster& kept : m_trees.clusters) {
+    Cluster& c = m_clusters.emplace_back(kept);
+    for (int k = c.begin; k < c.end; ++k) {
+      const NodeHead& head = m_trees.nodes[size_t(k)];
+      Node& n = m_nodes.emplace_back();
+      n.body = head.body;
+      n.joint = head.joint;
+      n.parent = head.parent;
+      n.parentIsA = head.parentIsA;
+      if (n.body >= 0) {
+        m_nodeOfBody[size_t(n.body)] = k;
+        m_bodyCluster[size_t(n.body)] = int(m_clusters.size()) - 1;
+        if (c.island < 0) c.island = m_bodies[size_t(n.body)].rb->getIslandTag();
+      }
+      if (n.joint >= 0) m_rows[size_t(n.joint)].node = k;
+    }
+  }
+  m_laneNodes = m_trees.laneNodes;
+  m_loopJoints = m_trees.loopJoints;
+  ++m_reusedTrees;
+  return true;
+}
+
+void ExactSolver::keepTrees() {
+  m_trees.valid = true;
+  std::swap(m_trees.key, m_treeKey);
+  m_trees.nodes.resize(m_nodes.size());
+  for (size_t k = 0; k < m_nodes.size(); ++k) {
+    const Node& n = m_nodes[k];
+    m_trees.nodes[k] = {n.body, n.joint, n.parent, n.parentIsA};
+  }
+  m_trees.clusters = m_clusters;
+  for (Cluster& c : m_trees.clusters) c.island = -1;
+  m_trees.laneNodes = m_laneNodes;
+  m_trees.loopJoints = m_loopJoints;
 }
 
 /// One side of a contact row: its solver body, Jacobian, and (if it is one of ours) body and group.
@@ -512,6 +587,9 @@ void ExactSolver::buildGroups(int firstBody) {
     }
   }
   for (int i = 0; i < nb; ++i) {
+    // (Each body's pose fetched a few bodies ahead: with many modules the bodies are outside the
+    // caches.)
+    if (i + kFetchAhead < nb) bullet_layout::fetchPose(m_bodies[size_t(firstBody + i + kFetchAhead)].rb);
     const int g = rootGroup[size_t(find(i))];
     m_bodyGroup[size_t(firstBody + i)] = g;
     if (g < 0) continue;

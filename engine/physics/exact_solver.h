@@ -157,8 +157,13 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   bool patches = false;
   /// Every tree factored whole (PhysicsSettings::wholeFactors; batch solvers read the primary's).
   bool wholeFactors = false;
+  /// Every substep's trees made afresh (PhysicsSettings::freshTrees; batch solvers read the
+  /// primary's): never taken again from the last substep (reuseTrees).
+  bool freshTrees = false;
   /// Factors so far that took only the nodes whose rows changed (factor).
   long partialFactorCount() const { return m_partialFactors; }
+  /// Substeps whose trees were taken again from the last substep (reuseTrees).
+  long reusedTreeCount() const { return m_reusedTrees; }
 
   /// Makes this a batch solver of `primary` (PhysicsWorld's, on a worker thread): it reads and
   /// writes the primary's joints, capture joints and contact-patch table instead of its own. Each
@@ -443,6 +448,21 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     bool parentIsA;
   };
   std::vector<NodeHead> m_nodeHeads;
+  /// The trees buildClusters made for the substep's first solver group, and what they were made
+  /// from (each joint's index and body indices): a structure that does not change from one
+  /// substep to the next gets the same trees again without walking it (reuseTrees).
+  struct Trees {
+    bool valid = false;
+    std::vector<int> key;  // j, na, nb per joint of the group, in order
+    std::vector<NodeHead> nodes;
+    std::vector<Cluster> clusters;  // as buildClusters leaves them
+    std::vector<int> laneNodes, loopJoints;
+  };
+  Trees m_trees;
+  long m_reusedTrees = 0;
+  std::vector<int> m_treeKey;
+  bool reuseTrees();
+  void keepTrees();
   void finishJoints();
   Vec6 bodyVelocity(int b) const;
   void addBodyVelocity(int b, const Vec6& dv);

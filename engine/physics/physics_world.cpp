@@ -307,6 +307,7 @@ struct PhysicsWorld::Impl {
     world.setGravity(toBt(s.gravity));
     solver.patches = s.solver == SolverKind::Exact;
     solver.wholeFactors = s.wholeFactors;
+    solver.freshTrees = s.freshTrees;
     solver.alwaysThreads = s.alwaysThreads;
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);
@@ -775,6 +776,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
   m->settings = s;
   m->solver.patches = s.solver == SolverKind::Exact;
   m->solver.wholeFactors = s.wholeFactors;
+  m->solver.freshTrees = s.freshTrees;
   m->solver.alwaysThreads = s.alwaysThreads;
   m->world.setAlwaysThreads(s.alwaysThreads);
   m->dispatcher.setAlwaysThreads(s.alwaysThreads);
@@ -1152,6 +1154,12 @@ int PhysicsWorld::threadedBodies() const {
 int PhysicsWorld::halvedSweeps() const {
   int n = m->solver.halvedSweepCount();
   for (const auto& h : m->helpers) n += h->halvedSweepCount();
+  return n;
+}
+
+long PhysicsWorld::reusedTrees() const {
+  long n = m->solver.reusedTreeCount();
+  for (const auto& h : m->helpers) n += h->reusedTreeCount();
   return n;
 }
 

@@ -38,6 +38,9 @@ struct PhysicsSettings {
   /// The exact solver factors every tree whole, also where only motor rows changed (tests: its
   /// partial factors must give the same bits).
   bool wholeFactors = false;
+  /// The exact solver makes its trees afresh every substep, also where the joints and bodies are
+  /// those of the last (tests: trees taken again must give the same bits).
+  bool freshTrees = false;
   /// Every piece of a step that can go to the worker threads goes there, not only where the
   /// clock says it pays (tests: core/pace.h; the bits are the same either way).
   bool alwaysThreads = false;
@@ -177,6 +180,8 @@ class PhysicsWorld {
   int halvedSweeps() const;
   /// Factors so far that took only the nodes whose rows changed (ExactSolver::factor).
   long partialFactors() const;
+  /// Substeps whose trees the exact solvers took again from the last substep (reuseTrees).
+  long reusedTrees() const;
   /// Advances by dt in `substeps` equal steps, updating servos before each one.
   void step(double dt, int substeps);
 

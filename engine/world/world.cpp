@@ -149,6 +149,7 @@ void World::ensurePhysics() {
   ps.jointIterations = m_settings.jointIterations;
   ps.erp = m_settings.erp;
   ps.wholeFactors = m_options.wholeFactors;
+  ps.freshTrees = m_options.freshTrees;
   ps.alwaysThreads = m_options.alwaysThreads;
   m_physics = std::make_unique<PhysicsWorld>(ps);
   if (m_pool->threads() > 1)

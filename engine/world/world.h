@@ -50,6 +50,7 @@ struct RunOptions {
   int threads = 1;                            ///< behaviour worker threads
   int chunkSize = 16;                         ///< modules a worker takes at a time (tests use 1)
   bool wholeFactors = false;                  ///< tests: PhysicsSettings::wholeFactors
+  bool freshTrees = false;                    ///< tests: PhysicsSettings::freshTrees
   bool alwaysThreads = false;                 ///< tests: PhysicsSettings::alwaysThreads
   size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
   int64_t behaviourBudget = 10'000'000;       ///< Lua instructions per callback

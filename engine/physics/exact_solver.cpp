@@ -904,7 +904,10 @@ void ExactSolver::passToParent(int k, bool fresh) {
     pd.topRows<3>() -= s * n.g.topRows<3>() + at.transpose().lazyProduct(n.g.bottomRows<3>());
     pd.bottomRows<3>() -= bt.transpose().lazyProduct(n.g.bottomRows<3>());
   }
-  pd = (0.5 * (pd + pd.transpose())).eval();  // keep it exactly symmetric
+  // Kept exactly symmetric: each pair of elements set to their mean, in place (the same bits as
+  // 0.5 (D + D^T) without the temporary; the diagonal too, which a flushed denormal would change).
+  for (int col = 0; col < 6; ++col)
+    for (int row = col; row < 6; ++row) pd(row, col) = pd(col, row) = 0.5 * (pd(row, col) + pd(col, row));
 }
 
 template <class Fn>
@@ -1006,7 +1009,7 @@ void ExactSolver::helpHalves(HalfHelper& h) {
   }
 }
 
-void ExactSolver::factor(Cluster& c) {
+void ExactSolver::factor(Cluster& c, bool solveToo) {
   // After rows left or rejoined the active set (and nothing else changed), only their nodes, their
   // children (whose coupling H holds the row) and the nodes on the way to the root are factored
   // again; every other node keeps its inverse and G and only passes its share to a parent that is
@@ -1023,10 +1026,12 @@ void ExactSolver::factor(Cluster& c) {
     const Node& n = m_nodes[size_t(k)];
     m_need[size_t(k)] = m_rowChanged[size_t(k)] || m_rowChanged[size_t(n.parent)];
   };
+  if (solveToo && m_residualMade.size() < m_nodes.size()) m_residualMade.resize(m_nodes.size(), 0);
   if (c.split) {
     // Each half leaves first, as below; the root's children pass their shares to it after both,
     // in the same order as a whole pass would (so the halves' threads change no bit).
     initNode(c.begin);
+    if (solveToo) iterationResidual(c.begin);
     forBothHalves([&](int h) {
       if (partial) {
         for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) own(m_laneNodes[size_t(i)]);
@@ -1041,7 +1046,10 @@ void ExactSolver::factor(Cluster& c) {
         if (needs(lane[i])) initNode(lane[i]);
       }
       for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
-        if (i - kFetchAhead >= c.lane[h]) fetchPass(lane[i - kFetchAhead]);
+        if (i - kFetchAhead >= c.lane[h]) {
+          fetchPass(lane[i - kFetchAhead]);
+          if (solveToo) fetchResidual(lane[i - kFetchAhead]);
+        }
         const int k = lane[i];
         Node& n = m_nodes[size_t(k)];
         if (needs(k)) {
@@ -1050,11 +1058,23 @@ void ExactSolver::factor(Cluster& c) {
         } else if (n.parent != c.begin && m_need[size_t(n.parent)]) {
           passToParent(k, false);
         }
+        if (solveToo) iterationDownStep(k, c.begin);
       }
     });
-    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i)
+    Node& root = m_nodes[size_t(c.begin)];
+    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
       passToParent(m_laneNodes[size_t(i)], needs(m_laneNodes[size_t(i)]));
-    invertSymmetric(m_nodes[size_t(c.begin)].dinv);
+      if (solveToo) {
+        const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
+        root.y.noalias() -= n.g.transpose() * n.y;
+      }
+    }
+    invertSymmetric(root.dinv);
+    if (solveToo) {  // the rest of solve(c, true)
+      root.x.noalias() = root.dinv * root.y;
+      iterationApply(c.begin);
+      forBothHalves([&](int h) { solveUp(c.lane[h], c.lane[h + 1], m_laneNodes.data(), true); });
+    }
   } else {
     if (partial) {
       m_need[size_t(c.begin)] = m_rowChanged[size_t(c.begin)];
@@ -1067,7 +1087,10 @@ void ExactSolver::factor(Cluster& c) {
       if (needs(k)) initNode(k);
     }
     for (int k = c.end - 1; k >= c.begin; --k) {  // leaves first
-      if (k - kFetchAhead >= c.begin) fetchPass(k - kFetchAhead);
+      if (k - kFetchAhead >= c.begin) {
+        fetchPass(k - kFetchAhead);
+        if (solveToo) fetchResidual(k - kFetchAhead);
+      }
       Node& n = m_nodes[size_t(k)];
       if (needs(k)) {
         invertSymmetric(n.dinv);
@@ -1075,7 +1098,9 @@ void ExactSolver::factor(Cluster& c) {
       } else if (n.parent >= 0 && m_need[size_t(n.parent)]) {
         passToParent(k, false);
       }
+      if (solveToo) iterationDownStep(k, -1);
     }
+    if (solveToo) solveUp(c.begin, c.end, nullptr, true);  // the rest of solve(c, true)
   }
   std::fill(m_rowChanged.begin() + c.begin, m_rowChanged.begin() + c.end, char(0));
   c.dirty = c.full = false;
@@ -1234,14 +1259,19 @@ void ExactSolver::solve(Cluster& c, bool iteration) {
   solveUp(c.begin, c.end, nullptr, iteration);
 }
 
+/// Node k's right-hand side made, the first time the down pass reaches it.
+[[gnu::always_inline]] inline void ExactSolver::prepareResidual(int k) {
+  if (m_residualMade[size_t(k)]) return;
+  m_residualMade[size_t(k)] = 1;
+  iterationResidual(k);
+}
+
 template <bool Iteration>
 [[gnu::always_inline]] inline void ExactSolver::downPass(int from, int to, const int* order, int skip) {
   node_products::downPass(
       m_nodes.data(), from, to, order, skip,
       [this](int k) {
-        if (!Iteration || m_residualMade[size_t(k)]) return;
-        m_residualMade[size_t(k)] = 1;
-        iterationResidual(k);
+        if (Iteration) prepareResidual(k);
       },
       [this](int k) {
         if (Iteration) fetchResidual(k);
@@ -1356,6 +1386,21 @@ void ExactSolver::noteNodeBodies(int begin) {
       nb.coupling = n.parent >= 0 ? m_nodes[size_t(n.parent)].joint : -1;
     }
   }
+}
+
+void ExactSolver::iterationDownStep(int k, int skip) {
+  if (m_avx)
+    iterationDownStepAvx(k, skip);
+  else
+    iterationDownStepPlain(k, skip);
+}
+
+void ExactSolver::iterationDownStepPlain(int k, int skip) {
+  node_products::downStep(m_nodes.data(), k, skip, [this](int i) { prepareResidual(i); });
+}
+
+void ExactSolver::iterationDownStepAvx(int k, int skip) {
+  node_products::downStep(m_nodes.data(), k, skip, [this](int i) { prepareResidual(i); });
 }
 
 void ExactSolver::solveDownPlain(int from, int to, const int* order, int skip, bool iteration) {
@@ -1526,10 +1571,15 @@ void ExactSolver::exactIterationWhere(bool clamp, const std::function<bool(const
 /// joints and nodes, so clusters may run in parallel.
 void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
   using A = ExactJoint::Axial;
-  if (c.dirty) factor(c);
   // The rows' residuals, the solve, and its result applied, in one pass each way (each node reads
-  // and writes its own row or body), a long tree's halves apart.
-  solve(c, true);
+  // and writes its own row or body), a long tree's halves apart; after a factor, its down pass
+  // with the factor's.
+  if (c.dirty && c.loopEnd == c.loopBegin) {
+    factor(c, true);
+  } else {
+    if (c.dirty) factor(c);
+    solve(c, true);
+  }
   // The centripetal targets at these joint-consistent velocities, before any row is clamped.
   for (int k = c.begin; k < c.end && c.centripetal; ++k)
     if (const int j = m_nodes[size_t(k)].joint; j >= 0) updateCentripetal(j);

@@ -346,12 +346,19 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   Vec6 structuralResidual(int j) const;
   void updateCentripetal(int j);
   Cluster& jointCluster(int j);  ///< the cluster of a joint of this substep
-  void factor(Cluster& c);
+  /// With `solveToo`, then an iteration's solve (solve(c, true)), its down pass node by node as
+  /// each is factored (its pivot and G still in the caches): the same operations in the same
+  /// order. Not for a tree with loops (factorLoops solves the tree in between).
+  void factor(Cluster& c, bool solveToo = false);
+  void iterationDownStep(int k, int skip);
+  void iterationDownStepPlain(int k, int skip);
+  [[gnu::target("avx")]] void iterationDownStepAvx(int k, int skip);
   /// With `iteration`, each node's right-hand side is made (iterationResidual) as the down pass
   /// first needs it, and its result applied (iterationApply) as the up pass leaves it: two passes
   /// over the nodes instead of four, the same operations in the same order.
   void solve(Cluster& c, bool iteration = false);
   void iterationResidual(int k);
+  void prepareResidual(int k);
   void iterationApply(int k);
   std::vector<char> m_residualMade;  // by node, during a down pass with `iteration`
   /// By node: its bodies (a joint's two, a body node's own; -1 none) and their solver bodies, and

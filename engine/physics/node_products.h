@@ -64,6 +64,19 @@ struct Col6 {  // six rows: four and two
 /// How many nodes ahead of the one it works on a pass calls ahead(k): about a memory latency.
 constexpr int kAhead = 8;
 
+/// Node k's step of the down pass below: x = D^-1 y and, but for a parent `skip`, the parent's
+/// y -= G^T y (prepare as there).
+template <class Node, class Prepare>
+[[gnu::always_inline]] inline void downStep(Node* nodes, int k, int skip, const Prepare& prepare) {
+  Node& n = nodes[k];
+  prepare(k);
+  store(n.x.data(), product(n.dinv.data(), n.y.data()));
+  if (n.parent >= 0 && n.parent != skip) {
+    prepare(n.parent);
+    subtract(nodes[n.parent].y.data(), transposedProduct(n.g.data(), n.y.data()));
+  }
+}
+
 /// The down pass over nodes[order[i]] (nodes[i] where order is null), i from to - 1 down to from:
 /// x = D^-1 y and, but for a parent `skip`, the parent's y -= G^T y. Node: dinv, g, y and x (Eigen
 /// 6 x 6 and 6 x 1, column-major) and parent. prepare(k) is called before node k's
@@ -74,14 +87,7 @@ template <class Node, class Prepare, class Ahead>
                                             const Prepare& prepare, const Ahead& ahead) {
   for (int i = to - 1; i >= from; --i) {
     if (i - kAhead >= from) ahead(order ? order[i - kAhead] : i - kAhead);
-    const int k = order ? order[i] : i;
-    Node& n = nodes[k];
-    prepare(k);
-    store(n.x.data(), product(n.dinv.data(), n.y.data()));
-    if (n.parent >= 0 && n.parent != skip) {
-      prepare(n.parent);
-      subtract(nodes[n.parent].y.data(), transposedProduct(n.g.data(), n.y.data()));
-    }
+    downStep(nodes, order ? order[i] : i, skip, prepare);
   }
 }
 

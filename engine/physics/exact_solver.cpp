@@ -1061,20 +1061,9 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
         if (solveToo) iterationDownStep(k, c.begin);
       }
     });
-    Node& root = m_nodes[size_t(c.begin)];
-    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
+    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i)
       passToParent(m_laneNodes[size_t(i)], needs(m_laneNodes[size_t(i)]));
-      if (solveToo) {
-        const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
-        root.y.noalias() -= n.g.transpose() * n.y;
-      }
-    }
-    invertSymmetric(root.dinv);
-    if (solveToo) {  // the rest of solve(c, true)
-      root.x.noalias() = root.dinv * root.y;
-      iterationApply(c.begin);
-      forBothHalves([&](int h) { solveUp(c.lane[h], c.lane[h + 1], m_laneNodes.data(), true); });
-    }
+    invertSymmetric(m_nodes[size_t(c.begin)].dinv);
   } else {
     if (partial) {
       m_need[size_t(c.begin)] = m_rowChanged[size_t(c.begin)];
@@ -1100,8 +1089,8 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
       }
       if (solveToo) iterationDownStep(k, -1);
     }
-    if (solveToo) solveUp(c.begin, c.end, nullptr, true);  // the rest of solve(c, true)
   }
+  if (solveToo) solveFromRoot(c, true);
   std::fill(m_rowChanged.begin() + c.begin, m_rowChanged.begin() + c.end, char(0));
   c.dirty = c.full = false;
   if (c.loopEnd > c.loopBegin) factorLoops(c);
@@ -1242,21 +1231,27 @@ void ExactSolver::solve(Cluster& c, bool iteration) {
   // y -= H^T D^-1 y = G^T y; up, x -= G x_parent.
   if (iteration && m_residualMade.size() < m_nodes.size()) m_residualMade.resize(m_nodes.size(), 0);
   if (c.split) {  // each half apart, the root's children passing on to it after both
-    Node& root = m_nodes[size_t(c.begin)];
     if (iteration) iterationResidual(c.begin);
     forBothHalves(
         [&](int h) { solveDown(c.lane[h], c.lane[h + 1], m_laneNodes.data(), c.begin, iteration); });
-    for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
-      const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
-      root.y.noalias() -= n.g.transpose() * n.y;
-    }
-    root.x.noalias() = root.dinv * root.y;
-    if (iteration) iterationApply(c.begin);
-    forBothHalves([&](int h) { solveUp(c.lane[h], c.lane[h + 1], m_laneNodes.data(), iteration); });
-    return;
+  } else {
+    solveDown(c.begin, c.end, nullptr, -1, iteration);
   }
-  solveDown(c.begin, c.end, nullptr, -1, iteration);
-  solveUp(c.begin, c.end, nullptr, iteration);
+  solveFromRoot(c, iteration);
+}
+
+/// The rest of a solve after its down pass (solve, or a factor's with `solveToo`): a split tree's
+/// root takes its children's shares and is solved; then the up pass.
+void ExactSolver::solveFromRoot(Cluster& c, bool iteration) {
+  if (!c.split) return solveUp(c.begin, c.end, nullptr, iteration);
+  Node& root = m_nodes[size_t(c.begin)];
+  for (int i = c.lane[3] - 1; i >= c.lane[2]; --i) {
+    const Node& n = m_nodes[size_t(m_laneNodes[size_t(i)])];
+    root.y.noalias() -= n.g.transpose() * n.y;
+  }
+  root.x.noalias() = root.dinv * root.y;
+  if (iteration) iterationApply(c.begin);
+  forBothHalves([&](int h) { solveUp(c.lane[h], c.lane[h + 1], m_laneNodes.data(), iteration); });
 }
 
 /// Node k's right-hand side made, the first time the down pass reaches it.

@@ -357,6 +357,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// first needs it, and its result applied (iterationApply) as the up pass leaves it: two passes
   /// over the nodes instead of four, the same operations in the same order.
   void solve(Cluster& c, bool iteration = false);
+  void solveFromRoot(Cluster& c, bool iteration);
   void iterationResidual(int k);
   void prepareResidual(int k);
   void iterationApply(int k);

@@ -135,14 +135,18 @@ std::pair<double, double> ExactSolver::patchLoad(const PatchRows& pr) const {
 double ExactSolver::sweepBall(int row, int count, double bound) {
   const int nc = m_tmpSolverContactConstraintPool.size();
   double before[3], after[3];
+  RowSide sides[3][2];
   for (int k = 0; k < count; ++k) {
     btSolverConstraint& s = m_patchRows[row + k];
-    const double* x = &m_rowExtra[size_t(4 * (nc + row + k))];
+    const int i = nc + row + k;
+    sides[k][0] = rowSide(s, 0, i);
+    sides[k][1] = rowSide(s, 1, i);
+    const double* x = &m_rowExtra[size_t(4 * i)];
     before[k] = s.m_appliedImpulse;
-    after[k] = x[2] == 0
-                   ? before[k]
-                   : before[k] + (m_useSplit ? x[2] : x[3]) * (x[0] - x[1] * before[k] - rowVelocity(s));
-    applyRowImpulse(s, after[k] - before[k]);
+    after[k] = x[2] == 0 ? before[k]
+                         : before[k] +
+                               (m_useSplit ? x[2] : x[3]) * (x[0] - x[1] * before[k] - rowVelocity(sides[k]));
+    applyRowImpulse(sides[k], after[k] - before[k]);
   }
   const double len = count == 2 ? hypotInline(after[0], after[1])
                                 : std::sqrt(after[0] * after[0] + after[1] * after[1] + after[2] * after[2]);
@@ -150,7 +154,7 @@ double ExactSolver::sweepBall(int row, int count, double bound) {
   double change = 0;
   for (int k = 0; k < count; ++k) {
     btSolverConstraint& s = m_patchRows[row + k];
-    applyRowImpulse(s, after[k] * scale - after[k]);
+    applyRowImpulse(sides[k], after[k] * scale - after[k]);
     s.m_appliedImpulse = btScalar(after[k] * scale);
     change += (after[k] * scale - before[k]) * (after[k] * scale - before[k]);
   }
@@ -319,7 +323,7 @@ double ExactSolver::sweepPatch(const PatchRows& pr) {
   {
     btSolverConstraint& t = m_patchRows[pr.row + 2];
     const double bound = pr.mu * twistArm + pr.spin * normalSum;
-    residual = std::max(residual, sweepRow(t, -bound, bound, &m_rowExtra[size_t(4 * (nc + pr.row + 2))]));
+    residual = std::max(residual, sweepRow(t, -bound, bound, nc + pr.row + 2));
   }
   if (pr.roll) residual = std::max(residual, sweepBall(pr.row + 3, 2, pr.rolling * normalSum));
   return residual;

@@ -529,21 +529,6 @@ void ExactSolver::keepTrees() {
   m_trees.loopJoints = m_loopJoints;
 }
 
-/// One side of a contact row: its solver body, Jacobian, and (if it is one of ours) body and group.
-/// (Inlined: returned through memory, the sides cost the sweep a store-to-load round trip per
-/// row, and 20% more of `superbots_1000`'s step in some builds, by where the code happened to lie.)
-[[gnu::always_inline]] inline ExactSolver::RowSide ExactSolver::rowSide(btSolverConstraint& c, int side) {
-  RowSide r;
-  const int sid = side == 0 ? c.m_solverBodyIdA : c.m_solverBodyIdB;
-  r.body = &m_tmpSolverBodyPool[sid];
-  r.n = side == 0 ? &c.m_contactNormal1 : &c.m_contactNormal2;
-  r.rc = side == 0 ? &c.m_relpos1CrossNormal : &c.m_relpos2CrossNormal;
-  r.ac = side == 0 ? &c.m_angularComponentA : &c.m_angularComponentB;
-  r.index = sid < int(m_sidToBody.size()) ? m_sidToBody[size_t(sid)] : -1;
-  r.group = r.index >= 0 ? m_bodyGroup[size_t(r.index)] : -1;
-  return r;
-}
-
 /// Rigid groups of this solver group's bodies (hinges whose motors hold them), their mass
 /// properties, and each contact row's velocity error and effective mass as the sweep sees it.
 void ExactSolver::buildGroups(int firstBody) {
@@ -617,12 +602,25 @@ void ExactSolver::buildGroups(int firstBody) {
   // with a group's inertia in place of its body's.
   const int nc = m_tmpSolverContactConstraintPool.size(), nf = m_patchRows.size();
   m_rowExtra.resize(size_t(4 * (nc + nf)));
+  m_rowPush.resize(size_t(12 * (nc + nf)));
   for (int i = 0; i < nc; ++i)
     for (int side = 0; side < 2; ++side)
       if (const RowSide r = rowSide(m_tmpSolverContactConstraintPool[i], side); r.group >= 0)
         ++m_groups[size_t(r.group)].contacts;
   for (int i = 0; i < nc + nf; ++i) {
     btSolverConstraint& c = i < nc ? m_tmpSolverContactConstraintPool[i] : m_patchRows[i - nc];
+    // What a unit impulse of the row does to a grouped side's group (every row: a row without
+    // mass of its own may still take an impulse when its ball is clamped).
+    for (int side = 0; side < 2; ++side) {
+      const RowSide r = rowSide(c, side, i);
+      if (!r.push || !r.body->m_originalBody) continue;
+      const Group& gr = m_groups[size_t(r.group)];
+      const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
+      double* push = m_rowPush.data() + 12 * i + 6 * side;
+      Eigen::Map<Vec3d> linear(push), angular(push + 3);
+      linear = gr.invMass * toEigen(*r.n);
+      angular = gr.invInertia * rg;
+    }
     double* x = &m_rowExtra[size_t(4 * i)];
     const double jd = c.m_jacDiagABInv;
     if (jd == 0) {
@@ -703,11 +701,6 @@ void ExactSolver::planHalvedSweep() {
       m_itemBarriers.size() <= kHalvedSweepBarriers && int(m_itemSide.size()) >= 2 * kHalvedSweepItems;
 }
 
-double ExactSolver::rowVelocity(btSolverConstraint& c) {
-  const RowSide sides[2] = {rowSide(c, 0), rowSide(c, 1)};
-  return rowVelocity(sides);
-}
-
 double ExactSolver::rowVelocity(const RowSide (&sides)[2]) const {
   double vel = 0;
   for (const RowSide& r : sides) {
@@ -724,8 +717,9 @@ double ExactSolver::rowVelocity(const RowSide (&sides)[2]) const {
 
 /// One row of the contact sweep, as Bullet's, except that a body in a rigid group moves with its
 /// group: its velocity includes the group's pending twist and an impulse goes to that twist.
-double ExactSolver::sweepRow(btSolverConstraint& c, double lo, double hi, const double* x) {
-  const RowSide sides[2] = {rowSide(c, 0), rowSide(c, 1)};
+double ExactSolver::sweepRow(btSolverConstraint& c, double lo, double hi, int row) {
+  const RowSide sides[2] = {rowSide(c, 0, row), rowSide(c, 1, row)};
+  const double* x = &m_rowExtra[size_t(4 * row)];
   const double vel = rowVelocity(sides);
   const double lambda = c.m_appliedImpulse;
   const double inv = m_useSplit ? x[2] : x[3];
@@ -734,12 +728,6 @@ double ExactSolver::sweepRow(btSolverConstraint& c, double lo, double hi, const 
   c.m_appliedImpulse = btScalar(next);
   applyRowImpulse(sides, delta);
   return delta * delta;
-}
-
-void ExactSolver::applyRowImpulse(btSolverConstraint& c, double delta) {
-  if (delta == 0) return;
-  const RowSide sides[2] = {rowSide(c, 0), rowSide(c, 1)};
-  applyRowImpulse(sides, delta);
 }
 
 void ExactSolver::applyRowImpulse(const RowSide (&sides)[2], double delta) {
@@ -751,9 +739,8 @@ void ExactSolver::applyRowImpulse(const RowSide (&sides)[2], double delta) {
       continue;
     }
     Group& gr = m_groups[size_t(r.group)];
-    const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
-    gr.dv += gr.invMass * toEigen(*r.n) * delta;
-    gr.dw += gr.invInertia * rg * delta;
+    gr.dv += Eigen::Map<const Vec3d>(r.push) * delta;
+    gr.dw += Eigen::Map<const Vec3d>(r.push + 3) * delta;
     Vec6& p = m_bodyImpulse[size_t(r.index)];
     p.head<3>() += toEigen(*r.n) * delta;
     p.tail<3>() += toEigen(*r.rc) * delta;
@@ -785,8 +772,8 @@ btScalar ExactSolver::contactSweep() {
     if (t < captures + nc) {
       const int i = m_orderTmpConstraintPool[t - captures];
       btSolverConstraint& c = m_tmpSolverContactConstraintPool[i];
-      const double* x = &m_rowExtra[size_t(4 * i)];
-      return x[2] != 0 && wanted(c) ? sweepRow(c, c.m_lowerLimit, c.m_upperLimit, x) : 0.0;
+      return m_rowExtra[size_t(4 * i + 2)] != 0 && wanted(c) ? sweepRow(c, c.m_lowerLimit, c.m_upperLimit, i)
+                                                             : 0.0;
     }
     const PatchRows& pr = m_groupPatches[size_t(t - captures - nc)];
     return wanted(m_patchRows[pr.row]) ? sweepPatch(pr) : 0.0;

@@ -5,6 +5,7 @@
 #include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btPolyhedralConvexShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
@@ -143,7 +144,26 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
     int n = 0;
     const int count = shape->getNumVertices();
     const btScalar cutoff = ahead ? farthest : threshold;
+    // A hull's points are first measured against the plane by one dot product each (the normal
+    // taken into the hull's frame): a point clear of the cutoff by more than that sum's rounding
+    // error is not looked at again; the rest are measured as before (so the same points pass, with
+    // the same distances).
+    const btVector3* points = nullptr;
+    btVector3 along(0, 0, 0);
+    btScalar offset = 0, clear = 0;
+    if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
+      const auto* hull = static_cast<const btConvexHullShape*>(shape);
+      points = hull->getUnscaledPoints();
+      along = (hullInPlane.getBasis().transpose() * normal) * hull->getLocalScaling();
+      offset = normal.dot(hullInPlane.getOrigin()) - constant - margin;
+      // (Each term of a sum is within the largest of them; a scaled point within the hull's motion
+      // disc of its origin; 1e-5 of that is about 80 times a float's rounding.)
+      const btScalar largest =
+          std::abs(offset) + std::abs(constant) + std::abs(margin) + shape->getAngularMotionDisc();
+      clear = (largest + btScalar(1)) * btScalar(1e-5);
+    }
     for (int i = 0; i < count; ++i) {
+      if (points && along.dot(points[i]) + offset >= cutoff + clear) continue;
       btVector3 v;
       shape->getVertex(i, v);
       const btVector3 p = hullInPlane(v);
@@ -174,15 +194,19 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
     // The manifold's points first (matched by the vertex they sit on).
     const btCollisionObject* hullObject = hullWrap->getCollisionObject();
     const bool hullIsA = m_manifold->getBody0() == hullObject;
+    // (Each manifold point in the world once, not once per candidate.)
+    btVector3 onHull[MANIFOLD_CACHE_SIZE];
+    const int manifoldPoints = std::min(m_manifold->getNumContacts(), int(MANIFOLD_CACHE_SIZE));
+    for (int k = 0; k < manifoldPoints; ++k) {
+      const btManifoldPoint& mp = m_manifold->getContactPoint(k);
+      onHull[k] = hullObject->getWorldTransform() * (hullIsA ? mp.m_localPointA : mp.m_localPointB);
+    }
     int held = 0;
     for (int i = 0; i < n && held < n; ++i) {
       const btVector3 vertex =
           planeWrap->getWorldTransform() * (c[i].point + (c[i].distance + margin) * normal);
-      for (int k = 0; k < m_manifold->getNumContacts(); ++k) {
-        const btManifoldPoint& mp = m_manifold->getContactPoint(k);
-        const btVector3 onHull =
-            hullObject->getWorldTransform() * (hullIsA ? mp.m_localPointA : mp.m_localPointB);
-        if ((onHull - vertex).length2() < kSameVertex * kSameVertex) {
+      for (int k = 0; k < manifoldPoints; ++k) {
+        if ((onHull[k] - vertex).length2() < kSameVertex * kSameVertex) {
           std::swap(c[i], c[held++]);
           break;
         }

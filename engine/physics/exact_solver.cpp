@@ -64,6 +64,9 @@ constexpr size_t kHalvedSweepBarriers = 64;
 constexpr int kPrefetchNodes = 64;
 /// The factor fetches a node's row, joint or body this many nodes ahead (fetchInit, fetchPass).
 constexpr int kFetchAhead = 8;
+// A tree of fewer nodes than this (about 30 modules: 250 kB of nodes and rows) stays in the second-
+// level cache from one pass to the next: its passes fetch nothing ahead (m_fetch).
+constexpr int kFetchNodes = 256;
 
 Vec3d toEigen(const btVector3& v) {
   return Vec3d(v.x(), v.y(), v.z());
@@ -997,6 +1000,7 @@ void ExactSolver::helpHalves(HalfHelper& h) {
 }
 
 void ExactSolver::factor(Cluster& c, bool solveToo) {
+  m_fetch = c.end - c.begin >= kFetchNodes;
   // After rows left or rejoined the active set (and nothing else changed), only their nodes, their
   // children (whose coupling H holds the row) and the nodes on the way to the root are factored
   // again; every other node keeps its inverse and G and only passes its share to a parent that is
@@ -1029,11 +1033,12 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
       }
       const int* lane = m_laneNodes.data();
       for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) {
-        if (i + kFetchAhead < c.lane[h + 1] && needs(lane[i + kFetchAhead])) fetchInit(lane[i + kFetchAhead]);
+        if (m_fetch && i + kFetchAhead < c.lane[h + 1] && needs(lane[i + kFetchAhead]))
+          fetchInit(lane[i + kFetchAhead]);
         if (needs(lane[i])) initNode(lane[i]);
       }
       for (int i = c.lane[h + 1] - 1; i >= c.lane[h]; --i) {
-        if (i - kFetchAhead >= c.lane[h]) {
+        if (m_fetch && i - kFetchAhead >= c.lane[h]) {
           fetchPass(lane[i - kFetchAhead]);
           if (solveToo) fetchResidual(lane[i - kFetchAhead]);
         }
@@ -1059,11 +1064,11 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
         if (m_need[size_t(k)]) m_need[size_t(m_nodes[size_t(k)].parent)] = 1;
     }
     for (int k = c.begin; k < c.end; ++k) {
-      if (k + kFetchAhead < c.end && needs(k + kFetchAhead)) fetchInit(k + kFetchAhead);
+      if (m_fetch && k + kFetchAhead < c.end && needs(k + kFetchAhead)) fetchInit(k + kFetchAhead);
       if (needs(k)) initNode(k);
     }
     for (int k = c.end - 1; k >= c.begin; --k) {  // leaves first
-      if (k - kFetchAhead >= c.begin) {
+      if (m_fetch && k - kFetchAhead >= c.begin) {
         fetchPass(k - kFetchAhead);
         if (solveToo) fetchResidual(k - kFetchAhead);
       }
@@ -1214,6 +1219,7 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
 /// Solves for the right-hand side already in each node's y (bodies: 0; joints: the rows'
 /// residual); leaves x: a body's velocity (or position) change, a joint's -lambda.
 void ExactSolver::solve(Cluster& c, bool iteration) {
+  m_fetch = c.end - c.begin >= kFetchNodes;
   // Three products a node (G = D^-1 H from the factor): down, x = D^-1 y and the parent's
   // y -= H^T D^-1 y = G^T y; up, x -= G x_parent.
   if (iteration && m_residualMade.size() < m_nodes.size()) m_residualMade.resize(m_nodes.size(), 0);
@@ -1256,7 +1262,7 @@ template <bool Iteration>
         if (Iteration) prepareResidual(k);
       },
       [this](int k) {
-        if (Iteration) fetchResidual(k);
+        if (Iteration && m_fetch) fetchResidual(k);
       });
 }
 
@@ -1270,7 +1276,7 @@ template <bool Iteration>
         iterationApply(k);
       },
       [this](int k) {
-        if (Iteration) fetchApply(k);
+        if (Iteration && m_fetch) fetchApply(k);
       });
 }
 

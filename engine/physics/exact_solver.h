@@ -350,6 +350,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// each is factored (its pivot and G still in the caches): the same operations in the same
   /// order. Not for a tree with loops (factorLoops solves the tree in between).
   void factor(Cluster& c, bool solveToo = false);
+  bool m_fetch = true;  ///< this factor's or solve's passes fetch ahead (a large tree: kFetchNodes)
   void iterationDownStep(int k, int skip);
   void iterationDownStepPlain(int k, int skip);
   [[gnu::target("avx")]] void iterationDownStepAvx(int k, int skip);

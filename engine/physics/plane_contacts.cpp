@@ -156,10 +156,12 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
       points = hull->getUnscaledPoints();
       along = (hullInPlane.getBasis().transpose() * normal) * hull->getLocalScaling();
       offset = normal.dot(hullInPlane.getOrigin()) - constant - margin;
-      // (Each term of a sum is within the largest of them; a scaled point within the hull's motion
-      // disc of its origin; 1e-5 of that is about 80 times a float's rounding.)
-      const btScalar largest =
-          std::abs(offset) + std::abs(constant) + std::abs(margin) + shape->getAngularMotionDisc();
+      // (Every term of either sum is within the hull's origin in the plane's frame plus its motion
+      // disc, the plane's constant and the margin: a tilted plane's normal meets the origin's
+      // far coordinates too. 1e-5 of that is about 80 times a float's rounding.)
+      const btVector3& origin = hullInPlane.getOrigin();
+      const btScalar largest = std::abs(origin.x()) + std::abs(origin.y()) + std::abs(origin.z()) +
+                               std::abs(constant) + std::abs(margin) + shape->getAngularMotionDisc();
       clear = (largest + btScalar(1)) * btScalar(1e-5);
     }
     for (int i = 0; i < count; ++i) {

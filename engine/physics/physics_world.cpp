@@ -16,6 +16,7 @@
 #include "physics/bullet_layout.h"
 #include "physics/cloth_system.h"
 #include "physics/exact_solver.h"
+#include "physics/pair_cache.h"
 #include "physics/plane_contacts.h"
 #include "physics/slot_pool.h"
 #include "physics/solver_world.h"
@@ -250,7 +251,8 @@ struct PhysicsWorld::Impl {
   btSoftBodyRigidBodyCollisionConfiguration config{poolSizes()};
   PlaneContactFuncs planeContacts;     // registered with the dispatcher (outlives it)
   TaskDispatcher dispatcher{&config};  // the narrowphase, on the worker threads where there are any
-  btDbvtBroadphase broadphase;
+  PairCache pairCache;                 // the broadphase's (outlives it and the world)
+  btDbvtBroadphase broadphase{&pairCache};
   ExactSolver solver;
   std::vector<std::unique_ptr<ExactSolver>> helpers;  // batch solvers on worker threads (setParallel)
   PhysicsWorld::ForEach tasks;                        // runs one task per thread

@@ -11,6 +11,34 @@
 
 namespace rm3d {
 
+namespace {
+
+// Work handed to the threads in blocks of this many modules (posing their free docks), free docks
+// (finding their pairs) or connections (their loads).
+constexpr int kBoxBlock = 64;
+constexpr int kDockBlock = 128;
+constexpr int kLoadBlock = 32;
+
+Eigen::Vector3i cellOf(const Vec3& p, double cell) {
+  return Eigen::Vector3i(int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell)),
+                         int(std::floor(p.z() / cell)));
+}
+
+uint64_t cellKey(const Eigen::Vector3i& c) {
+  return (uint64_t(uint32_t(c.x())) * 73856093ull) ^ (uint64_t(uint32_t(c.y())) * 19349663ull) ^
+         (uint64_t(uint32_t(c.z())) * 83492791ull);
+}
+
+/// The slot of the dock hash that holds cell key k, or the free slot where it would go.
+size_t cellSlot(const std::vector<uint64_t>& keys, const std::vector<int>& head, uint64_t k) {
+  const size_t mask = head.size() - 1;
+  size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+  while (head[h] >= 0 && keys[h] != k) h = (h + 1) & mask;
+  return h;
+}
+
+}  // namespace
+
 std::vector<int> componentOf(const std::vector<Module>& modules, int m) {
   std::vector<int> out{m};
   std::vector<char> seen(modules.size(), 0);
@@ -210,6 +238,78 @@ int Docking::bestOrientation(const DockingScene& s, int a, int da, int b, int db
   return best;
 }
 
+template <class Fn>
+void Docking::inBlocks(const DockingScene& s, Pace& pace, int n, int size, const Fn& fn) {
+  const int blocks = (n + size - 1) / size;
+  auto block = [&](int b) { fn(b, b * size, std::min(n, (b + 1) * size)); };
+  auto alone = [&] {
+    for (int b = 0; b < blocks; ++b) block(b);
+  };
+  if (!s.tasks || blocks < 2) return alone();
+  if (runPaced(
+          pace, s.alwaysThreads, [&] { (*s.tasks)(blocks, block); }, alone))
+    m_threadedBlocks += blocks;
+}
+
+void Docking::poseFreeDocks(const DockingScene& s, size_t k) {
+  const DockBox& box = m_dockBoxes[k];
+  Module& m = s.modules[box.module];
+  if (!box.near) {  // nothing within reach: any broken partner is far away by now
+    for (DockState& st : m.docks) st.brokeFromModule = st.brokeFromDock = -1;
+    return;
+  }
+  // One pose per link, not per dock (the first kLinks links; any beyond, per dock).
+  constexpr size_t kLinks = 8;
+  Pose links[kLinks];
+  bool posed[kLinks] = {};
+  size_t out = m_boxFirst[k];
+  for (size_t d = 0; d < m.docks.size(); ++d) {
+    DockState& st = m.docks[d];
+    if (!st.enabled || st.engaged || !st.latchable) continue;
+    const DockDef& def = m.type->docks[d];
+    const size_t link = size_t(def.link);
+    if (link < kLinks && !posed[link]) {
+      links[link] = linkPose(s.physics, m, def.link);
+      posed[link] = true;
+    }
+    const Pose pose = (link < kLinks ? links[link] : linkPose(s.physics, m, def.link)) * def.frame;
+    if (st.brokeFromModule >= 0 &&
+        (pose.pos - dockPose(s.physics, s.modules[size_t(st.brokeFromModule)], st.brokeFromDock).pos).norm() >
+            def.captureRadius)
+      st.brokeFromModule = st.brokeFromDock = -1;
+    m_freeDocks[out++] = {int(box.module), int(d), pose};
+  }
+}
+
+void Docking::findPairs(const DockingScene& s, int i, double cell, std::vector<Hit>& out) const {
+  const FreeDock& fa = m_freeDocks[size_t(i)];
+  const Eigen::Vector3i c = cellOf(fa.pose.pos, cell);
+  Eigen::Vector3i side;
+  for (int a = 0; a < 3; ++a) side[a] = fa.pose.pos[a] / cell - double(c[a]) < 0.5 ? -1 : 1;
+  for (int dx = 0; dx < 2; ++dx)
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dz = 0; dz < 2; ++dz) {
+        const uint64_t k = cellKey(c + Eigen::Vector3i(dx * side.x(), dy * side.y(), dz * side.z()));
+        for (int e = m_cellHead[cellSlot(m_cellKeys, m_cellHead, k)]; e >= 0; e = m_cellNext[size_t(e)]) {
+          if (e <= i) continue;  // each pair once
+          const FreeDock& fb = m_freeDocks[size_t(e)];
+          if (fb.module == fa.module) continue;
+          const DockState& sa = s.modules[size_t(fa.module)].docks[size_t(fa.dock)];
+          if (sa.brokeFromModule == fb.module && sa.brokeFromDock == fb.dock) continue;
+          const DockDef& da = s.modules[size_t(fa.module)].type->docks[size_t(fa.dock)];
+          const DockDef& db = s.modules[size_t(fb.module)].type->docks[size_t(fb.dock)];
+          if (!gendersMate(da.gender, db.gender)) continue;
+          const Vec3 gapVec = fb.pose.pos - fa.pose.pos;
+          const double gap = gapVec.norm();
+          if (gap > std::min(da.captureRadius, db.captureRadius)) continue;
+          const Vec3 na = fa.pose.rot * Vec3::UnitX(), nb = fb.pose.rot * Vec3::UnitX();
+          const double facing = angleBetween(na, -nb);
+          if (facing > std::min(da.captureAngle, db.captureAngle)) continue;
+          out.push_back({i, e, gapVec, gap, facing, na, nb});
+        }
+      }
+}
+
 void Docking::dock(const DockingScene& s) {
   // Coarse pass: each module with a free dock is a box around its root link, as large as its
   // docks can reach (ModuleTypeDef::dockReach); a sweep along x finds the boxes that overlap.
@@ -247,33 +347,22 @@ void Docking::dock(const DockingScene& s) {
         ba.near = bb.near = true;
     }
   }
-  // Fine pass: the free docks of modules near another, hashed into cells.
-  m_freeDocks.clear();
-  for (const DockBox& box : m_dockBoxes) {
-    const int i = int(box.module);
-    Module& m = s.modules[box.module];
-    if (!box.near) {  // nothing within reach: any broken partner is far away by now
-      for (DockState& st : m.docks) st.brokeFromModule = st.brokeFromDock = -1;
-      continue;
-    }
-    m_linkPoseValid.assign(m.type->links.size(), 0);
-    if (m_linkPoses.size() < m.type->links.size()) m_linkPoses.resize(m.type->links.size());
-    for (size_t d = 0; d < m.docks.size(); ++d) {
-      DockState& st = m.docks[d];
-      if (!st.enabled || st.engaged || !st.latchable) continue;
-      const DockDef& def = m.type->docks[d];
-      if (!m_linkPoseValid[size_t(def.link)]) {  // one pose per link, not per dock
-        m_linkPoses[size_t(def.link)] = linkPose(s.physics, m, def.link);
-        m_linkPoseValid[size_t(def.link)] = 1;
-      }
-      const Pose pose = m_linkPoses[size_t(def.link)] * def.frame;
-      if (st.brokeFromModule >= 0 &&
-          (pose.pos - dockPose(s.physics, s.modules[size_t(st.brokeFromModule)], st.brokeFromDock).pos)
-                  .norm() > def.captureRadius)
-        st.brokeFromModule = st.brokeFromDock = -1;
-      m_freeDocks.push_back({i, int(d), pose});
-    }
+  // Fine pass: the free docks of modules near another, hashed into cells. Each module's free docks
+  // get their places first, in module order; then each module poses its own (writing only those
+  // places and its own dock states), on the threads where it pays.
+  m_boxFirst.resize(m_dockBoxes.size() + 1);
+  size_t free = 0;
+  for (size_t k = 0; k < m_dockBoxes.size(); ++k) {
+    m_boxFirst[k] = free;
+    if (m_dockBoxes[k].near)
+      for (const DockState& st : s.modules[m_dockBoxes[k].module].docks)
+        free += st.enabled && !st.engaged && st.latchable;
   }
+  m_boxFirst.back() = free;
+  m_freeDocks.resize(free);
+  inBlocks(s, m_posePace, int(m_dockBoxes.size()), kBoxBlock, [&](int, int begin, int end) {
+    for (int k = begin; k < end; ++k) poseFreeDocks(s, size_t(k));
+  });
   if (m_freeDocks.size() < 2) {
     m_candidates.clear();
     updateCaptures(s);
@@ -282,110 +371,89 @@ void Docking::dock(const DockingScene& s) {
   // Cells twice the largest capture radius: every dock within reach of a point lies in the 2x2x2
   // block of cells on the point's side of its own cell (8 look-ups, not 27).
   const double cell = 2.0 * m_captureCell;
-  auto cellOf = [cell](const Vec3& p) {
-    return Eigen::Vector3i(int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell)),
-                           int(std::floor(p.z() / cell)));
-  };
-  auto key = [](const Eigen::Vector3i& c) {
-    return (uint64_t(uint32_t(c.x())) * 73856093ull) ^ (uint64_t(uint32_t(c.y())) * 19349663ull) ^
-           (uint64_t(uint32_t(c.z())) * 83492791ull);
-  };
   // Open-addressing table of cells, each holding a chain of docks (head per slot, next per dock).
   size_t cap = 16;
   while (cap < 2 * m_freeDocks.size()) cap <<= 1;
   m_cellKeys.resize(cap);
   m_cellHead.assign(cap, -1);
   m_cellNext.resize(m_freeDocks.size());
-  auto slotOf = [&](uint64_t k) {
-    size_t h = size_t((k * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
-    while (m_cellHead[h] >= 0 && m_cellKeys[h] != k) h = (h + 1) & (cap - 1);
-    return h;
-  };
   for (size_t i = 0; i < m_freeDocks.size(); ++i) {
-    const uint64_t k = key(cellOf(m_freeDocks[i].pose.pos));
-    const size_t h = slotOf(k);
+    const uint64_t k = cellKey(cellOf(m_freeDocks[i].pose.pos, cell));
+    const size_t h = cellSlot(m_cellKeys, m_cellHead, k);
     m_cellKeys[h] = k;
     m_cellNext[i] = m_cellHead[h];
     m_cellHead[h] = int(i);
   }
+  // The pairs within the capture limits, found dock by dock on the threads where it pays (each
+  // block of docks lists its own, in the order it meets them), then taken here in dock order, as
+  // one loop over the docks met them: what they do (captures, latches, the magnets' forces)
+  // depends on that order.
+  const int docks = int(m_freeDocks.size());
+  const int blocks = (docks + kDockBlock - 1) / kDockBlock;
+  if (m_hits.size() < size_t(blocks)) m_hits.resize(size_t(blocks));
+  inBlocks(s, m_pairPace, docks, kDockBlock, [&](int block, int begin, int end) {
+    std::vector<Hit>& out = m_hits[size_t(block)];
+    out.clear();
+    for (int i = begin; i < end; ++i) findPairs(s, i, cell, out);
+  });
   m_latches.clear();
   m_candidates.clear();
   // Capture joints need the exact solver; on "pgs" every dock pulls as a magnet.
   const bool jointCapture = s.physics.settings().solver == SolverKind::Exact;
-  for (size_t i = 0; i < m_freeDocks.size(); ++i) {
-    const FreeDock& fa = m_freeDocks[i];
-    const Eigen::Vector3i c = cellOf(fa.pose.pos);
-    Eigen::Vector3i side;
-    for (int a = 0; a < 3; ++a) side[a] = fa.pose.pos[a] / cell - double(c[a]) < 0.5 ? -1 : 1;
-    for (int dx = 0; dx < 2; ++dx)
-      for (int dy = 0; dy < 2; ++dy)
-        for (int dz = 0; dz < 2; ++dz) {
-          const uint64_t k = key(c + Eigen::Vector3i(dx * side.x(), dy * side.y(), dz * side.z()));
-          for (int e = m_cellHead[slotOf(k)]; e >= 0; e = m_cellNext[size_t(e)]) {
-            if (e <= int(i)) continue;  // each pair once
-            const FreeDock& fb = m_freeDocks[size_t(e)];
-            if (fb.module == fa.module) continue;
-            const DockState& sa = s.modules[size_t(fa.module)].docks[size_t(fa.dock)];
-            if (sa.brokeFromModule == fb.module && sa.brokeFromDock == fb.dock) continue;
-            const DockDef& da = s.modules[size_t(fa.module)].type->docks[size_t(fa.dock)];
-            const DockDef& db = s.modules[size_t(fb.module)].type->docks[size_t(fb.dock)];
-            if (!gendersMate(da.gender, db.gender)) continue;
-            const Vec3 gapVec = fb.pose.pos - fa.pose.pos;
-            const double gap = gapVec.norm();
-            if (gap > std::min(da.captureRadius, db.captureRadius)) continue;
-            const Vec3 na = fa.pose.rot * Vec3::UnitX(), nb = fb.pose.rot * Vec3::UnitX();
-            const double facing = angleBetween(na, -nb);
-            if (facing > std::min(da.captureAngle, db.captureAngle)) continue;
-            const double latchAngle = std::min(da.latchAngle, db.latchAngle);
-            if (jointCapture && da.capture == DockDef::Capture::Joint &&
-                db.capture == DockDef::Capture::Joint) {
-              // A capture joint draws them in (updateCaptures decides when they latch).
-              const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
-              const Pose want =
-                  matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym);
-              const double twist = angleBetween(want.rot * Vec3::UnitZ(), fb.pose.rot * Vec3::UnitZ());
-              m_candidates.push_back(
-                  fa.module < fb.module
-                      ? Candidate{fa.module, fa.dock, fb.module, fb.dock, gap, facing, twist}
-                      : Candidate{fb.module, fb.dock, fa.module, fa.dock, gap, facing, twist});
-              continue;
-            }
-            if (gap <= std::min(da.latchDistance, db.latchDistance) && facing <= latchAngle) {
-              const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
-              const Pose want =
-                  matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym);
-              if (angleBetween(want.rot * Vec3::UnitZ(), fb.pose.rot * Vec3::UnitZ()) <= latchAngle) {
-                m_latches.push_back(fa.module < fb.module ? Latch{fa.module, fa.dock, fb.module, fb.dock}
-                                                          : Latch{fb.module, fb.dock, fa.module, fa.dock});
-                continue;
-              }
-            }
-            // The magnet: equal and opposite pulls at the two faces, plus a torque turning the
-            // faces towards each other.
-            const double pull = std::min(da.pull, db.pull);
-            if (pull <= 0) continue;
-            const Vec3 dir = gap > 1e-9 ? Vec3(gapVec / gap) : Vec3(-na);
-            const Module& ma = s.modules[size_t(fa.module)];
-            const Module& mb = s.modules[size_t(fb.module)];
-            const int pa = ma.parts[size_t(da.link)], pb = mb.parts[size_t(db.link)];
-            s.physics.addForce(pa, pull * dir, fa.pose.pos);
-            s.physics.addForce(pb, -pull * dir, fb.pose.pos);
-            // Torques of the order pull x face size turn the faces square to each other and
-            // twist them about the normal into the nearest of their mating orientations: `turn`
-            // acts on b, whose normal nb turns towards -na about nb x (-na) = na x nb, and its
-            // opposite on a.
-            const double arm = pull * std::min(da.size, db.size);
-            const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
-            const Vec3 wantUp =
-                matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym).rot *
-                Vec3::UnitZ();
-            const Vec3 turn =
-                na.cross(nb) * arm + (fb.pose.rot * Vec3::UnitZ()).cross(wantUp).dot(nb) * nb * arm;
-            s.physics.addTorque(pa, -turn);
-            s.physics.addTorque(pb, turn);
-          }
+  for (int block = 0; block < blocks; ++block)
+    for (const Hit& hit : m_hits[size_t(block)]) {
+      const FreeDock& fa = m_freeDocks[size_t(hit.i)];
+      const FreeDock& fb = m_freeDocks[size_t(hit.e)];
+      const DockDef& da = s.modules[size_t(fa.module)].type->docks[size_t(fa.dock)];
+      const DockDef& db = s.modules[size_t(fb.module)].type->docks[size_t(fb.dock)];
+      const Vec3& gapVec = hit.gapVec;
+      const Vec3 &na = hit.na, &nb = hit.nb;
+      const double gap = hit.gap, facing = hit.facing;
+      const double latchAngle = std::min(da.latchAngle, db.latchAngle);
+      if (jointCapture && da.capture == DockDef::Capture::Joint && db.capture == DockDef::Capture::Joint) {
+        // A capture joint draws them in (updateCaptures decides when they latch).
+        const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
+        const Pose want =
+            matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym);
+        const double twist = angleBetween(want.rot * Vec3::UnitZ(), fb.pose.rot * Vec3::UnitZ());
+        m_candidates.push_back(fa.module < fb.module
+                                   ? Candidate{fa.module, fa.dock, fb.module, fb.dock, gap, facing, twist}
+                                   : Candidate{fb.module, fb.dock, fa.module, fa.dock, gap, facing, twist});
+        continue;
+      }
+      if (gap <= std::min(da.latchDistance, db.latchDistance) && facing <= latchAngle) {
+        const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
+        const Pose want =
+            matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym);
+        if (angleBetween(want.rot * Vec3::UnitZ(), fb.pose.rot * Vec3::UnitZ()) <= latchAngle) {
+          m_latches.push_back(fa.module < fb.module ? Latch{fa.module, fa.dock, fb.module, fb.dock}
+                                                    : Latch{fb.module, fb.dock, fa.module, fa.dock});
+          continue;
         }
-  }
+      }
+      // The magnet: equal and opposite pulls at the two faces, plus a torque turning the
+      // faces towards each other.
+      const double pull = std::min(da.pull, db.pull);
+      if (pull <= 0) continue;
+      const Vec3 dir = gap > 1e-9 ? Vec3(gapVec / gap) : Vec3(-na);
+      const Module& ma = s.modules[size_t(fa.module)];
+      const Module& mb = s.modules[size_t(fb.module)];
+      const int pa = ma.parts[size_t(da.link)], pb = mb.parts[size_t(db.link)];
+      s.physics.addForce(pa, pull * dir, fa.pose.pos);
+      s.physics.addForce(pb, -pull * dir, fb.pose.pos);
+      // Torques of the order pull x face size turn the faces square to each other and
+      // twist them about the normal into the nearest of their mating orientations: `turn`
+      // acts on b, whose normal nb turns towards -na about nb x (-na) = na x nb, and its
+      // opposite on a.
+      const double arm = pull * std::min(da.size, db.size);
+      const int sym = std::max(1, std::min(da.symmetry, db.symmetry));
+      const Vec3 wantUp =
+          matingFrame(fa.pose, bestOrientation(s, fa.module, fa.dock, fb.module, fb.dock), sym).rot *
+          Vec3::UnitZ();
+      const Vec3 turn = na.cross(nb) * arm + (fb.pose.rot * Vec3::UnitZ()).cross(wantUp).dot(nb) * nb * arm;
+      s.physics.addTorque(pa, -turn);
+      s.physics.addTorque(pb, turn);
+    }
   updateCaptures(s);
   std::sort(m_latches.begin(), m_latches.end());
   for (const Latch& l : m_latches) {
@@ -489,16 +557,28 @@ Wrench Docking::connectionLoad(const std::vector<Module>& modules, const Physics
 }
 
 void Docking::breakage(const DockingScene& s) {
+  // Each connection's load first, on the threads where it pays (a load reads the physics and writes
+  // only its own connection's cache), then taken in order. Once one connection has broken, the
+  // bodies have changed: the loads of the ones after it are measured again, in turn, as before.
+  const int n = int(m_connections.size());
+  m_loads.resize(size_t(n));
+  inBlocks(s, m_loadPace, n, kLoadBlock, [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i)
+      m_loads[size_t(i)] = connectionLoad(s.modules, s.physics, m_connections[size_t(i)]);
+  });
+  bool broke = false;
   for (size_t i = 0; i < m_connections.size();) {
     const Connection& c = m_connections[i];
     const DockDef& da = s.modules[size_t(c.moduleA)].type->docks[size_t(c.dockA)];
     const DockDef& db = s.modules[size_t(c.moduleB)].type->docks[size_t(c.dockB)];
-    const Wrench w = connectionLoad(s.modules, s.physics, c);
+    const Wrench w = broke ? connectionLoad(s.modules, s.physics, c) : m_loads[i];
     const double f = w.force.norm(), t = w.torque.norm();
-    if (f > std::min(da.strength, db.strength) || t > std::min(da.strengthTorque, db.strengthTorque))
+    if (f > std::min(da.strength, db.strength) || t > std::min(da.strengthTorque, db.strengthTorque)) {
       release(s, i, DockEventKind::Broken, f, t);
-    else
+      broke = true;
+    } else {
       ++i;
+    }
   }
 }
 

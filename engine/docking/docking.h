@@ -6,11 +6,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
+#include "core/pace.h"
 #include "core/types.h"
 #include "docking/dock_event.h"
 #include "modules/module.h"
@@ -42,12 +44,20 @@ struct Capture {
   bool stalled = false;  ///< reported as stalled
 };
 
+/// Runs fn(i) for every i in [0, n), on worker threads where there are any.
+using DockingTasks = std::function<void(int n, const std::function<void(int)>& fn)>;
+
 /// What docking works on: the World's modules and physics, and the clock.
 struct DockingScene {
   std::vector<Module>& modules;
   PhysicsWorld& physics;
   double time;
   bool started;  ///< behaviours hear on_dock events only once the run has started
+  /// The world's worker threads (null: none). Docking hands them only work whose result does not
+  /// depend on which thread does which piece: the free docks' poses, the search for pairs within
+  /// reach, and the connections' loads.
+  const DockingTasks* tasks = nullptr;
+  bool alwaysThreads = false;  ///< on the threads wherever they may go (tests: core/pace.h)
 };
 
 /// The modules connected to module m through engaged docks (m first).
@@ -76,6 +86,9 @@ class Docking {
   Wrench connectionLoad(const std::vector<Module>& modules, const PhysicsWorld& physics,
                         const Connection& c) const;
 
+  /// Blocks of docking's work that ran on the threads, since the start (tests).
+  long threadedBlocks() const { return m_threadedBlocks; }
+
   /// The captures in progress (joint mode), by (a, da, b, db).
   const std::vector<Capture>& captures() const { return m_captures; }
   /// Drops every capture (the physics world is going away or being rebuilt).
@@ -93,6 +106,16 @@ class Docking {
   void updateCaptures(const DockingScene& s);
   void release(const DockingScene& s, size_t connection, DockEventKind kind, double force, double torque);
   int bestOrientation(const DockingScene& s, int a, int da, int b, int db) const;
+  /// fn(block, begin, end) for each block of `size` of the indices [0, n): on the scene's threads
+  /// where the clock says they pay (`pace`), else here in order. Each block must write only its
+  /// own results.
+  template <class Fn>
+  void inBlocks(const DockingScene& s, Pace& pace, int n, int size, const Fn& fn);
+  /// The free docks of m_dockBoxes[k]'s module, posed into their places from m_boxFirst[k].
+  void poseFreeDocks(const DockingScene& s, size_t k);
+  /// m_freeDocks[i]'s pairs within the capture limits with the free docks after it, into `out`.
+  struct Hit;
+  void findPairs(const DockingScene& s, int i, double cell, std::vector<Hit>& out) const;
 
   std::vector<Connection> m_connections;
   std::vector<DockEvent> m_events;
@@ -119,8 +142,18 @@ class Docking {
   std::vector<uint64_t> m_cellKeys;  ///< dock hash: slot -> cell key
   std::vector<int> m_cellHead;       ///< slot -> first dock in the cell, or -1
   std::vector<int> m_cellNext;       ///< dock -> next dock in its cell, or -1
-  std::vector<Pose> m_linkPoses;     ///< one module's link poses, computed once per step
-  std::vector<char> m_linkPoseValid;
+  std::vector<size_t> m_boxFirst;    ///< box -> its module's first free dock in m_freeDocks
+  /// Two free docks within each other's capture limits (findPairs): m_freeDocks[i] and [e], e > i.
+  struct Hit {
+    int i, e;
+    Vec3 gapVec;  ///< e's face from i's
+    double gap, facing;
+    Vec3 na, nb;  ///< the faces' normals
+  };
+  std::vector<std::vector<Hit>> m_hits;  ///< by block of free docks, in dock order
+  std::vector<Wrench> m_loads;           ///< by connection (breakage)
+  Pace m_posePace, m_pairPace, m_loadPace;
+  long m_threadedBlocks = 0;
   struct Latch {
     int a, da, b, db;
     bool split = false;  ///< a capture joint's latch: the last correction is shared

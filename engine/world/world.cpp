@@ -117,6 +117,10 @@ void prepareType(ModuleTypeDef& t) {
 World::World(RunOptions options) : m_options(std::move(options)) {
   if (m_options.seed) m_settings.seed = *m_options.seed;
   m_pool = std::make_unique<BehaviourPool>(std::max(1, m_options.threads), std::max(1, m_options.chunkSize));
+  if (m_pool->threads() > 1)
+    m_dockTasks = [pool = m_pool.get()](int n, const std::function<void(int)>& fn) {
+      pool->run(n, fn, 1);  // n blocks, each taken alone
+    };
 }
 
 World::~World() {

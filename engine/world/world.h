@@ -143,6 +143,7 @@ class World {
   const std::vector<Failure>& failures() const { return m_failures; }
   const std::vector<DockEvent>& events() const { return m_docking.events(); }
   const std::vector<Connection>& connections() const { return m_docking.connections(); }
+  const Docking& dockingConst() const { return m_docking; }
   /// A world-script error (bad input at run time), or empty.
   const std::string& scriptError() const { return m_scriptError; }
   bool fatalFault() const { return m_fatal; }
@@ -360,7 +361,14 @@ class World {
   void reportModuleOutput();
   void runBehaviour(int i);
   void applyActuators();
-  DockingScene dockingScene() { return {m_modules, *m_physics, m_time, m_started}; }
+  DockingScene dockingScene() {
+    return {m_modules,
+            *m_physics,
+            m_time,
+            m_started,
+            m_dockTasks ? &m_dockTasks : nullptr,
+            m_options.alwaysThreads};
+  }
   /// Drops the messages in flight at docks that docking released.
   void dropReleased();
   /// A world with cloth runs at least kClothSubsteps unless world.set gave its substeps.
@@ -405,7 +413,8 @@ class World {
   bool m_contactSensors = false;
   std::unique_ptr<WorldProgram> m_program;
   std::unique_ptr<BehaviourPool> m_pool;
-  Pace m_behaviourPace;  ///< whether the behaviours pay on the threads (core/pace.h)
+  Pace m_behaviourPace;      ///< whether the behaviours pay on the threads (core/pace.h)
+  DockingTasks m_dockTasks;  ///< docking's work on the pool (with --threads > 1)
   bool m_groundAdded = false;
   double m_groundFriction = 0.8, m_groundRestitution = 0;
   bool m_started = false;

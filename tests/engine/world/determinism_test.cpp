@@ -224,6 +224,33 @@ end
   });
 }
 
+// Docking hands the threads its free docks' poses (module by module), the search for pairs within
+// reach (dock by dock) and the connections' loads (Docking::inBlocks); what the pairs then do
+// (captures, latches, magnets) and the breaks are taken in order on the stepping thread. Four rows
+// of 32 SuperBots 2.5 cm apart, capture joints drawing them together (768 free docks), and a
+// 70-module chain lying on the ground (69 loads).
+TEST_CASE("determinism: docking's poses, pair search and loads on the threads, at 1, 2, 4 and 8 threads") {
+  sameAtEveryThreadCount(R"(
+world.set{duration = 100, seed = 6}
+world.ground{}
+for i = 0, 127 do
+  world.spawn("superbot", {at = {(i % 32) * 0.215, (i // 32) * 0.5, 0.06}, behavior = "behaviors/snake.lua",
+                           params = {index = i % 3}})
+end
+local prev
+for i = 1, 70 do
+  local m = world.spawn("superbot", {at = {-(i - 1) * 0.19, -1, 0.043}})
+  if prev then world.connect(prev, "back", m, "front") end
+  prev = m
+end
+)",
+                         30, [](World& w, int threads) {
+                           CHECK(w.connections().size() > 69);  // captures in the rows latched
+                           if (threads == 2) CHECK(w.dockingConst().threadedBlocks() >= 30 * (2 + 6 + 3));
+                           if (threads == 1) CHECK(w.dockingConst().threadedBlocks() == 0);
+                         });
+}
+
 // A long chain (at least kSplitJoints = 256 joints; 350 SuperBots, 1049) is rooted at its middle
 // and its two halves factored and solved apart, on two threads where there are two
 // (ExactSolver::splitTree); the halves' results meet at the root in the same order either way.

@@ -928,6 +928,7 @@ void ExactSolver::runWithHalfHelper(const std::function<void(int, const std::fun
 void ExactSolver::runHelped(const std::function<void(int, const std::function<void(int)>&)>& tasks,
                             const std::function<void()>& fn) {
   HalfHelper helper;
+  helper.watch = halfHelperWatches;
   // (One pointer captured: std::function keeps it without allocating.)
   struct {
     ExactSolver* self;
@@ -974,14 +975,14 @@ void ExactSolver::forBothHalves(const std::function<void(int)>& fn) {
 void ExactSolver::helpHalves(HalfHelper& h) {
   // Spins a while between halves (they come every few hundred microseconds while a long tree is
   // solved, and a sleeping thread took longer to wake than a half takes), then sleeps until the
-  // next is offered.
+  // next is offered; with h.watch it spins until the solve ends.
   constexpr int kSpins = 4000;
   uint64_t seen = 0;  // (a helper that starts late takes the half on offer, if still free, or sees the stop)
   int idle = 0;
   for (;;) {
     const uint64_t g = h.posted.load(std::memory_order_acquire);
     if (g == seen) {
-      if (++idle < kSpins) {
+      if (++idle < kSpins || h.watch) {
         cpuRelax();
       } else {
         h.posted.wait(seen, std::memory_order_acquire);

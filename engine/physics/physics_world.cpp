@@ -34,6 +34,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 
 namespace rm3d {
 
@@ -1026,6 +1027,8 @@ void PhysicsWorld::setParallel(int threads, ForEach forEach) {
         fn(t);
       });
     };
+    const unsigned cores = std::thread::hardware_concurrency();
+    m->solver.halfHelperWatches = cores > 0 && unsigned(threads) <= cores;
     for (int t = 1; t < threads; ++t) {
       m->helpers.push_back(std::make_unique<ExactSolver>());
       m->helpers.back()->shareStateOf(m->solver);

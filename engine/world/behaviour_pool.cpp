@@ -38,7 +38,9 @@ void BehaviourPool::await(std::condition_variable& cv, const Done& done) {
     const auto until = std::chrono::steady_clock::now() + kWatch;
     for (int i = 1;; ++i) {
       if (done()) return;
-      if (i % kPausesPerLook == 0 && std::chrono::steady_clock::now() > until) break;
+      if (i % kPausesPerLook == 0 && !m_hold.load(std::memory_order_relaxed) &&
+          std::chrono::steady_clock::now() > until)
+        break;
       cpuRelax();
     }
   }

@@ -28,6 +28,12 @@ class BehaviourPool {
   /// no more indices than threads, index k starts on the k-th thread: 0 on the caller).
   void run(int n, const std::function<void(int)>& fn, int chunk = 0);
   int threads() const { return int(m_workers.size()) + 1; }
+  /// While held (a step in progress), threads that wait for the next run or for the workers watch
+  /// for it without the kWatch limit, where the pool watches at all: a step's runs come up to a
+  /// few milliseconds apart, and a worker that had gone to sleep started its share of the next
+  /// one about 0.1 ms late on a virtual machine (the narrowphase of `snake_1000`, 4 of a step's 5
+  /// runs). Released, they sleep after kWatch as before (between steps, a caller may do anything).
+  void hold(bool on) { m_hold.store(on, std::memory_order_relaxed); }
 
   /// A step hands the pool several runs (behaviours, contacts, bodies, solver batches) a few
   /// hundred microseconds apart or less; a thread woken from sleep took tens of microseconds to
@@ -58,6 +64,7 @@ class BehaviourPool {
   std::atomic<int> m_busy{0};
   std::atomic<uint64_t> m_generation{0};
   std::atomic<bool> m_quit{false};
+  std::atomic<bool> m_hold{false};
 };
 
 }  // namespace rm3d

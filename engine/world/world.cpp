@@ -708,6 +708,12 @@ void World::step() {
   if (!m_started) start();
   if (m_fatal || !m_scriptError.empty()) return;
   const auto t0 = Clock::now();
+  // The worker threads watch for the step's runs instead of sleeping between them (until it ends).
+  m_pool->hold(true);
+  struct Release {
+    BehaviourPool& pool;
+    ~Release() { pool.hold(false); }
+  } release{*m_pool};
   // 1. Deliver what was routed earlier and is due now.
   for (Mailbox& box : m_mailboxes) box.deliver(m_steps);
   // 2. Behaviours (in parallel when --threads > 1).

@@ -88,7 +88,8 @@ int run(int argc, char** argv) {
   runCmd->add_option("--json", run.json, "write the run summary as JSON");
   runCmd->add_flag("--strict", run.strict, "a module fault ends the run with exit code 1");
   const char* threadsHelp =
-      "worker threads: behaviours, contacts, solver batches, integration (same results at any count)";
+      "worker threads: behaviours, contacts, docking, solver batches, integration (same results at any "
+      "count)";
   runCmd->add_option("--threads", run.threads, threadsHelp)->check(kThreads);
   const char* chunkHelp = "modules a worker thread takes at a time (default 16)";
   runCmd->add_option("--chunk", run.chunk, chunkHelp)->check(kChunk);

@@ -6,7 +6,6 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -44,9 +43,6 @@ struct Capture {
   bool stalled = false;  ///< reported as stalled
 };
 
-/// Runs fn(i) for every i in [0, n), on worker threads where there are any.
-using DockingTasks = std::function<void(int n, const std::function<void(int)>& fn)>;
-
 /// What docking works on: the World's modules and physics, and the clock.
 struct DockingScene {
   std::vector<Module>& modules;
@@ -56,7 +52,7 @@ struct DockingScene {
   /// The world's worker threads (null: none). Docking hands them only work whose result does not
   /// depend on which thread does which piece: the free docks' poses, the search for pairs within
   /// reach, and the connections' loads.
-  const DockingTasks* tasks = nullptr;
+  const PhysicsWorld::ForEach* tasks = nullptr;
   bool alwaysThreads = false;  ///< on the threads wherever they may go (tests: core/pace.h)
 };
 

@@ -118,8 +118,8 @@ World::World(RunOptions options) : m_options(std::move(options)) {
   if (m_options.seed) m_settings.seed = *m_options.seed;
   m_pool = std::make_unique<BehaviourPool>(std::max(1, m_options.threads), std::max(1, m_options.chunkSize));
   if (m_pool->threads() > 1)
-    m_dockTasks = [pool = m_pool.get()](int n, const std::function<void(int)>& fn) {
-      pool->run(n, fn, 1);  // n blocks, each taken alone
+    m_tasks = [pool = m_pool.get()](int n, const std::function<void(int)>& fn) {
+      pool->run(n, fn, 1);  // n coarse tasks, each taken alone
     };
 }
 
@@ -156,11 +156,7 @@ void World::ensurePhysics() {
   ps.freshTrees = m_options.freshTrees;
   ps.alwaysThreads = m_options.alwaysThreads;
   m_physics = std::make_unique<PhysicsWorld>(ps);
-  if (m_pool->threads() > 1)
-    m_physics->setParallel(m_pool->threads(),
-                           [pool = m_pool.get()](int n, const std::function<void(int)>& fn) {
-                             pool->run(n, fn, 1);  // n coarse tasks, one per thread
-                           });
+  if (m_tasks) m_physics->setParallel(m_pool->threads(), m_tasks);
 }
 
 void World::addGround(double friction, double restitution) {

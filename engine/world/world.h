@@ -362,12 +362,7 @@ class World {
   void runBehaviour(int i);
   void applyActuators();
   DockingScene dockingScene() {
-    return {m_modules,
-            *m_physics,
-            m_time,
-            m_started,
-            m_dockTasks ? &m_dockTasks : nullptr,
-            m_options.alwaysThreads};
+    return {m_modules, *m_physics, m_time, m_started, m_tasks ? &m_tasks : nullptr, m_options.alwaysThreads};
   }
   /// Drops the messages in flight at docks that docking released.
   void dropReleased();
@@ -413,8 +408,9 @@ class World {
   bool m_contactSensors = false;
   std::unique_ptr<WorldProgram> m_program;
   std::unique_ptr<BehaviourPool> m_pool;
-  Pace m_behaviourPace;      ///< whether the behaviours pay on the threads (core/pace.h)
-  DockingTasks m_dockTasks;  ///< docking's work on the pool (with --threads > 1)
+  Pace m_behaviourPace;  ///< whether the behaviours pay on the threads (core/pace.h)
+  /// n coarse tasks on the pool, one per thread first (with --threads > 1): physics and docking.
+  PhysicsWorld::ForEach m_tasks;
   bool m_groundAdded = false;
   double m_groundFriction = 0.8, m_groundRestitution = 0;
   bool m_started = false;

@@ -204,10 +204,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void runWithHalfHelper(const std::function<void(int, const std::function<void(int)>&)>& tasks,
                          const std::function<void()>& fn, HalfSite site);
   /// The half helper watches for halves until the solve ends instead of sleeping after a while:
-  /// where there are no more threads than cores (PhysicsWorld::setParallel). Between halves a
-  /// solve does serial work of up to a few milliseconds (its set-up; the motors' settling), and
-  /// a helper that had gone to sleep took about 0.1 ms to wake: on `snake_1000` it slept 9 times
-  /// a solve, and 1.5% of the halves went unhelped.
+  /// where there are no more threads than cores (PhysicsWorld::setParallel's `watch`). Between
+  /// halves a solve does serial work of up to a few milliseconds (its set-up; the motors'
+  /// settling), and a helper that had gone to sleep took about 0.1 ms to wake: on `snake_1000` it
+  /// slept 9 times a solve, and 1.5% of the halves went unhelped.
   bool halfHelperWatches = false;
   /// Every long tree's second half offered to a second thread, whatever the clock says (tests:
   /// the helper's way must give the same bits; PhysicsSettings::alwaysThreads).

@@ -34,7 +34,6 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 
 namespace rm3d {
 
@@ -1003,7 +1002,7 @@ void PhysicsWorld::addTorque(int part, const Vec3& torque) {
   m->forces.push_back({part, Vec3::Zero(), Vec3::Zero(), torque});
 }
 
-void PhysicsWorld::setParallel(int threads, ForEach forEach) {
+void PhysicsWorld::setParallel(int threads, ForEach forEach, bool watch) {
   // Bullet hands the solver batches of islands of at least 128 rows (with 1000 separate
   // SuperBots, about 50 a substep). With worker threads each thread's solver takes the next
   // batch (SolverWorld::solveBatches). The batches are made the same way at any thread count,
@@ -1027,8 +1026,7 @@ void PhysicsWorld::setParallel(int threads, ForEach forEach) {
         fn(t);
       });
     };
-    const unsigned cores = std::thread::hardware_concurrency();
-    m->solver.halfHelperWatches = cores > 0 && unsigned(threads) <= cores;
+    m->solver.halfHelperWatches = watch;
     for (int t = 1; t < threads; ++t) {
       m->helpers.push_back(std::make_unique<ExactSolver>());
       m->helpers.back()->shareStateOf(m->solver);

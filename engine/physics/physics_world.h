@@ -136,8 +136,10 @@ class PhysicsWorld {
   /// With `threads` > 1 the batches of islands are solved on `threads` solvers at once, one per
   /// task (SolverWorld::setBatchSolvers); each batch touches only its own bodies, joints and
   /// contacts, so the results do not depend on the thread count.
+  /// `watch`: the threads may spin while they wait (no more threads than cores: the pool's
+  /// rule, BehaviourPool::watches); then a long tree's half helper spins through its solve.
   using ForEach = std::function<void(int n, const std::function<void(int)>& fn)>;
-  void setParallel(int threads, ForEach forEach);
+  void setParallel(int threads, ForEach forEach, bool watch = false);
   /// The force and torque (about `point`) that the rest of their rigid body exerted on the given
   /// parts, averaged over the last step(), from Newton-Euler on those parts: their change of
   /// momentum over the step minus the impulses of gravity, contacts and hinge reactions on them.

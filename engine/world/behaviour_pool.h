@@ -28,6 +28,8 @@ class BehaviourPool {
   /// no more indices than threads, index k starts on the k-th thread: 0 on the caller).
   void run(int n, const std::function<void(int)>& fn, int chunk = 0);
   int threads() const { return int(m_workers.size()) + 1; }
+  /// Whether waiting threads watch before they sleep: more than one thread, no more than cores.
+  bool watches() const { return m_watch; }
   /// While held (a step in progress), threads that wait for the next run or for the workers watch
   /// for it without the kWatch limit, where the pool watches at all: a step's runs come up to a
   /// few milliseconds apart, and a worker that had gone to sleep started its share of the next

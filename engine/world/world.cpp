@@ -156,7 +156,7 @@ void World::ensurePhysics() {
   ps.freshTrees = m_options.freshTrees;
   ps.alwaysThreads = m_options.alwaysThreads;
   m_physics = std::make_unique<PhysicsWorld>(ps);
-  if (m_tasks) m_physics->setParallel(m_pool->threads(), m_tasks);
+  if (m_tasks) m_physics->setParallel(m_pool->threads(), m_tasks, m_pool->watches());
 }
 
 void World::addGround(double friction, double restitution) {

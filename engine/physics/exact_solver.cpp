@@ -38,6 +38,11 @@ constexpr int kClaimed = -2;              // a body whose joint node is placed, 
 // 0.32 deg / 2.6 mm.
 constexpr int kResweeps = 4;
 constexpr double kResweepSettled = 1e-4;  // (N s)^2: the squared impulse change of a row
+// An island whose contact sweep (after the first, with split masses) changed no row's impulse by
+// more than 1e-8 N s has settled (planSettling): that is the resolution of the float impulses
+// Bullet keeps for a row of 0.1 N s, and with its contacts unchanged the exact solve that follows
+// finds what the last one did. An ATRON on the ground settles in the second iteration of 15.
+constexpr double kSweepSettled = 1e-16;  // (N s)^2
 // Position stabilisation: a joint error (m of pivot gap, rad of axis tilt) left above this after a
 // pass is projected again, with rows at the corrected poses, up to kStabilisePasses in all. One
 // pass with the substep's rows leaves about (motion per substep) x error: a free chain tumbling at
@@ -767,7 +772,7 @@ btScalar ExactSolver::contactSweep() {
   };
   // Item t: the capture joints, the normal rows in Bullet's order, then the patches' friction.
   const int captures = int(m_groupCaptures.size()), items = captures + nc + int(m_groupPatches.size());
-  auto sweepItem = [&](int t) -> double {
+  auto sweepRowsOf = [&](int t) -> double {
     if (t < captures) {
       const GroupCapture& gc = m_groupCaptures[size_t(t)];
       return wanted(m_patchRows[gc.row]) ? sweepCapture(gc) : 0.0;
@@ -781,8 +786,18 @@ btScalar ExactSolver::contactSweep() {
     const PatchRows& pr = m_groupPatches[size_t(t - captures - nc)];
     return wanted(m_patchRows[pr.row]) ? sweepPatch(pr) : 0.0;
   };
+  // Item t, swept on thread h of a halved sweep (0 otherwise), unless its island has settled.
+  auto sweepItem = [&](int t, int h) -> double {
+    const int slot = m_settling ? m_itemSlot[size_t(t)] : -1;
+    if (slot < 0) return sweepRowsOf(t);
+    if (m_slotSettle[size_t(slot)] == Settle::Settled) return 0.0;
+    const double change = sweepRowsOf(t);
+    double& largest = m_slotChange[h][size_t(slot)];
+    largest = std::max(largest, change);
+    return change;
+  };
   if (!m_halvedSweep || !m_halfHelper) {
-    for (int t = 0; t < items; ++t) residual = std::max(residual, sweepItem(t));
+    for (int t = 0; t < items; ++t) residual = std::max(residual, sweepItem(t, 0));
   } else {
     // A long tree's: each half's items on its thread between the items of both (planHalvedSweep).
     ++m_halvedSweeps;
@@ -802,13 +817,13 @@ btScalar ExactSolver::contactSweep() {
           // (Kept here and stored once: both halves' slots share a cache line.)
           double largest = p->halves[h];
           for (int t = *p->from; t < *p->to; ++t)
-            if (p->self->m_itemSide[size_t(t)] == h) largest = std::max(largest, (*p->sweep)(t));
+            if (p->self->m_itemSide[size_t(t)] == h) largest = std::max(largest, (*p->sweep)(t, h));
           p->halves[h] = largest;
         });
       } else {
-        for (int t = from; t < to; ++t) residual = std::max(residual, sweepItem(t));
+        for (int t = from; t < to; ++t) residual = std::max(residual, sweepItem(t, 0));
       }
-      if (to < items) residual = std::max(residual, sweepItem(to));
+      if (to < items) residual = std::max(residual, sweepItem(to, 0));
       from = to + 1;
     }
     residual = std::max({residual, halves[0], halves[1]});
@@ -1545,10 +1560,6 @@ void ExactSolver::forEachCluster(int begin, const std::function<void(int)>& fn) 
   for (int i = begin; i < int(m_clusters.size()); ++i) fn(i);
 }
 
-void ExactSolver::exactIteration(bool clamp) {
-  forEachCluster(m_groupBegin, [&](int ci) { clusterIteration(m_clusters[size_t(ci)], clamp); });
-}
-
 void ExactSolver::exactIterationWhere(bool clamp, const std::function<bool(const Cluster&)>& want) {
   forEachCluster(m_groupBegin, [&](int ci) {
     Cluster& c = m_clusters[size_t(ci)];
@@ -1646,7 +1657,79 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
     if (e.state == ExactJoint::Axial::Fixed) applyAxial(j, e.fixedImpulse);
   }
   if (m_groupHasJoints || patches) buildGroups(m_groupFirstBody);
+  planSettling();
   return r;
+}
+
+/// Gives each island of this solver group with sweep items a slot, and each item its island's
+/// slot, so that an island can settle (settleIslands). An island's result depends only on its
+/// own rows: it settles the same in any batch, at any thread count. Not where Bullet's own rows
+/// are swept (loop-closing hinges of the Bullet solver: no island of their own here), nor for a
+/// cluster that takes a centripetal target, whose exact solve moves it with each solve's
+/// velocities; clusters with no sweep item keep every iteration as before.
+void ExactSolver::planSettling() {
+  for (const int tag : m_slotIsland) m_islandSlot[size_t(tag)] = -1;
+  m_slotIsland.clear();
+  m_itemSlot.clear();
+  m_settling = patches && !m_shared->everyIteration && m_tmpSolverNonContactConstraintPool.size() == 0;
+  if (!m_settling) return;
+  auto slotOf = [&](const btSolverConstraint& c) {
+    for (const int sid : {c.m_solverBodyIdA, c.m_solverBodyIdB}) {
+      const btRigidBody* o = m_tmpSolverBodyPool[sid].m_originalBody;
+      const int tag = o ? o->getIslandTag() : -1;
+      if (tag < 0) continue;
+      if (size_t(tag) >= m_islandSlot.size()) m_islandSlot.resize(size_t(tag) + 1, -1);
+      int& slot = m_islandSlot[size_t(tag)];
+      if (slot < 0) {
+        slot = int(m_slotIsland.size());
+        m_slotIsland.push_back(tag);
+      }
+      return slot;
+    }
+    return -1;
+  };
+  for (const GroupCapture& gc : m_groupCaptures) m_itemSlot.push_back(slotOf(m_patchRows[gc.row]));
+  const int nc = m_tmpSolverContactConstraintPool.size();
+  for (int j = 0; j < nc; ++j)
+    m_itemSlot.push_back(slotOf(m_tmpSolverContactConstraintPool[m_orderTmpConstraintPool[j]]));
+  for (const PatchRows& pr : m_groupPatches) m_itemSlot.push_back(slotOf(m_patchRows[pr.row]));
+  const size_t slots = m_slotIsland.size();
+  m_slotSettle.assign(slots, Settle::Open);
+  for (std::vector<double>& change : m_slotChange) change.assign(slots, 0.0);
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci)
+    if (const Cluster& c = m_clusters[size_t(ci)]; c.centripetal)
+      if (const int slot = clusterSlot(c); slot >= 0) m_slotSettle[size_t(slot)] = Settle::Never;
+}
+
+/// Cluster c's island's slot (planSettling), or -1.
+int ExactSolver::clusterSlot(const Cluster& c) const {
+  return c.island >= 0 && size_t(c.island) < m_islandSlot.size() ? m_islandSlot[size_t(c.island)] : -1;
+}
+
+/// After iteration `iteration`'s sweep: an open island whose items all changed by less than
+/// kSweepSettled settles, from the second iteration (the first splits masses) to the one before
+/// the last. Its clusters take this iteration's exact solve as their last (bounds applied), and
+/// then neither they nor its items are solved again this substep. True when every island and
+/// cluster of the group has settled: the iterations end.
+bool ExactSolver::settleIslands(int iteration, int last) {
+  if (!m_settling) return false;
+  bool all = !m_slotSettle.empty();
+  const bool may = iteration >= 1 && iteration < last;
+  for (size_t s = 0; s < m_slotSettle.size(); ++s) {
+    Settle& state = m_slotSettle[s];
+    double& change0 = m_slotChange[0][s];
+    double& change1 = m_slotChange[1][s];
+    if (state == Settle::Open || state == Settle::Never) ++m_islandSweeps;
+    if (state == Settle::Open && may && std::max(change0, change1) < kSweepSettled) {
+      state = Settle::Settling;
+      m_sparedSweeps += last - iteration;
+    }
+    all &= state == Settle::Settling || state == Settle::Settled;
+    change0 = change1 = 0;
+  }
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()) && all; ++ci)
+    all = clusterSlot(m_clusters[size_t(ci)]) >= 0;
+  return all;
 }
 
 btScalar ExactSolver::solveSingleIteration(int iteration, btCollisionObject** bodies, int numBodies,
@@ -1670,13 +1753,22 @@ btScalar ExactSolver::solveSingleIteration(int iteration, btCollisionObject** bo
   // Mass splitting in the first iteration only (see m_useSplit).
   m_useSplit = iteration == 0;
   r = std::max(r, contactSweep());
-  if (!m_groupHasJoints) return r;
   const int last = std::max(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
+  const bool settled = settleIslands(iteration, last);
   // An exact solve after every sweep (swept twice in a row, grouped bodies take the first sweep's
   // impulses as if free and the second overreacts: a snake diverged). Bounds apply at the last
-  // iteration only: before it the contacts have not settled, and a motor fixed at its rating on
-  // their account would be wrong for the whole substep.
-  exactIteration(iteration >= last);
+  // iteration only (or an island's, where it settled): before it the contacts have not settled,
+  // and a motor fixed at its rating on their account would be wrong for the whole substep.
+  if (m_groupHasJoints)
+    forEachCluster(m_groupBegin, [&](int ci) {
+      Cluster& c = m_clusters[size_t(ci)];
+      const int slot = m_settling ? clusterSlot(c) : -1;
+      const Settle state = slot >= 0 ? m_slotSettle[size_t(slot)] : Settle::Open;
+      if (state != Settle::Settled) clusterIteration(c, iteration >= last || state == Settle::Settling);
+    });
+  for (Settle& state : m_slotSettle)
+    if (state == Settle::Settling) state = Settle::Settled;
+  if (settled) return 0;  // (Bullet's loop ends at a residual of 0)
   // Never stop early on a small contact residual: the joints may still need their solve.
   return m_groupHasJoints && iteration < last ? std::max(r, info.m_leastSquaresResidualThreshold * 2 + 1) : r;
 }
@@ -1788,6 +1880,7 @@ void ExactSolver::finishJoints() {
 
 btScalar ExactSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
                                                     const btContactSolverInfo& info) {
+  m_settling = false;  // the sweeps after the iterations take every island they name
   if (m_groupHasJoints) finishJoints();
   if (patches) finishPatches(), finishCaptures();
   return btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyFinish(bodies, numBodies, info);

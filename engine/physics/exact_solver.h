@@ -21,6 +21,8 @@
 // resists (complementarity), so the active set cannot cycle; the next substep starts by checking it again.
 // Every iteration is one block Gauss-Seidel pass: Bullet's sweep over the contact rows, then the exact solve
 // of all hinge rows, so the last iteration always leaves the hinges exact and the motors within their torque.
+// An island whose sweep changed no contact impulse by more than 1e-8 N s has settled: its exact solve in
+// that iteration is its last (bounds applied), and the iterations after it pass it by (planSettling).
 //
 // Contact normals stay Bullet's rows, swept by this solver; friction is the solver's own, per
 // contact patch with anchors (contact_patches.cpp), and capture joints add rows of their own
@@ -160,10 +162,17 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// Every substep's trees made afresh (PhysicsSettings::freshTrees; batch solvers read the
   /// primary's): never taken again from the last substep (reuseTrees).
   bool freshTrees = false;
+  /// Every island swept in every iteration (PhysicsSettings::everyIteration; batch solvers read
+  /// the primary's): none settles (planSettling).
+  bool everyIteration = false;
   /// Factors so far that took only the nodes whose rows changed (factor).
   long partialFactorCount() const { return m_partialFactors; }
   /// Substeps whose trees were taken again from the last substep (reuseTrees).
   long reusedTreeCount() const { return m_reusedTrees; }
+  /// Contact sweeps of islands so far (one island swept once: 1), and those an island settled
+  /// before the substep's last iteration was spared (planSettling).
+  long islandSweepCount() const { return m_islandSweeps; }
+  long sparedSweepCount() const { return m_sparedSweeps; }
 
   /// Makes this a batch solver of `primary` (PhysicsWorld's, on a worker thread): it reads and
   /// writes the primary's joints, capture joints and contact-patch table instead of its own. Each
@@ -430,7 +439,6 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// the tree's joints take their share (lambda) and the bodies' velocities change (or, with
   /// `positions`, returns the bodies' position changes in the nodes' x without applying them).
   void pushThroughTree(Cluster& c, const Eigen::VectorXd& p, bool positions);
-  void exactIteration(bool clamp);
   /// An exact solve of the current group's clusters for which want(cluster) holds, and only
   /// those: which clusters share a solver group (Bullet's batches of islands) changes nothing.
   void exactIterationWhere(bool clamp, const std::function<bool(const Cluster&)>& want);
@@ -533,6 +541,20 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<int> m_nodeOfBody;    // node of each body this substep (any group)
   std::vector<int> m_bodyCluster;   // cluster of each body this substep (any group)
   std::vector<char> m_sweepIsland;  // by island: the contact re-sweep takes its rows (empty: all)
+  // Islands that settle within the substep's iterations (planSettling): each of this solver
+  // group's islands has a slot; each sweep item its island's slot (-1: none); by slot, the largest
+  // squared impulse change of its items in this sweep (by thread of a halved sweep) and its state.
+  enum class Settle : char { Open, Settling, Settled, Never };
+  std::vector<int> m_islandSlot;  // by island tag (-1: none this group); grows, reset by tag
+  std::vector<int> m_slotIsland;  // by slot: its island tag
+  std::vector<int> m_itemSlot;
+  std::vector<double> m_slotChange[2];
+  std::vector<Settle> m_slotSettle;
+  bool m_settling = false;  // within the substep's iterations: settled islands are not swept
+  long m_islandSweeps = 0, m_sparedSweeps = 0;
+  void planSettling();
+  int clusterSlot(const Cluster& c) const;
+  bool settleIslands(int iteration, int last);
   std::vector<int> m_adjStart, m_adj, m_queue, m_component;
   std::vector<char> m_seenJoint;
 };

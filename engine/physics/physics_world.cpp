@@ -310,6 +310,7 @@ struct PhysicsWorld::Impl {
     solver.patches = s.solver == SolverKind::Exact;
     solver.wholeFactors = s.wholeFactors;
     solver.freshTrees = s.freshTrees;
+    solver.everyIteration = s.everyIteration;
     solver.alwaysThreads = s.alwaysThreads;
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);
@@ -779,6 +780,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
   m->solver.patches = s.solver == SolverKind::Exact;
   m->solver.wholeFactors = s.wholeFactors;
   m->solver.freshTrees = s.freshTrees;
+  m->solver.everyIteration = s.everyIteration;
   m->solver.alwaysThreads = s.alwaysThreads;
   m->world.setAlwaysThreads(s.alwaysThreads);
   m->dispatcher.setAlwaysThreads(s.alwaysThreads);
@@ -1154,28 +1156,41 @@ int PhysicsWorld::threadedBodies() const {
   return m->world.threadedBodies();
 }
 
-int PhysicsWorld::halvedSweeps() const {
-  int n = m->solver.halvedSweepCount();
-  for (const auto& h : m->helpers) n += h->halvedSweepCount();
+namespace {
+
+/// A count summed over the world's exact solvers: the primary and the batch solvers.
+template <class Count, class Solvers>
+Count sumOverSolvers(const ExactSolver& primary, const Solvers& helpers,
+                     Count (ExactSolver::*count)() const) {
+  Count n = (primary.*count)();
+  for (const auto& h : helpers) n += ((*h).*count)();
   return n;
+}
+
+}  // namespace
+
+int PhysicsWorld::halvedSweeps() const {
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::halvedSweepCount);
 }
 
 long PhysicsWorld::reusedTrees() const {
-  long n = m->solver.reusedTreeCount();
-  for (const auto& h : m->helpers) n += h->reusedTreeCount();
-  return n;
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::reusedTreeCount);
+}
+
+long PhysicsWorld::islandSweeps() const {
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::islandSweepCount);
+}
+
+long PhysicsWorld::sparedSweeps() const {
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::sparedSweepCount);
 }
 
 long PhysicsWorld::partialFactors() const {
-  long n = m->solver.partialFactorCount();
-  for (const auto& h : m->helpers) n += h->partialFactorCount();
-  return n;
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::partialFactorCount);
 }
 
 int PhysicsWorld::splitTrees() const {
-  int n = m->solver.splitTreeCount();
-  for (const auto& h : m->helpers) n += h->splitTreeCount();
-  return n;
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::splitTreeCount);
 }
 
 double PhysicsWorld::partMass(int part) const {

@@ -41,6 +41,9 @@ struct PhysicsSettings {
   /// The exact solver makes its trees afresh every substep, also where the joints and bodies are
   /// those of the last (tests: trees taken again must give the same bits).
   bool freshTrees = false;
+  /// The exact solver sweeps every island in every iteration, also one whose contacts have
+  /// settled (tests: a settled island must end where all iterations take it).
+  bool everyIteration = false;
   /// Every piece of a step that can go to the worker threads goes there, not only where the
   /// clock says it pays (tests: core/pace.h; the bits are the same either way).
   bool alwaysThreads = false;
@@ -184,6 +187,10 @@ class PhysicsWorld {
   long partialFactors() const;
   /// Substeps whose trees the exact solvers took again from the last substep (reuseTrees).
   long reusedTrees() const;
+  /// Contact sweeps of islands so far, and those spared because the island had settled
+  /// (ExactSolver::planSettling).
+  long islandSweeps() const;
+  long sparedSweeps() const;
   /// Advances by dt in `substeps` equal steps, updating servos before each one.
   void step(double dt, int substeps);
 

@@ -154,6 +154,7 @@ void World::ensurePhysics() {
   ps.erp = m_settings.erp;
   ps.wholeFactors = m_options.wholeFactors;
   ps.freshTrees = m_options.freshTrees;
+  ps.everyIteration = m_options.everyIteration;
   ps.alwaysThreads = m_options.alwaysThreads;
   m_physics = std::make_unique<PhysicsWorld>(ps);
   if (m_tasks) m_physics->setParallel(m_pool->threads(), m_tasks, m_pool->watches());

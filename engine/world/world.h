@@ -51,6 +51,7 @@ struct RunOptions {
   int chunkSize = 16;                         ///< modules a worker takes at a time (tests use 1)
   bool wholeFactors = false;                  ///< tests: PhysicsSettings::wholeFactors
   bool freshTrees = false;                    ///< tests: PhysicsSettings::freshTrees
+  bool everyIteration = false;                ///< tests: PhysicsSettings::everyIteration
   bool alwaysThreads = false;                 ///< tests: PhysicsSettings::alwaysThreads
   size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
   int64_t behaviourBudget = 10'000'000;       ///< Lua instructions per callback

@@ -66,8 +66,9 @@ struct BenchArgs {
   std::vector<std::string> scenes;
   std::optional<double> dt;
   long long steps = 300;
-  bool stepsGiven = false;  ///< --steps was on the command line
-  int threads = 1;
+  bool stepsGiven = false;      ///< --steps was on the command line
+  std::vector<int> threads{1};  ///< one world per count, measured in turns (rounds)
+  int rounds = 0;               ///< blocks of steps per world (0: 1 for one count, 4 for several)
   std::optional<int> modules;
   std::optional<int> iterations;
   std::optional<int> substeps;

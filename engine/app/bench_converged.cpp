@@ -70,7 +70,7 @@ bool runSnake(const BenchArgs& a, const std::string& root, double dt, long long 
               int iterations, int jointIterations, Trace& out) {
   RunOptions o;
   o.projectRoot = root;
-  o.threads = a.threads;
+  o.threads = a.threads.front();
   o.echoLog = false;
   o.echoWorldLog = false;
   o.params = {{"n", std::to_string(a.modules.value_or(10))},

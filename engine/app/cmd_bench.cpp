@@ -7,13 +7,16 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "app/app.h"
 #include "app/bench_scenes.h"
 #include "app/run_world.h"
 #include "core/error.h"
+#include "io/summary.h"
 #include "world/world.h"
 
 namespace rm3d {
@@ -172,92 +175,218 @@ double processCpuSeconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-bool runScene(const Scene& s, const BenchArgs& a, const std::string& root, Result& out) {
-  RunOptions o;
-  o.projectRoot = root;
-  o.threads = a.threads;
-  o.echoLog = false;
-  o.echoWorldLog = false;
-  o.params = {{"n", std::to_string(a.modules.value_or(s.modules))}, {"type", a.type}};
-  // Only what was given: the rest stays at the world's defaults (WorldSettings).
-  auto number = [](double x) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", x);
-    return std::string(buf);
-  };
-  if (a.dt) o.params["dt"] = number(*a.dt);
-  if (a.substeps) o.params["substeps"] = std::to_string(*a.substeps);
-  if (a.solver) o.params["solver"] = *a.solver;
-  if (a.iterations) o.params["iterations"] = std::to_string(*a.iterations);
-  if (a.jointIterations) o.params["joint_iterations"] = std::to_string(*a.jointIterations);
-  World w(o);
-  try {
-    w.loadString(s.script, std::string("bench/") + s.name + ".lua");
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "rm3d bench: %s: %s\n", s.name, e.what());
-    return false;
+/// One scene's world at one thread count, measured in one or more blocks of steps (rounds).
+class SceneRun {
+ public:
+  SceneRun(const Scene& s, const BenchArgs& a, int threads) : m_scene(s) {
+    RunOptions o;
+    o.threads = threads;
+    o.echoLog = false;
+    o.echoWorldLog = false;
+    o.params = {{"n", std::to_string(a.modules.value_or(s.modules))}, {"type", a.type}};
+    // Only what was given: the rest stays at the world's defaults (WorldSettings).
+    auto number = [](double x) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.17g", x);
+      return std::string(buf);
+    };
+    if (a.dt) o.params["dt"] = number(*a.dt);
+    if (a.substeps) o.params["substeps"] = std::to_string(*a.substeps);
+    if (a.solver) o.params["solver"] = *a.solver;
+    if (a.iterations) o.params["iterations"] = std::to_string(*a.iterations);
+    if (a.jointIterations) o.params["joint_iterations"] = std::to_string(*a.jointIterations);
+    m_options = std::move(o);
+    m_threads = threads;
   }
-  const int warm = 30;
-  for (int i = 0; i < warm && !w.stopped(); ++i) w.step();
-  double beh = 0, phys = 0, other = 0, part = 0;
-  ParticleSystem::Times pt;
-  Quality worst;
-  const auto t0 = std::chrono::steady_clock::now();
-  const double cpu0 = processCpuSeconds();
-  long long taken = 0;
-  for (long long i = 0; i < a.steps && !w.stopped(); ++i, ++taken) {
-    w.step();
-    const World::StepTimes& t = w.lastStepTimes();
-    beh += t.behaviours;
-    phys += t.physics;
-    other += t.other;
-    part += t.particles;
-    for (const auto& ps : w.particleSystems()) {
-      pt.sort += ps->times().sort;
-      pt.neighbours += ps->times().neighbours;
-      pt.solve += ps->times().solve;
-      pt.finish += ps->times().finish;
+
+  /// Loads the scene and takes its warm-up steps; false (and a message) where it cannot load.
+  bool load(const std::string& root) {
+    m_options.projectRoot = root;
+    m_world = std::make_unique<World>(m_options);
+    try {
+      m_world->loadString(m_scene.script, std::string("bench/") + m_scene.name + ".lua");
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "rm3d bench: %s: %s\n", m_scene.name, e.what());
+      return false;
     }
-    w.sampleTracking();
-    if (i % 10 == 9 || i + 1 == a.steps) {
-      const Quality q = w.quality();
-      worst.hingeGapMm = std::max(worst.hingeGapMm, q.hingeGapMm);
-      worst.hingeAngleDeg = std::max(worst.hingeAngleDeg, q.hingeAngleDeg);
-      worst.dockGapMm = std::max(worst.dockGapMm, q.dockGapMm);
-      worst.dockAngleDeg = std::max(worst.dockAngleDeg, q.dockAngleDeg);
-    }
+    constexpr int kWarm = 30;
+    for (int i = 0; i < kWarm && !m_world->stopped(); ++i) m_world->step();
+    return true;
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const double cpu = processCpuSeconds() - cpu0;
-  worst.trackingRmsDeg = w.quality().trackingRmsDeg;
-  out.name = s.name;
-  out.modules = int(w.modules().size());
-  out.settings = w.settings();
-  out.dt = w.settings().dt;
-  out.paperFps = s.paperFps;
-  out.paperRealtime = s.paperFps * (s.particles ? kPaperParticleDt : kPaperDt);
-  // A world that stopped (a divergence) is not timed on: its steps would cost nothing.
-  if (w.stopped())
-    out.stopped = !w.divergence().empty()    ? w.divergence()
-                  : !w.scriptError().empty() ? w.scriptError()
-                                             : std::string("the world stopped");
-  out.steps = taken;
-  const double k = 1.0 / double(std::max(1LL, taken));
-  out.stepsPerSecond = taken > 0 ? double(taken) / wall : 0;
-  out.realtime = out.stepsPerSecond * out.dt;
-  out.msWall = 1000 * wall * k;
-  out.msCpu = 1000 * cpu * k;
-  out.msBehaviours = beh * k;
-  out.msPhysics = phys * k;
-  out.msOther = other * k;
-  out.msParticles = part * k;
-  out.particleTimes = {pt.sort * k, pt.neighbours * k, pt.solve * k, pt.finish * k};
-  for (const auto& ps : w.particleSystems()) out.particles += ps->count();
-  out.quality = worst;
-  out.connections = int(w.connections().size());
-  const World::MessageStats ms = w.messageStats();
-  out.messages = ms.sent;
-  return true;
+
+  /// Takes `steps` more measured steps (fewer where the world stops); returns this block's steps
+  /// per second (0 where it took none).
+  double measure(long long steps) {
+    World& w = *m_world;
+    const auto t0 = std::chrono::steady_clock::now();
+    const double cpu0 = processCpuSeconds();
+    long long taken = 0;
+    for (long long i = 0; i < steps && !w.stopped(); ++i, ++taken) {
+      w.step();
+      const World::StepTimes& t = w.lastStepTimes();
+      m_beh += t.behaviours;
+      m_phys += t.physics;
+      m_other += t.other;
+      m_part += t.particles;
+      for (const auto& ps : w.particleSystems()) {
+        m_pt.sort += ps->times().sort;
+        m_pt.neighbours += ps->times().neighbours;
+        m_pt.solve += ps->times().solve;
+        m_pt.finish += ps->times().finish;
+      }
+      w.sampleTracking();
+      if (++m_counted % 10 == 0 || i + 1 == steps) {
+        const Quality q = w.quality();
+        m_worst.hingeGapMm = std::max(m_worst.hingeGapMm, q.hingeGapMm);
+        m_worst.hingeAngleDeg = std::max(m_worst.hingeAngleDeg, q.hingeAngleDeg);
+        m_worst.dockGapMm = std::max(m_worst.dockGapMm, q.dockGapMm);
+        m_worst.dockAngleDeg = std::max(m_worst.dockAngleDeg, q.dockAngleDeg);
+      }
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    m_wall += wall;
+    m_cpu += processCpuSeconds() - cpu0;
+    m_taken += taken;
+    const double sps = taken > 0 && wall > 0 ? double(taken) / wall : 0;
+    m_rounds.push_back(sps);
+    return sps;
+  }
+
+  const World& world() const { return *m_world; }
+  int threads() const { return m_threads; }
+  const std::vector<double>& rounds() const { return m_rounds; }
+
+  Result result() const {
+    const World& w = *m_world;
+    Result out;
+    Quality worst = m_worst;
+    worst.trackingRmsDeg = w.quality().trackingRmsDeg;
+    out.name = m_scene.name;
+    out.modules = int(w.modules().size());
+    out.settings = w.settings();
+    out.dt = w.settings().dt;
+    out.paperFps = m_scene.paperFps;
+    out.paperRealtime = m_scene.paperFps * (m_scene.particles ? kPaperParticleDt : kPaperDt);
+    // A world that stopped (a divergence) is not timed on: its steps would cost nothing.
+    if (w.stopped())
+      out.stopped = !w.divergence().empty()    ? w.divergence()
+                    : !w.scriptError().empty() ? w.scriptError()
+                                               : std::string("the world stopped");
+    out.steps = m_taken;
+    const double k = 1.0 / double(std::max(1LL, m_taken));
+    out.stepsPerSecond = m_taken > 0 && m_wall > 0 ? double(m_taken) / m_wall : 0;
+    out.realtime = out.stepsPerSecond * out.dt;
+    out.msWall = 1000 * m_wall * k;
+    out.msCpu = 1000 * m_cpu * k;
+    out.msBehaviours = m_beh * k;
+    out.msPhysics = m_phys * k;
+    out.msOther = m_other * k;
+    out.msParticles = m_part * k;
+    out.particleTimes = {m_pt.sort * k, m_pt.neighbours * k, m_pt.solve * k, m_pt.finish * k};
+    for (const auto& ps : w.particleSystems()) out.particles += ps->count();
+    out.quality = worst;
+    out.connections = int(w.connections().size());
+    out.messages = w.messageStats().sent;
+    return out;
+  }
+
+ private:
+  const Scene& m_scene;
+  RunOptions m_options;
+  int m_threads = 1;
+  std::unique_ptr<World> m_world;
+  double m_beh = 0, m_phys = 0, m_other = 0, m_part = 0, m_wall = 0, m_cpu = 0;
+  ParticleSystem::Times m_pt;
+  Quality m_worst;
+  long long m_taken = 0, m_counted = 0;
+  std::vector<double> m_rounds;  ///< steps per second, a block each
+};
+
+/// "1,2,4".
+std::string joined(const std::vector<int>& v) {
+  std::string out;
+  for (int x : v) out += (out.empty() ? "" : ",") + std::to_string(x);
+  return out;
+}
+
+/// The median of `v` (the mean of the middle two of an even count).
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// One world's row of the table, its stop if any, and its JSON entry (under out["scenes"]); false
+/// where the world stopped.
+bool reportScene(const Result& r, int threads, const std::vector<double>& rounds, uint64_t digest,
+                 nlohmann::json& out) {
+  char digestText[24];
+  std::snprintf(digestText, sizeof digestText, "%016llx", static_cast<unsigned long long>(digest));
+  char paperFps[16] = "-", paperRtf[16] = "-";
+  if (r.paperFps > 0) {
+    std::snprintf(paperFps, sizeof paperFps, "%.0f", r.paperFps);
+    std::snprintf(paperRtf, sizeof paperRtf, "%.2f", r.paperRealtime);
+  }
+  std::printf(
+      "%-15s %7d %7d %9.1f %7.2f %9s %9s %8.3f %8.3f %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f | "
+      "%6d %9zu\n",
+      r.name.c_str(), r.modules, threads, r.stepsPerSecond, r.realtime, paperFps, paperRtf, r.msWall, r.msCpu,
+      r.msBehaviours, r.msPhysics, r.msOther, r.quality.hingeGapMm, r.quality.hingeAngleDeg,
+      r.quality.dockGapMm, r.quality.dockAngleDeg, r.quality.trackingRmsDeg, r.connections, r.messages);
+  if (r.particles > 0)
+    std::printf(
+        "  %d particles: %.3f ms a step (sort %.3f, neighbours %.3f, solve %.3f, velocities and push "
+        "%.3f)\n",
+        r.particles, r.msParticles, r.particleTimes.sort, r.particleTimes.neighbours, r.particleTimes.solve,
+        r.particleTimes.finish);
+  if (!r.stopped.empty()) {
+    std::printf("  stopped after %lld measured steps: %s\n", r.steps, r.stopped.c_str());
+  }
+  std::fflush(stdout);
+  nlohmann::json paper = nullptr;
+  if (r.paperFps > 0)
+    paper = {{"frames_per_second", r.paperFps}, {"dt", kPaperDt}, {"realtime_factor", r.paperRealtime}};
+  out["scenes"].push_back(
+      {{"name", r.name},
+       {"threads", threads},
+       {"rounds_steps_per_second", rounds},
+       {"state_digest", digestText},
+       {"modules", r.modules},
+       {"dt", r.dt},
+       {"settings",
+        {{"dt", r.settings.dt},
+         {"substeps", r.settings.substeps},
+         {"solver_iterations", r.settings.solverIterations},
+         {"joint_iterations", r.settings.jointIterations},
+         {"erp", r.settings.erp}}},
+       {"steps", r.steps},
+       {"steps_per_second", r.stepsPerSecond},
+       {"realtime_factor", r.realtime},
+       {"paper", paper},
+       {"ms",
+        {{"wall", r.msWall},
+         {"cpu", r.msCpu},
+         {"behaviours", r.msBehaviours},
+         {"physics", r.msPhysics},
+         {"other", r.msOther},
+         {"particles", r.msParticles},
+         {"particle_phases",
+          {{"sort", r.particleTimes.sort},
+           {"neighbours", r.particleTimes.neighbours},
+           {"solve", r.particleTimes.solve},
+           {"finish", r.particleTimes.finish}}}}},
+       {"particles", r.particles},
+       {"quality",
+        {{"hinge_gap_mm", r.quality.hingeGapMm},
+         {"hinge_angle_deg", r.quality.hingeAngleDeg},
+         {"dock_gap_mm", r.quality.dockGapMm},
+         {"dock_angle_deg", r.quality.dockAngleDeg},
+         {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
+       {"connections", r.connections},
+       {"messages_sent", r.messages},
+       {"stopped", r.stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.stopped)}});
+  return r.stopped.empty();
 }
 
 }  // namespace
@@ -286,6 +415,18 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       scenes.push_back(found);
     }
   }
+  for (size_t i = 0; i < a.threads.size(); ++i)
+    for (size_t k = 0; k < i; ++k)
+      if (a.threads[i] == a.threads[k]) {
+        std::fprintf(stderr, "rm3d bench: --threads: %d is given twice (expected each count once)\n",
+                     a.threads[i]);
+        return 2;
+      }
+  if (a.rounds > a.steps) {
+    std::fprintf(stderr, "rm3d bench: --rounds %d: more rounds than measured steps (--steps %lld)\n",
+                 a.rounds, a.steps);
+    return 2;
+  }
   // The settings every scene runs at: the world's defaults, except what was given.
   const WorldSettings defaults;
   const SolverKind solver = !a.solver            ? defaults.solver
@@ -295,6 +436,8 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   const int substeps = a.substeps.value_or(defaultSubsteps(solver));
   const int iterations = a.iterations.value_or(defaultIterations(solver));
   const int jointIterations = a.jointIterations.value_or(defaults.jointIterations);
+  const std::vector<int>& counts = a.threads;
+  const int rounds = a.rounds > 0 ? a.rounds : counts.size() > 1 ? 4 : 1;
   auto given = [](bool g) { return g ? "given" : "world default"; };
   std::printf(
       "settings: solver %s (%s), dt %.5f s (%s), substeps %d (%s), "
@@ -306,15 +449,18 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       "paper: ReMod3D (section IV.G), dt 1/30, one step per frame, a 2013 quad-core laptop (particle scenes: "
       "dt "
       "1/60, PhysX on a GeForce GT 650M); RTF = simulated s per wall s\n");
-  std::printf("%-15s %7s %9s %7s %9s %7s %8s %8s %8s %8s %8s | %8s %9s %8s %8s %9s | %6s %9s\n", "scene",
-              "modules", "steps/s", "RTF", "paper fps", "paper RTF", "ms wall", "ms cpu", "ms beh", "ms phys",
-              "ms other", "hinge mm", "hinge deg", "dock mm", "dock deg", "track deg", "conns", "messages");
+  std::printf("%-15s %7s %7s %9s %7s %9s %7s %8s %8s %8s %8s %8s | %8s %9s %8s %8s %9s | %6s %9s\n", "scene",
+              "modules", "threads", "steps/s", "RTF", "paper fps", "paper RTF", "ms wall", "ms cpu", "ms beh",
+              "ms phys", "ms other", "hinge mm", "hinge deg", "dock mm", "dock deg", "track deg", "conns",
+              "messages");
   std::printf(
       "%s\n",
       "  (ms a step: wall clock, CPU time of all threads, and the wall clock's behaviours, physics and "
       "the rest; last two columns: connections at the end, messages sent)");
   nlohmann::json out = {
-      {"threads", a.threads},
+      {"threads", a.threads.front()},
+      {"thread_counts", a.threads},
+      {"rounds", rounds},
       {"solver", solverName(solver)},
       {"dt", dt},
       {"iterations", iterations},
@@ -327,72 +473,66 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
         {"joint_iterations", a.jointIterations.has_value()}}},
       {"module_type", a.type},
       {"paper", {{"dt", kPaperDt}, {"machine", "2013 quad-core laptop (ReMod3D, section IV.G)"}}},
-      {"scenes", nlohmann::json::array()}};
-  bool anyStopped = false;
-  for (const Scene* s : scenes) {
-    Result r;
-    if (!runScene(*s, a, root, r)) return 2;
-    char paperFps[16] = "-", paperRtf[16] = "-";
-    if (r.paperFps > 0) {
-      std::snprintf(paperFps, sizeof paperFps, "%.0f", r.paperFps);
-      std::snprintf(paperRtf, sizeof paperRtf, "%.2f", r.paperRealtime);
-    }
+      {"scenes", nlohmann::json::array()},
+      {"comparisons", nlohmann::json::array()}};
+  bool anyStopped = false, differs = false;
+  if (counts.size() > 1 || rounds > 1)
     std::printf(
-        "%-15s %7d %9.1f %7.2f %9s %9s %8.3f %8.3f %8.3f %8.3f %8.3f | %8.3f %9.3f %8.3f %8.3f %9.3f | %6d "
-        "%9zu\n",
-        r.name.c_str(), r.modules, r.stepsPerSecond, r.realtime, paperFps, paperRtf, r.msWall, r.msCpu,
-        r.msBehaviours, r.msPhysics, r.msOther, r.quality.hingeGapMm, r.quality.hingeAngleDeg,
-        r.quality.dockGapMm, r.quality.dockAngleDeg, r.quality.trackingRmsDeg, r.connections, r.messages);
-    if (r.particles > 0)
+        "threads %s: each scene's worlds built side by side and measured in %d rounds of %lld steps each, "
+        "in turn (every other round in the reverse order)\n",
+        joined(counts).c_str(), rounds, (a.steps + rounds - 1) / rounds);
+  for (const Scene* s : scenes) {
+    std::vector<std::unique_ptr<SceneRun>> runs;
+    for (int t : counts) {
+      runs.push_back(std::make_unique<SceneRun>(*s, a, t));
+      if (!runs.back()->load(root)) return 2;
+    }
+    // The steps in `rounds` blocks, the worlds in turn: A B, B A, A B ... so that a machine's
+    // slow minute falls on every count alike.
+    for (int r = 0; r < rounds; ++r) {
+      const long long steps = a.steps / rounds + (r < a.steps % rounds ? 1 : 0);
+      if (steps == 0) continue;
+      for (size_t k = 0; k < runs.size(); ++k) runs[r % 2 ? runs.size() - 1 - k : k]->measure(steps);
+    }
+    for (const auto& run : runs) {
+      const Result r = run->result();
+      const uint64_t digest = stateDigest(run->world());
+      if (!reportScene(r, run->threads(), run->rounds(), digest, out)) anyStopped = true;
+    }
+    // Each further count against the first: the ratio of their steps per second round by round,
+    // and whether their states are the same bits after the same steps.
+    const Result first = runs[0]->result();
+    const uint64_t firstDigest = stateDigest(runs[0]->world());
+    for (size_t k = 1; k < runs.size(); ++k) {
+      std::vector<double> ratios;
+      for (size_t i = 0; i < runs[k]->rounds().size() && i < runs[0]->rounds().size(); ++i)
+        if (runs[k]->rounds()[i] > 0 && runs[0]->rounds()[i] > 0)
+          ratios.push_back(runs[k]->rounds()[i] / runs[0]->rounds()[i]);
+      const Result r = runs[k]->result();
+      const bool comparable = r.steps == first.steps && r.stopped.empty() && first.stopped.empty();
+      const bool same = comparable && stateDigest(runs[k]->world()) == firstDigest;
+      if (comparable && !same) differs = true;
+      const auto low = ratios.empty() ? 0.0 : *std::min_element(ratios.begin(), ratios.end());
+      const auto high = ratios.empty() ? 0.0 : *std::max_element(ratios.begin(), ratios.end());
       std::printf(
-          "  %d particles: %.3f ms a step (sort %.3f, neighbours %.3f, solve %.3f, velocities and push "
-          "%.3f)\n",
-          r.particles, r.msParticles, r.particleTimes.sort, r.particleTimes.neighbours, r.particleTimes.solve,
-          r.particleTimes.finish);
-    if (!r.stopped.empty()) {
-      anyStopped = true;
-      std::printf("  stopped after %lld measured steps: %s\n", r.steps, r.stopped.c_str());
+          "  %s: %d thread%s / %d: %.3f times the steps per second (median of %zu rounds, %.3f to %.3f); "
+          "%s\n",
+          s->name, runs[k]->threads(), runs[k]->threads() == 1 ? "" : "s", runs[0]->threads(), median(ratios),
+          ratios.size(), low, high,
+          !comparable ? "states not compared (a world stopped)"
+          : same      ? "the same state, bit for bit"
+                      : "NOT the same state (a determinism fault)");
+      out["comparisons"].push_back(
+          {{"scene", s->name},
+           {"threads", runs[k]->threads()},
+           {"against", runs[0]->threads()},
+           {"ratios", ratios},
+           {"ratio_median", median(ratios)},
+           {"ratio_min", low},
+           {"ratio_max", high},
+           {"same_state", comparable ? nlohmann::json(same) : nlohmann::json(nullptr)}});
     }
     std::fflush(stdout);
-    nlohmann::json paper = nullptr;
-    if (r.paperFps > 0)
-      paper = {{"frames_per_second", r.paperFps}, {"dt", kPaperDt}, {"realtime_factor", r.paperRealtime}};
-    out["scenes"].push_back(
-        {{"name", r.name},
-         {"modules", r.modules},
-         {"dt", r.dt},
-         {"settings",
-          {{"dt", r.settings.dt},
-           {"substeps", r.settings.substeps},
-           {"solver_iterations", r.settings.solverIterations},
-           {"joint_iterations", r.settings.jointIterations},
-           {"erp", r.settings.erp}}},
-         {"steps", r.steps},
-         {"steps_per_second", r.stepsPerSecond},
-         {"realtime_factor", r.realtime},
-         {"paper", paper},
-         {"ms",
-          {{"wall", r.msWall},
-           {"cpu", r.msCpu},
-           {"behaviours", r.msBehaviours},
-           {"physics", r.msPhysics},
-           {"other", r.msOther},
-           {"particles", r.msParticles},
-           {"particle_phases",
-            {{"sort", r.particleTimes.sort},
-             {"neighbours", r.particleTimes.neighbours},
-             {"solve", r.particleTimes.solve},
-             {"finish", r.particleTimes.finish}}}}},
-         {"particles", r.particles},
-         {"quality",
-          {{"hinge_gap_mm", r.quality.hingeGapMm},
-           {"hinge_angle_deg", r.quality.hingeAngleDeg},
-           {"dock_gap_mm", r.quality.dockGapMm},
-           {"dock_angle_deg", r.quality.dockAngleDeg},
-           {"tracking_rms_deg", r.quality.trackingRmsDeg}}},
-         {"connections", r.connections},
-         {"messages_sent", r.messages},
-         {"stopped", r.stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.stopped)}});
   }
   if (!a.json.empty()) {
     std::ofstream f(a.json);
@@ -403,7 +543,7 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       return 2;
     }
   }
-  return anyStopped ? 1 : 0;
+  return anyStopped || differs ? 1 : 0;
 }
 
 std::string benchSceneHelp() {

@@ -185,7 +185,18 @@ int run(int argc, char** argv) {
           numberCheck("a positive number of seconds", [](double v) { return v > 0 && std::isfinite(v); }));
   auto* benchSteps =
       benchCmd->add_option("--steps", bench.steps, "measured steps per scene")->check(positiveWhole("steps"));
-  benchCmd->add_option("--threads", bench.threads, threadsHelp)->check(kThreads);
+  benchCmd
+      ->add_option("--threads", bench.threads,
+                   "worker threads as in run; several counts (1,2) build one world each, measured in turns, "
+                   "with their speed ratios and whether their states are the same bits")
+      ->delimiter(',')
+      ->allow_extra_args(false)
+      ->check(kThreads);
+  benchCmd
+      ->add_option("--rounds", bench.rounds,
+                   "blocks the measured steps are split into, each world in turn (default 1; 4 with several "
+                   "thread counts)")
+      ->check(positiveWhole("rounds"));
   benchCmd
       ->add_option("--modules", bench.modules, "modules per scene (default: the scene's, as its name says)")
       ->check(positiveWhole("modules"));

@@ -1,6 +1,7 @@
 // The run summary (`--json`, the Python API's summary()): the fields docs/command-line.md lists.
 #pragma once
 
+#include <cstdint>
 #include <nlohmann/json_fwd.hpp>
 
 namespace rm3d {
@@ -11,5 +12,11 @@ class World;
 /// id order, connections, dock events, messages, failures, metrics, cloths, particles, faults and
 /// the error. NaN and infinities are written as "nan", "inf", "-inf".
 nlohmann::json runSummary(const World& w, double wallSeconds);
+
+/// A 64-bit FNV-1a digest of everything that makes up the state now: the step count, every link's
+/// pose and every joint's velocity (their bits), dock states, connections, dock events, message
+/// counts, faults and the run summary (less its wall clock and the world file's path). Equal
+/// digests after equal steps: the same run, bit for bit (at any thread count; after a restore).
+uint64_t stateDigest(const World& w);
 
 }  // namespace rm3d

@@ -102,6 +102,23 @@ string(JSON bench2_paper GET "${bench2}" scenes 0 paper frames_per_second)
 if(NOT bench2_sub EQUAL 1 OR NOT bench2_it EQUAL 10 OR NOT bench2_paper MATCHES "^30(\\.0*)?$")
   message(SEND_ERROR "bench JSON with given settings: substeps ${bench2_sub}, iterations ${bench2_it}, paper ${bench2_paper}")
 endif()
+# Several thread counts: one world each, measured in turns; the ratio line and the same bits.
+expect_run("bench at two thread counts" 0
+           "snake_150 +4 +1 .*snake_150 +4 +2 .*snake_150: 2 threads / 1: [0-9.]+ times the steps per second \\(median of 3 rounds, [0-9.]+ to [0-9.]+\\); the same state, bit for bit"
+           bench snake_150 --modules 4 --steps 6 --threads 1,2 --rounds 3 --json ${OUT}/bench3.json)
+file(READ ${OUT}/bench3.json bench3)
+string(JSON bench3_n LENGTH "${bench3}" scenes)
+string(JSON bench3_t1 GET "${bench3}" scenes 1 threads)
+string(JSON bench3_rounds LENGTH "${bench3}" scenes 1 rounds_steps_per_second)
+string(JSON bench3_same GET "${bench3}" comparisons 0 same_state)
+string(JSON bench3_d0 GET "${bench3}" scenes 0 state_digest)
+string(JSON bench3_d1 GET "${bench3}" scenes 1 state_digest)
+string(JSON bench3_steps GET "${bench3}" scenes 1 steps)
+if(NOT bench3_n EQUAL 2 OR NOT bench3_t1 EQUAL 2 OR NOT bench3_rounds EQUAL 3 OR NOT bench3_same STREQUAL "ON"
+   OR NOT bench3_d0 STREQUAL bench3_d1 OR NOT bench3_d0 MATCHES "^[0-9a-f]+$" OR NOT bench3_steps EQUAL 6)
+  message(SEND_ERROR "bench JSON at two thread counts: ${bench3_n} entries, second at ${bench3_t1} threads with "
+                     "${bench3_rounds} rounds and ${bench3_steps} steps, same state ${bench3_same}, digests ${bench3_d0} ${bench3_d1}")
+endif()
 expect_run("test folder" 0 "^.*2 passed, 0 failed" test ${SRC}/tests/worlds/servo_45.lua ${SRC}/tests/worlds/joint_limits.lua --junit ${OUT}/junit.xml)
 expect_run("test with a failing world" 1 "0 passed, 1 failed" test ${OUT}/failing.lua)
 file(READ ${OUT}/junit.xml junit)

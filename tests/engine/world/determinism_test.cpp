@@ -37,45 +37,8 @@ for i = 0, 7 do
 end
 )";
 
-struct Hasher {
-  uint64_t h = 0xcbf29ce484222325ull;
-  void bytes(const void* p, size_t n) {
-    const auto* c = static_cast<const unsigned char*>(p);
-    for (size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 0x100000001b3ull;
-  }
-  void f(double v) { bytes(&v, sizeof v); }
-  void i(int64_t v) { bytes(&v, sizeof v); }
-  void s(const std::string& v) { bytes(v.data(), v.size()); }
-};
-
-/// Everything that makes up the state: every link's pose and velocity bits, joint angles, dock
-/// states, connections, events, message counts, faults and the summary.
 uint64_t stateHash(const World& w) {
-  Hasher h;
-  h.i(w.steps());
-  for (size_t m = 0; m < w.modules().size(); ++m) {
-    const rm3d::Module& mod = w.module(int(m));
-    for (size_t l = 0; l < mod.type->links.size(); ++l) {
-      const rm3d::Pose p = w.linkPose(int(m), int(l));
-      for (int k = 0; k < 3; ++k) h.f(p.pos[k]);
-      h.f(p.rot.w()), h.f(p.rot.x()), h.f(p.rot.y()), h.f(p.rot.z());
-    }
-    for (size_t j = 0; j < mod.type->joints.size(); ++j) h.f(w.jointVelocity(int(m), int(j)));
-    for (const rm3d::DockState& d : mod.docks)
-      h.i(d.enabled), h.i(d.engaged), h.i(d.peerModule), h.i(d.peerDock);
-    h.s(mod.fault);
-  }
-  for (const rm3d::Connection& c : w.connections())
-    h.i(c.moduleA), h.i(c.dockA), h.i(c.moduleB), h.i(c.dockB);
-  for (const rm3d::DockEvent& e : w.events())
-    h.f(e.time), h.s(dockEventName(e.kind)), h.i(e.moduleA), h.i(e.moduleB);
-  const World::MessageStats ms = w.messageStats();
-  h.i(int64_t(ms.sent)), h.i(int64_t(ms.received)), h.i(int64_t(ms.dropped));
-  nlohmann::json j = runSummary(w, 0);
-  j.erase("wall_seconds");
-  j.erase("world");  // the world file's absolute path: differs between checkouts
-  h.s(j.dump());
-  return h.h;
+  return rm3d::stateDigest(w);
 }
 
 struct Outcome {

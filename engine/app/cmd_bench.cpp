@@ -3,6 +3,7 @@
 // speed and real-time factor beside the paper's, the split between behaviours, physics and the
 // rest, and joint/dock fidelity.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -10,6 +11,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "app/app.h"
@@ -302,6 +304,34 @@ class SceneRun {
   std::vector<double> m_rounds;  ///< steps per second, a block each
 };
 
+/// How much a second busy thread slows this one: the time of a chain of dependent multiply-adds
+/// (about 0.1 s) with another thread running the same chain, over its time alone. About 1 where
+/// the two threads have a core each; up to 2 where they share one (a virtual machine's two cores
+/// on one physical core, or a busy machine), and then a second thread cannot pay.
+double sharedCoreFactor() {
+  auto chain = [] {
+    double x = 1;
+    for (long i = 0; i < 40'000'000; ++i) x = x * 1.0000001 + 1e-9;
+    return x;
+  };
+  volatile double sink = 0;
+  auto timed = [&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    sink = chain();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  const double alone = timed();
+  std::atomic<bool> go{false};
+  std::thread other([&] {
+    while (!go.load()) std::this_thread::yield();
+    sink = chain();
+  });
+  go.store(true);
+  const double both = timed();
+  other.join();
+  return alone > 0 ? both / alone : 1;
+}
+
 /// "1,2,4".
 std::string joined(const std::vector<int>& v) {
   std::string out;
@@ -476,6 +506,18 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       {"scenes", nlohmann::json::array()},
       {"comparisons", nlohmann::json::array()}};
   bool anyStopped = false, differs = false;
+  // Whether the machine's cores are its own now: thread counts compared on cores that share one
+  // physical core (or are busy) measure the machine, not the engine.
+  double coresBefore = 0;
+  if (counts.size() > 1) {
+    coresBefore = sharedCoreFactor();
+    std::printf(
+        "cores: one thread's work took %.2f times as long with a second thread busy (1: a core each; 2: one "
+        "core "
+        "shared)\n",
+        coresBefore);
+    out["cores_before"] = coresBefore;
+  }
   if (counts.size() > 1 || rounds > 1)
     std::printf(
         "threads %s: each scene's worlds built side by side and measured in %d rounds of %lld steps each, "
@@ -533,6 +575,11 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
            {"same_state", comparable ? nlohmann::json(same) : nlohmann::json(nullptr)}});
     }
     std::fflush(stdout);
+  }
+  if (counts.size() > 1) {
+    const double coresAfter = sharedCoreFactor();
+    std::printf("cores: %.2f before the scenes, %.2f after\n", coresBefore, coresAfter);
+    out["cores_after"] = coresAfter;
   }
   if (!a.json.empty()) {
     std::ofstream f(a.json);

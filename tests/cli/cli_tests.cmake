@@ -114,10 +114,13 @@ string(JSON bench3_same GET "${bench3}" comparisons 0 same_state)
 string(JSON bench3_d0 GET "${bench3}" scenes 0 state_digest)
 string(JSON bench3_d1 GET "${bench3}" scenes 1 state_digest)
 string(JSON bench3_steps GET "${bench3}" scenes 1 steps)
+string(JSON bench3_cores GET "${bench3}" cores_after)
 if(NOT bench3_n EQUAL 2 OR NOT bench3_t1 EQUAL 2 OR NOT bench3_rounds EQUAL 3 OR NOT bench3_same STREQUAL "ON"
-   OR NOT bench3_d0 STREQUAL bench3_d1 OR NOT bench3_d0 MATCHES "^[0-9a-f]+$" OR NOT bench3_steps EQUAL 6)
+   OR NOT bench3_d0 STREQUAL bench3_d1 OR NOT bench3_d0 MATCHES "^[0-9a-f]+$" OR NOT bench3_steps EQUAL 6
+   OR NOT bench3_cores MATCHES "^[0-9]+\\.[0-9]+")
   message(SEND_ERROR "bench JSON at two thread counts: ${bench3_n} entries, second at ${bench3_t1} threads with "
-                     "${bench3_rounds} rounds and ${bench3_steps} steps, same state ${bench3_same}, digests ${bench3_d0} ${bench3_d1}")
+                     "${bench3_rounds} rounds and ${bench3_steps} steps, same state ${bench3_same}, digests ${bench3_d0} ${bench3_d1}, "
+                     "cores ${bench3_cores}")
 endif()
 expect_run("test folder" 0 "^.*2 passed, 0 failed" test ${SRC}/tests/worlds/servo_45.lua ${SRC}/tests/worlds/joint_limits.lua --junit ${OUT}/junit.xml)
 expect_run("test with a failing world" 1 "0 passed, 1 failed" test ${OUT}/failing.lua)

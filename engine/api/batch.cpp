@@ -16,7 +16,7 @@ namespace {
 
 /// Runs fn(i) for i in [0, n) on the pool; errors are gathered per index and the first is thrown
 /// after every call has returned ("world i: message").
-void runAll(BehaviourPool& pool, int n, const std::function<void(int)>& fn) {
+void runAll(BehaviourPool& pool, int n, FunctionRef<void(int)> fn) {
   std::vector<std::string> errors(static_cast<size_t>(n));
   pool.run(
       n,

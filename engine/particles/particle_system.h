@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "core/function_ref.h"
 #include "core/types.h"
 #include "physics/particle_colliders.h"
 
@@ -57,7 +58,7 @@ struct BodyPush {
 class ParticleSystem {
  public:
   /// Runs fn(b) for b in [0, n), possibly in parallel (null: in order on this thread).
-  using ParallelFor = std::function<void(int n, const std::function<void(int)>& fn)>;
+  using ParallelFor = std::function<void(int n, FunctionRef<void(int)> fn)>;
   /// Where the time of the last step went, ms.
   struct Times {
     double sort = 0, neighbours = 0, solve = 0, finish = 0;

@@ -803,22 +803,15 @@ btScalar ExactSolver::contactSweep() {
     ++m_halvedSweeps;
     double halves[2] = {0, 0};
     int from = 0, to = 0;
-    // (One pointer captured: std::function keeps it without allocating.)
-    const struct {
-      const ExactSolver* self;
-      const decltype(sweepItem)* sweep;
-      double* halves;
-      const int *from, *to;
-    } ctx{this, &sweepItem, halves, &from, &to};
     for (size_t b = 0; b <= m_itemBarriers.size(); ++b) {
       to = b < m_itemBarriers.size() ? m_itemBarriers[b] : items;
       if (to - from >= kHalvedSweepItems) {
-        forBothHalves([p = &ctx](int h) {
+        forBothHalves([&](int h) {
           // (Kept here and stored once: both halves' slots share a cache line.)
-          double largest = p->halves[h];
-          for (int t = *p->from; t < *p->to; ++t)
-            if (p->self->m_itemSide[size_t(t)] == h) largest = std::max(largest, (*p->sweep)(t, h));
-          p->halves[h] = largest;
+          double largest = halves[h];
+          for (int t = from; t < to; ++t)
+            if (m_itemSide[size_t(t)] == h) largest = std::max(largest, sweepItem(t, h));
+          halves[h] = largest;
         });
       } else {
         for (int t = from; t < to; ++t) residual = std::max(residual, sweepItem(t, 0));
@@ -922,25 +915,19 @@ void ExactSolver::forEachNode(const Cluster& c, const Fn& fn) {
     return;
   }
   fn(c.begin, 0);
-  // (One pointer captured: std::function keeps it without allocating.)
-  const struct {
-    const ExactSolver* self;
-    const Cluster* c;
-    const Fn* fn;
-  } ctx{this, &c, &fn};
-  forBothHalves([p = &ctx](int h) {
-    for (int i = p->c->lane[h]; i < p->c->lane[h + 1]; ++i) (*p->fn)(p->self->m_laneNodes[size_t(i)], h);
+  forBothHalves([&](int h) {
+    for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) fn(m_laneNodes[size_t(i)], h);
   });
 }
 
-void ExactSolver::runWithHalfHelper(const std::function<void(int, const std::function<void(int)>&)>& tasks,
+void ExactSolver::runWithHalfHelper(const std::function<void(int, FunctionRef<void(int)>)>& tasks,
                                     const std::function<void()>& fn, HalfSite site) {
   if (!tasks) return fn();
   runPaced(
       m_halfPace[int(site)], alwaysThreads, [&] { runHelped(tasks, fn); }, fn);
 }
 
-void ExactSolver::runHelped(const std::function<void(int, const std::function<void(int)>&)>& tasks,
+void ExactSolver::runHelped(const std::function<void(int, FunctionRef<void(int)>)>& tasks,
                             const std::function<void()>& fn) {
   HalfHelper helper;
   helper.watch = halfHelperWatches;
@@ -961,14 +948,14 @@ void ExactSolver::runHelped(const std::function<void(int, const std::function<vo
   });
 }
 
-void ExactSolver::forBothHalves(const std::function<void(int)>& fn) {
+void ExactSolver::forBothHalves(FunctionRef<void(int)> fn) {
   HalfHelper* h = m_halfHelper;
   if (!h) {
     fn(0);
     fn(1);
     return;
   }
-  h->fn = &fn;
+  h->fn = fn;
   const uint64_t g = h->posted.load(std::memory_order_relaxed) + 1;
   h->posted.store(g, std::memory_order_release);
   h->posted.notify_one();
@@ -1010,7 +997,7 @@ void ExactSolver::helpHalves(HalfHelper& h) {
     if (h.stop.load(std::memory_order_acquire)) return;
     uint64_t expected = g - 1;
     if (!h.taken.compare_exchange_strong(expected, g, std::memory_order_acq_rel)) continue;
-    (*h.fn)(1);
+    h.fn(1);
     h.done.store(g, std::memory_order_release);
   }
 }
@@ -1556,11 +1543,11 @@ void ExactSolver::splitTree(Cluster& c) {
   c.split = true;
 }
 
-void ExactSolver::forEachCluster(int begin, const std::function<void(int)>& fn) {
+void ExactSolver::forEachCluster(int begin, FunctionRef<void(int)> fn) {
   for (int i = begin; i < int(m_clusters.size()); ++i) fn(i);
 }
 
-void ExactSolver::exactIterationWhere(bool clamp, const std::function<bool(const Cluster&)>& want) {
+void ExactSolver::exactIterationWhere(bool clamp, FunctionRef<bool(const Cluster&)> want) {
   forEachCluster(m_groupBegin, [&](int ci) {
     Cluster& c = m_clusters[size_t(ci)];
     if (want(c)) clusterIteration(c, clamp);

@@ -56,6 +56,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/function_ref.h"
 #include "core/pace.h"
 
 namespace rm3d {
@@ -202,7 +203,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     std::atomic<uint64_t> taken{0};   // the last offered half that a thread has taken
     std::atomic<uint64_t> done{0};    // the last half the helper finished
     std::atomic<bool> stop{false};
-    const std::function<void(int)>* fn = nullptr;
+    FunctionRef<void(int)> fn;
     bool watch = false;  // watches for halves until stopped, never sleeping (halfHelperWatches)
   };
   static void helpHalves(HalfHelper& h);
@@ -210,7 +211,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// just fn() without tasks, or alone where the clock says the helper does not pay (Pace; `site`
   /// names the caller: each times its own work).
   enum class HalfSite { Solve, Stabilise };
-  void runWithHalfHelper(const std::function<void(int, const std::function<void(int)>&)>& tasks,
+  void runWithHalfHelper(const std::function<void(int, FunctionRef<void(int)>)>& tasks,
                          const std::function<void()>& fn, HalfSite site);
   /// The half helper watches for halves until the solve ends instead of sleeping after a while:
   /// where there are no more threads than cores (PhysicsWorld::setParallel's `watch`). Between
@@ -425,7 +426,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   template <class Fn>
   void forEachNode(const Cluster& c, const Fn& fn);
   /// fn(0) and fn(1): fn(1) on the half helper's thread while there is one (runWithHalfHelper).
-  void forBothHalves(const std::function<void(int)>& fn);
+  void forBothHalves(FunctionRef<void(int)> fn);
   /// Loop joints: S from one tree solve per loop row (after factor), and the step that makes
   /// the loop rows exact: their impulse change through S, passed on through the tree.
   void factorLoops(Cluster& c);
@@ -441,7 +442,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void pushThroughTree(Cluster& c, const Eigen::VectorXd& p, bool positions);
   /// An exact solve of the current group's clusters for which want(cluster) holds, and only
   /// those: which clusters share a solver group (Bullet's batches of islands) changes nothing.
-  void exactIterationWhere(bool clamp, const std::function<bool(const Cluster&)>& want);
+  void exactIterationWhere(bool clamp, FunctionRef<bool(const Cluster&)> want);
   struct RowSide {
     btSolverBody* body;
     const btVector3 *n, *rc, *ac;
@@ -464,8 +465,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   double stabiliseExcess(int j) const;
   void applyPositionChanges(Cluster& c);
   void applyPositionChange(int k);  ///< node k's body, by its x
-  void forEachCluster(int begin, const std::function<void(int)>& fn);
-  void runHelped(const std::function<void(int, const std::function<void(int)>&)>& tasks,
+  void forEachCluster(int begin, FunctionRef<void(int)> fn);
+  void runHelped(const std::function<void(int, FunctionRef<void(int)>)>& tasks,
                  const std::function<void()>& fn);
   HalfHelper* m_halfHelper = nullptr;
   Pace m_halfPace[2];  ///< by HalfSite

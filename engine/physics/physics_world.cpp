@@ -1022,7 +1022,7 @@ void PhysicsWorld::setParallel(int threads, ForEach forEach, bool watch) {
     // same batch solved on the stepping thread. (In zero gravity, quaternion components of 1e-35
     // appear within a step, and products of them are denormal: docking_1000's results differed at
     // 2 threads, and from run to run, as batches went to one thread or the other.)
-    m->tasks = [forEach](int n, const std::function<void(int)>& fn) {
+    m->tasks = [forEach](int n, FunctionRef<void(int)> fn) {
       forEach(n, [&fn](int t) {
         const FlushDenormals flush;
         fn(t);

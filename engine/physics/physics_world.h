@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/function_ref.h"
 #include "core/types.h"
 #include "physics/cloth.h"
 #include "physics/particle_colliders.h"
@@ -141,7 +142,7 @@ class PhysicsWorld {
   /// contacts, so the results do not depend on the thread count.
   /// `watch`: the threads may spin while they wait (no more threads than cores: the pool's
   /// rule, BehaviourPool::watches); then a long tree's half helper spins through its solve.
-  using ForEach = std::function<void(int n, const std::function<void(int)>& fn)>;
+  using ForEach = std::function<void(int n, FunctionRef<void(int)> fn)>;
   void setParallel(int threads, ForEach forEach, bool watch = false);
   /// The force and torque (about `point`) that the rest of their rigid body exerted on the given
   /// parts, averaged over the last step(), from Newton-Euler on those parts: their change of

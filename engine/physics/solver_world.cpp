@@ -36,12 +36,23 @@ struct IslandOrder {
 
 /// Bullet's InplaceSolverIslandCallback, with each island's joints looked up instead of searched.
 class Batches : public btSimulationIslandManager::IslandCallback {
+  // The batch being gathered: in `scratch` (SolverWorld::m_gathering), whose storage is kept
+  // from one substep to the next (arrays of its own grew by doubling every substep: 26
+  // allocations a step on a 100-module snake).
+  btAlignedObjectArray<btCollisionObject*>& m_bodies;
+  btAlignedObjectArray<btPersistentManifold*>& m_manifolds;
+  btAlignedObjectArray<btTypedConstraint*>& m_constraints;
+
  public:
   /// `out`: batches are collected there (from `*outCount` on) instead of solved at once.
   Batches(btConstraintSolver& solver, btContactSolverInfo& info, btIDebugDraw* draw, btDispatcher* dispatcher,
           btTypedConstraint** sorted, int count, const std::vector<int>& start, const std::vector<int>& runs,
-          std::vector<SolverWorld::Batch>* out = nullptr, int* outCount = nullptr)
-      : m_out(out),
+          SolverWorld::Batch& scratch, std::vector<SolverWorld::Batch>* out = nullptr,
+          int* outCount = nullptr)
+      : m_bodies(scratch.bodies),
+        m_manifolds(scratch.manifolds),
+        m_constraints(scratch.constraints),
+        m_out(out),
         m_outCount(outCount),
         m_solver(solver),
         m_info(info),
@@ -104,9 +115,6 @@ class Batches : public btSimulationIslandManager::IslandCallback {
   btTypedConstraint** m_sorted;
   int m_count;
   const std::vector<int>&m_start, &m_runs;
-  btAlignedObjectArray<btCollisionObject*> m_bodies;
-  btAlignedObjectArray<btPersistentManifold*> m_manifolds;
-  btAlignedObjectArray<btTypedConstraint*> m_constraints;
 };
 
 /// Islands joined by contacts, not by overlapping bounding boxes. Bullet unites two bodies
@@ -334,7 +342,7 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
   const bool parallel = !m_helpers.empty() && m_tasks;
   int count = 0;
   Batches batches(*m_constraintSolver, info, getDebugDrawer(), getDispatcher(), sorted, n, m_islandStart,
-                  m_islandCount, parallel ? &m_batches : nullptr, &count);
+                  m_islandCount, m_gathering, parallel ? &m_batches : nullptr, &count);
   m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
   static_cast<ContactIslands*>(m_islandManager)->buildAndProcess(getDispatcher(), this, &batches);
   batches.flush();

@@ -16,6 +16,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/function_ref.h"
 #include "core/home_ranges.h"
 #include "core/pace.h"
 
@@ -28,7 +29,7 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   SolverWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadphase, btConstraintSolver* solver,
               btCollisionConfiguration* config);
   /// Runs fn(t) for t in [0, n), each on its own thread where it can.
-  using Tasks = std::function<void(int n, const std::function<void(int)>& fn)>;
+  using Tasks = std::function<void(int n, FunctionRef<void(int)> fn)>;
   /// With helpers, the batches of islands are collected and then solved on `primary` (the
   /// world's constraint solver) and the helpers (its batch solvers, ExactSolver::shareStateOf) at
   /// once, one per task; no helpers: each batch is solved as it is made, on this thread.
@@ -124,6 +125,7 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   std::vector<ExactSolver*> m_helpers;
   Tasks m_tasks;
   std::vector<Batch> m_batches;  ///< this substep's, reused
+  Batch m_gathering;             ///< the batch being gathered, its storage reused (solveConstraints)
   int m_threadedBodies = 0;
   bool m_alwaysThreads = false;
   bool m_fused = false;          ///< this stepSimulation's passes run fused (stepSimulation)

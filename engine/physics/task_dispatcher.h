@@ -27,6 +27,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/function_ref.h"
 #include "core/home_ranges.h"
 #include "core/pace.h"
 #include "physics/slot_pool.h"
@@ -36,7 +37,7 @@ namespace rm3d {
 class TaskDispatcher : public btCollisionDispatcher {
  public:
   /// Runs fn(t) for t in [0, n), each on its own thread where it can.
-  using Tasks = std::function<void(int n, const std::function<void(int)>& fn)>;
+  using Tasks = std::function<void(int n, FunctionRef<void(int)> fn)>;
   /// Manifolds and algorithms come from the dispatcher's own pools (physics/slot_pool.h), not
   /// from the configuration's (which may be made with room for one of each).
   explicit TaskDispatcher(btCollisionConfiguration* config);

@@ -50,11 +50,11 @@ void BehaviourPool::await(std::condition_variable& cv, const Done& done) {
 
 void BehaviourPool::drain(int self) {
   m_homes.run(self, [this](int begin, int end) {
-    for (int i = begin; i < end; ++i) (*m_fn)(i);
+    for (int i = begin; i < end; ++i) m_fn(i);
   });
 }
 
-void BehaviourPool::run(int n, const std::function<void(int)>& fn, int chunk) {
+void BehaviourPool::run(int n, FunctionRef<void(int)> fn, int chunk) {
   const int c = chunk > 0 ? chunk : m_chunk;
   if (m_workers.empty() || n <= c) {
     for (int i = 0; i < n; ++i) fn(i);
@@ -62,7 +62,7 @@ void BehaviourPool::run(int n, const std::function<void(int)>& fn, int chunk) {
   }
   {
     std::lock_guard<std::mutex> lock(m_mutex);
-    m_fn = &fn;
+    m_fn = fn;
     m_homes.begin(n, threads(), c);
     m_busy.store(int(m_workers.size()));
     m_generation.fetch_add(1, std::memory_order_release);  // (the run's fields are set before)
@@ -70,7 +70,7 @@ void BehaviourPool::run(int n, const std::function<void(int)>& fn, int chunk) {
   m_wake.notify_all();
   drain(0);
   await(m_done, [this] { return m_busy.load(std::memory_order_acquire) == 0; });
-  m_fn = nullptr;
+  m_fn = {};
 }
 
 void BehaviourPool::work(int self) {

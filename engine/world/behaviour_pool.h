@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/function_ref.h"
 #include "core/home_ranges.h"
 
 namespace rm3d {
@@ -26,7 +27,7 @@ class BehaviourPool {
   /// Calls fn(i) for every i in [0, n) and returns when all calls are done; `chunk` > 0 overrides
   /// the pool's chunk for this call (1: each index taken alone, for n coarse blocks of work; with
   /// no more indices than threads, index k starts on the k-th thread: 0 on the caller).
-  void run(int n, const std::function<void(int)>& fn, int chunk = 0);
+  void run(int n, FunctionRef<void(int)> fn, int chunk = 0);
   int threads() const { return int(m_workers.size()) + 1; }
   /// Whether waiting threads watch before they sleep: more than one thread, no more than cores.
   bool watches() const { return m_watch; }
@@ -55,7 +56,7 @@ class BehaviourPool {
   std::vector<std::thread> m_workers;
   std::mutex m_mutex;
   std::condition_variable m_wake, m_done;
-  const std::function<void(int)>* m_fn = nullptr;
+  FunctionRef<void(int)> m_fn;  // the run's (set while it runs)
   int m_chunk = 16;
   bool m_watch = false;  // fewer threads than cores: waits watch a while first
   // The run's indices, a range per thread: a module's VM stays on one core from run to run, and in

@@ -34,7 +34,7 @@ void World::stepParticles() {
   m_physics->collectColliders(m_colliders);
   ParticleSystem::ParallelFor parallel;
   if (m_pool->threads() > 1)
-    parallel = [pool = m_pool.get()](int n, const std::function<void(int)>& fn) { pool->run(n, fn, 1); };
+    parallel = [pool = m_pool.get()](int n, FunctionRef<void(int)> fn) { pool->run(n, fn, 1); };
   for (const auto& ps : m_particles) {
     ps->step(m_settings.dt, m_settings.gravity, m_colliders, parallel);
     for (const BodyPush& p : ps->pushes()) {

@@ -118,7 +118,7 @@ World::World(RunOptions options) : m_options(std::move(options)) {
   if (m_options.seed) m_settings.seed = *m_options.seed;
   m_pool = std::make_unique<BehaviourPool>(std::max(1, m_options.threads), std::max(1, m_options.chunkSize));
   if (m_pool->threads() > 1)
-    m_tasks = [pool = m_pool.get()](int n, const std::function<void(int)>& fn) {
+    m_tasks = [pool = m_pool.get()](int n, FunctionRef<void(int)> fn) {
       pool->run(n, fn, 1);  // n coarse tasks, each taken alone
     };
 }
@@ -574,7 +574,7 @@ bool World::observe(int mi, std::vector<double>& out) {
   return true;
 }
 
-void World::forEachModule(const std::function<void(int)>& fn) {
+void World::forEachModule(FunctionRef<void(int)> fn) {
   if (m_pool)
     m_pool->run(int(m_modules.size()), fn);
   else

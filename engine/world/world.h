@@ -306,7 +306,7 @@ class World {
   /// `out` unchanged). Modules may be observed in parallel (each VM is its own).
   bool observe(int m, std::vector<double>& out);
   /// Runs fn(m) for every module on the behaviour pool (in parallel with --threads > 1).
-  void forEachModule(const std::function<void(int)>& fn);
+  void forEachModule(FunctionRef<void(int)> fn);
 
   // --- hot reload ---
   /// Files whose edits should reach the run: behaviour files in use, lua/*.lua, the world file.

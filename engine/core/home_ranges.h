@@ -41,14 +41,9 @@ class HomeRanges {
   template <class Tasks, class Fn>
   void forEach(const Tasks& tasks, int count, int n, int chunk, const Fn& fn) {
     begin(n, count, chunk);
-    // (One pointer captured: std::function keeps it without allocating.)
-    const struct {
-      HomeRanges* homes;
-      const Fn* fn;
-    } ctx{this, &fn};
-    tasks(count, [p = &ctx](int t) {
-      p->homes->run(t, [p](int b, int e) {
-        for (int i = b; i < e; ++i) (*p->fn)(i);
+    tasks(count, [&](int t) {
+      run(t, [&](int b, int e) {
+        for (int i = b; i < e; ++i) fn(i);
       });
     });
   }

@@ -921,30 +921,24 @@ void ExactSolver::forEachNode(const Cluster& c, const Fn& fn) {
 }
 
 void ExactSolver::runWithHalfHelper(const std::function<void(int, FunctionRef<void(int)>)>& tasks,
-                                    const std::function<void()>& fn, HalfSite site) {
+                                    FunctionRef<void()> fn, HalfSite site) {
   if (!tasks) return fn();
   runPaced(
       m_halfPace[int(site)], alwaysThreads, [&] { runHelped(tasks, fn); }, fn);
 }
 
 void ExactSolver::runHelped(const std::function<void(int, FunctionRef<void(int)>)>& tasks,
-                            const std::function<void()>& fn) {
+                            FunctionRef<void()> fn) {
   HalfHelper helper;
   helper.watch = halfHelperWatches;
-  // (One pointer captured: std::function keeps it without allocating.)
-  struct {
-    ExactSolver* self;
-    HalfHelper* helper;
-    const std::function<void()>* fn;
-  } ctx{this, &helper, &fn};
-  tasks(2, [p = &ctx](int t) {
-    if (t == 1) return helpHalves(*p->helper);
-    p->self->m_halfHelper = p->helper;
-    (*p->fn)();
-    p->self->m_halfHelper = nullptr;
-    p->helper->stop.store(true, std::memory_order_release);
-    p->helper->posted.fetch_add(1, std::memory_order_release);  // (wakes it to see the stop)
-    p->helper->posted.notify_one();
+  tasks(2, [&](int t) {
+    if (t == 1) return helpHalves(helper);
+    m_halfHelper = &helper;
+    fn();
+    m_halfHelper = nullptr;
+    helper.stop.store(true, std::memory_order_release);
+    helper.posted.fetch_add(1, std::memory_order_release);  // (wakes it to see the stop)
+    helper.posted.notify_one();
   });
 }
 

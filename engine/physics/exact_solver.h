@@ -212,7 +212,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// names the caller: each times its own work).
   enum class HalfSite { Solve, Stabilise };
   void runWithHalfHelper(const std::function<void(int, FunctionRef<void(int)>)>& tasks,
-                         const std::function<void()>& fn, HalfSite site);
+                         FunctionRef<void()> fn, HalfSite site);
   /// The half helper watches for halves until the solve ends instead of sleeping after a while:
   /// where there are no more threads than cores (PhysicsWorld::setParallel's `watch`). Between
   /// halves a solve does serial work of up to a few milliseconds (its set-up; the motors'
@@ -466,8 +466,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void applyPositionChanges(Cluster& c);
   void applyPositionChange(int k);  ///< node k's body, by its x
   void forEachCluster(int begin, FunctionRef<void(int)> fn);
-  void runHelped(const std::function<void(int, FunctionRef<void(int)>)>& tasks,
-                 const std::function<void()>& fn);
+  void runHelped(const std::function<void(int, FunctionRef<void(int)>)>& tasks, FunctionRef<void()> fn);
   HalfHelper* m_halfHelper = nullptr;
   Pace m_halfPace[2];  ///< by HalfSite
   std::vector<int> m_laneNodes, m_subtree, m_half;

@@ -241,13 +241,7 @@ void TaskDispatcher::dispatchOnThreads(btOverlappingPairCache* pairCache, const 
   // The pairs, on the threads, as the near callback runs them: each thread its own range of them
   // first, the same from one substep to the next (core/home_ranges.h).
   m_homes.begin(n, m_threads, kChunk);
-  // (One pointer captured: std::function keeps it without allocating.)
-  struct {
-    TaskDispatcher* self;
-    btBroadphasePairArray* pairs;
-    const btDispatcherInfo* info;
-  } ctx{this, &pairs, &info};
-  m_tasks(m_threads, [p = &ctx](int t) { p->self->runPairs(t, *p->pairs, *p->info); });
+  m_tasks(m_threads, [&](int t) { runPairs(t, pairs, info); });
   m_deferring = false;
   // The manifolds made and let go, listed and unlisted as Bullet's loop would have, pair by pair.
   m_changes.clear();

@@ -837,6 +837,10 @@ btScalar ExactSolver::contactSweep() {
       addBodyVelocity(int(b), dv);
       p.setZero();
     }
+    // The groups' twists cleared for the next sweep, each half's on its thread (the same reason).
+    for (size_t g = 0; g < m_groups.size(); ++g)
+      if (side < 0 || m_groupSide[g] == side || (side == 2 && m_groupSide[g] < 0))
+        m_groups[g].dv.setZero(), m_groups[g].dw.setZero();
   };
   if (m_halvedSweep && m_halfHelper) {
     forBothHalves([&passOn](int h) { passOn(h); });
@@ -844,7 +848,6 @@ btScalar ExactSolver::contactSweep() {
   } else {
     passOn(-1);
   }
-  for (Group& g : m_groups) g.dv.setZero(), g.dw.setZero();
   return btScalar(residual);
 }
 
@@ -1049,6 +1052,7 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
         }
         if (solveToo) iterationDownStep(k, c.begin);
       }
+      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i) m_rowChanged[size_t(lane[i])] = 0;
     });
     for (int i = c.lane[3] - 1; i >= c.lane[2]; --i)
       passToParent(m_laneNodes[size_t(i)], needs(m_laneNodes[size_t(i)]));
@@ -1080,7 +1084,10 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
     }
   }
   if (solveToo) solveFromRoot(c, true);
-  std::fill(m_rowChanged.begin() + c.begin, m_rowChanged.begin() + c.end, char(0));
+  if (c.split)  // (each half's nodes cleared by its thread)
+    m_rowChanged[size_t(c.begin)] = 0;
+  else
+    std::fill(m_rowChanged.begin() + c.begin, m_rowChanged.begin() + c.end, char(0));
   c.dirty = c.full = false;
   if (c.loopEnd > c.loopBegin) factorLoops(c);
 }
@@ -1548,10 +1555,35 @@ void ExactSolver::exactIterationWhere(bool clamp, FunctionRef<bool(const Cluster
   });
 }
 
+/// Node k's axial row fixed at its bound if the last solve took it past its motor's rating or a
+/// limit (true if it was); the row's node marked changed for the next factor. Touches node k's
+/// row, joint and bodies only.
+bool ExactSolver::clampAxial(int k) {
+  using A = ExactJoint::Axial;
+  Node& n = m_nodes[size_t(k)];
+  if (n.body >= 0) return false;
+  Row& r = m_rows[size_t(n.joint)];
+  if (!r.axialActive) return false;
+  ExactJoint& e = m_shared->joints[size_t(n.joint)];
+  const double l = r.lambda[5];
+  const double tau = e.motorOn ? e.maxImpulse : 0;
+  double fixAt = l;
+  if (e.state == A::Motor && std::abs(l) > tau) fixAt = std::copysign(tau, l);
+  if (e.state == A::Lower && l < e.bound) fixAt = e.bound;
+  if (e.state == A::Upper && l > e.bound) fixAt = e.bound;
+  if (fixAt == l) return false;
+  r.lambda[5] = l;
+  applyAxial(n.joint, fixAt - l);
+  e.state = A::Fixed;
+  e.fixedImpulse = fixAt;
+  r.axialActive = false;
+  m_rowChanged[size_t(k)] = 1;
+  return true;
+}
+
 /// One exact solve of a cluster's rows. It reads and writes only the cluster's own bodies,
 /// joints and nodes, so clusters may run in parallel.
 void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
-  using A = ExactJoint::Axial;
   // The rows' residuals, the solve, and its result applied, in one pass each way (each node reads
   // and writes its own row or body), a long tree's halves apart; after a factor, its down pass
   // with the factor's.
@@ -1561,33 +1593,40 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
     if (c.dirty) factor(c);
     solve(c, true);
   }
-  // The centripetal targets at these joint-consistent velocities, before any row is clamped.
-  for (int k = c.begin; k < c.end && c.centripetal; ++k)
-    if (const int j = m_nodes[size_t(k)].joint; j >= 0) updateCentripetal(j);
-  for (int k = c.begin; k < c.end && clamp; ++k) {
-    Node& n = m_nodes[size_t(k)];
-    if (n.body >= 0) continue;
-    Row& r = m_rows[size_t(n.joint)];
-    if (!r.axialActive) continue;
-    // A bounded axial row that left its bounds is fixed at the bound from now on.
-    ExactJoint& e = m_shared->joints[size_t(n.joint)];
-    const double l = r.lambda[5];
-    const double tau = e.motorOn ? e.maxImpulse : 0;
-    double fixAt = l;
-    if (e.state == A::Motor && std::abs(l) > tau) fixAt = std::copysign(tau, l);
-    if (e.state == A::Lower && l < e.bound) fixAt = e.bound;
-    if (e.state == A::Upper && l > e.bound) fixAt = e.bound;
-    if (fixAt != l) {
-      c.clamped = true;
-      r.lambda[5] = l;
-      applyAxial(n.joint, fixAt - l);
-      e.state = A::Fixed;
-      e.fixedImpulse = fixAt;
-      r.axialActive = false;
-      c.dirty = true;
-      m_rowChanged[size_t(k)] = 1;
+  // The centripetal targets at these joint-consistent velocities, before any row is clamped; then
+  // a bounded axial row that left its bounds is fixed at the bound from now on. A long tree's
+  // halves each on their own thread (the rows and bodies each thread's solve has just written
+  // stay in its core's cache; from the other core, each read and the next write of a line was a
+  // transfer between the cores): the root and its children first, so that every body takes its
+  // joints' impulses in node order, as in one pass (the same bits).
+  bool clamped = false;
+  if (!c.split || !m_halfHelper) {
+    for (int k = c.begin; k < c.end && c.centripetal; ++k)
+      if (const int j = m_nodes[size_t(k)].joint; j >= 0) updateCentripetal(j);
+    for (int k = c.begin; k < c.end && clamp; ++k) clamped |= clampAxial(k);
+  } else {
+    if (c.centripetal) {
+      if (const int j = m_nodes[size_t(c.begin)].joint; j >= 0) updateCentripetal(j);
+      forBothHalves([&](int h) {
+        for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
+          if (const int j = m_nodes[size_t(m_laneNodes[size_t(i)])].joint; j >= 0) updateCentripetal(j);
+      });
+    }
+    if (clamp) {
+      clamped |= clampAxial(c.begin);
+      for (int i = c.lane[2]; i < c.lane[3]; ++i) clamped |= clampAxial(m_laneNodes[size_t(i)]);
+      bool halves[2] = {false, false};
+      forBothHalves([&](int h) {
+        bool any = false;
+        for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
+          if (const int k = m_laneNodes[size_t(i)]; m_nodes[size_t(k)].parent != c.begin)
+            any |= clampAxial(k);
+        halves[h] = any;
+      });
+      clamped |= halves[0] || halves[1];
     }
   }
+  if (clamped) c.clamped = c.dirty = true;
   if (c.loopEnd > c.loopBegin) loopIteration(c, clamp);
 }
 
@@ -1624,8 +1663,13 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
     if (cb >= 0) m_clusters[size_t(cb)].centripetal = false;
   }
   // All at the velocities before any impulse. Each joint's setup reads its bodies and writes its
-  // own row and state only: a long tree's go to both halves' threads, half of the list each.
-  if (m_halfHelper && int(m_groupJoints.size()) >= kSplitJoints) {
+  // own row and state only: a long tree's joints go to the thread whose half holds them (its
+  // solves then find their rows in their own core's cache); another long list, half of it each.
+  bool split = false;
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) split |= m_clusters[size_t(ci)].split;
+  if (m_halfHelper && split) {
+    forGroupJoints([&](int j) { return setupJoint(j, m_h), false; }, [](Cluster&, int) {});
+  } else if (m_halfHelper && int(m_groupJoints.size()) >= kSplitJoints) {
     const int n = int(m_groupJoints.size());
     forBothHalves([&](int h) {
       for (int i = h * n / 2; i < (h + 1) * n / 2; ++i) setupJoint(m_groupJoints[size_t(i)], m_h);
@@ -1755,7 +1799,6 @@ btScalar ExactSolver::solveSingleIteration(int iteration, btCollisionObject** bo
 }
 
 void ExactSolver::finishJoints() {
-  using A = ExactJoint::Axial;
   // A row fixed at its bound in the last solve left the structure unsolved: solve again
   // (a row can only leave the active set, so this ends).
   // Each step below touches only the clusters (or, for contacts, the islands) it concerns, so that
@@ -1814,48 +1857,87 @@ void ExactSolver::finishJoints() {
   // one's; the converged comparison at the defaults moved from 5.66 to 5.81 deg with one.)
   settle();
   bool reentered = false;
-  for (int j : m_groupJoints) {
-    ExactJoint& e = m_shared->joints[size_t(j)];
-    Row& r = m_rows[size_t(j)];
-    if (e.state != A::Fixed || e.fixedImpulse == 0) continue;
-    double w = 0;
-    if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
-    if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
-    if ((e.fixedImpulse > 0 && w > e.targetVel) || (e.fixedImpulse < 0 && w < e.targetVel)) {
-      e.state = A::Motor;
-      e.rowTarget = e.targetVel;
-      r.axialActive = true;
-      reentered = true;
-      Cluster& c = jointCluster(j);
-      c.dirty = c.retry = true;
-      if (r.node >= 0)
-        m_rowChanged[size_t(r.node)] = 1;
-      else
-        c.full = true;
-    }
-  }
+  forGroupJoints([&](int j) { return reenter(j); },
+                 [&](Cluster& c, int j) {
+                   c.dirty = c.retry = reentered = true;
+                   if (j >= 0 && m_rows[size_t(j)].node < 0) c.full = true;
+                 });
   if (reentered) {
     exactIterationWhere(true, [](const Cluster& c) { return c.retry; });
     for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) m_clusters[size_t(ci)].retry = false;
     settle();
   }
+  forGroupJoints([&](int j) { return settleState(j), false; }, [](Cluster&, int) {});
+}
+
+/// fn(j) for each of this solver group's joints, and then, for each cluster where it returned true
+/// for a joint, marked(cluster, that joint) (with -1 for a joint in a long tree's halves). A long
+/// tree's joints are taken by its halves' threads, each its own half's (the rows and bodies its
+/// solves wrote); fn must touch only joint j's row, joint and bodies' velocities (read).
+void ExactSolver::forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Cluster&, int)> marked) {
+  int halved = 0;  // joints taken by halves
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
+    Cluster& c = m_clusters[size_t(ci)];
+    if (!c.split || !m_halfHelper) continue;
+    bool any = false;
+    if (const int j = m_nodes[size_t(c.begin)].joint; j >= 0) any |= fn(j), ++halved;
+    bool halves[2] = {false, false};
+    int joints[2] = {0, 0};
+    forBothHalves([&](int h) {
+      bool mine = false;
+      int count = 0;
+      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
+        if (const int j = m_nodes[size_t(m_laneNodes[size_t(i)])].joint; j >= 0) mine |= fn(j), ++count;
+      halves[h] = mine;
+      joints[h] = count;
+    });
+    if (any || halves[0] || halves[1]) marked(c, -1);
+    halved += joints[0] + joints[1];
+  }
+  if (halved == int(m_groupJoints.size())) return;  // (every joint taken)
   for (int j : m_groupJoints) {
-    ExactJoint& e = m_shared->joints[size_t(j)];
-    Row& r = m_rows[size_t(j)];
-    e.axialImpulse = r.lambda[5];
-    e.saturated = e.motorOn && e.state == A::Fixed && e.fixedImpulse != 0;
-    e.impulseA = r.ja.transpose() * r.lambda;
-    e.impulseB = r.jb.transpose() * r.lambda;
-    // The state the next substep starts from (complementarity of the fixed rows).
-    double w = 0;
-    if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
-    if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
-    if (e.state == A::Fixed) {
-      if (e.fixedImpulse > 0 && w > e.targetVel) e.state = A::Motor;
-      if (e.fixedImpulse < 0 && w < e.targetVel) e.state = A::Motor;
-      if (e.state == A::Fixed && w < e.lowVel) e.state = A::Lower;
-      if (e.state == A::Fixed && w > e.highVel) e.state = A::Upper;
-    }
+    Cluster& c = jointCluster(j);
+    if (c.split && m_halfHelper) continue;
+    if (fn(j)) marked(c, j);
+  }
+}
+
+/// A row fixed at its rating whose joint now moves beyond the command takes its motor back (true
+/// if it did; see finishJoints).
+bool ExactSolver::reenter(int j) {
+  using A = ExactJoint::Axial;
+  ExactJoint& e = m_shared->joints[size_t(j)];
+  Row& r = m_rows[size_t(j)];
+  if (e.state != A::Fixed || e.fixedImpulse == 0) return false;
+  double w = 0;
+  if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
+  if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
+  if (!((e.fixedImpulse > 0 && w > e.targetVel) || (e.fixedImpulse < 0 && w < e.targetVel))) return false;
+  e.state = A::Motor;
+  e.rowTarget = e.targetVel;
+  r.axialActive = true;
+  if (r.node >= 0) m_rowChanged[size_t(r.node)] = 1;
+  return true;
+}
+
+/// Joint j's impulses as the substep leaves them, and the state its axial row starts the next
+/// substep from (complementarity of the fixed rows).
+void ExactSolver::settleState(int j) {
+  using A = ExactJoint::Axial;
+  ExactJoint& e = m_shared->joints[size_t(j)];
+  Row& r = m_rows[size_t(j)];
+  e.axialImpulse = r.lambda[5];
+  e.saturated = e.motorOn && e.state == A::Fixed && e.fixedImpulse != 0;
+  e.impulseA = r.ja.transpose() * r.lambda;
+  e.impulseB = r.jb.transpose() * r.lambda;
+  double w = 0;
+  if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
+  if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
+  if (e.state == A::Fixed) {
+    if (e.fixedImpulse > 0 && w > e.targetVel) e.state = A::Motor;
+    if (e.fixedImpulse < 0 && w < e.targetVel) e.state = A::Motor;
+    if (e.state == A::Fixed && w < e.lowVel) e.state = A::Lower;
+    if (e.state == A::Fixed && w > e.highVel) e.state = A::Upper;
   }
 }
 
@@ -1910,25 +1992,30 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
       c.dirty = c.full = true;
     }
     if (c.dirty) factor(c);
-    double largest[2] = {0, 0};
+    // (Each half's largest on a cache line of its own: written node by node, a shared line went
+    // back and forth between the halves' cores.)
+    struct alignas(64) Largest {
+      double v = 0;
+    };
+    Largest largest[2];
     forEachNode(c, [&](int k, int h) {
       Node& n = m_nodes[size_t(k)];
       n.y.setZero();
       if (n.joint >= 0) n.y = positionError(n.joint);
-      largest[h] = std::max(largest[h], n.y.cwiseAbs().maxCoeff());
+      largest[h].v = std::max(largest[h].v, n.y.cwiseAbs().maxCoeff());
     });
-    if (pass == 0) before = std::max(largest[0], largest[1]);
+    if (pass == 0) before = std::max(largest[0].v, largest[1].v);
     solve(c);
-    double moves[2] = {0, 0};  // the largest move by half
+    Largest moves[2];  // the largest move by half
     forEachNode(c, [&](int k, int h) {
       const Node& n = m_nodes[size_t(k)];
       if (n.body < 0) return;
-      moves[h] = std::max(moves[h], n.x.head<3>().norm() + kLeverArm * n.x.tail<3>().norm());
+      moves[h].v = std::max(moves[h].v, n.x.head<3>().norm() + kLeverArm * n.x.tail<3>().norm());
       applyPositionChange(k);
     });
     // A first pass that turned part of the structure: every body's move is followed by its
     // contact anchors (followPatchPoses; the mark is the substep, in Bullet's third user index).
-    if (pass == 0 && std::max(moves[0], moves[1]) > std::max(kLeverMove, kLever * before))
+    if (pass == 0 && std::max(moves[0].v, moves[1].v) > std::max(kLeverMove, kLever * before))
       for (int k = c.begin; k < c.end; ++k)
         if (const int b = m_nodes[size_t(k)].body; b >= 0)
           m_bodies[size_t(b)].rb->setUserIndex3(m_substepCount);
@@ -1941,11 +2028,12 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
       pushThroughTree(c, solveLoops(c, c.schurPosInv, err), true);
       applyPositionChanges(c);
     }
-    double lefts[2] = {0, 0};
+    Largest lefts[2];
     forEachNode(c, [&](int k, int h) {
-      if (const int j = m_nodes[size_t(k)].joint; j >= 0) lefts[h] = std::max(lefts[h], stabiliseExcess(j));
+      if (const int j = m_nodes[size_t(k)].joint; j >= 0)
+        lefts[h].v = std::max(lefts[h].v, stabiliseExcess(j));
     });
-    double left = std::max(lefts[0], lefts[1]);
+    double left = std::max(lefts[0].v, lefts[1].v);
     for (int l = c.loopBegin; l < c.loopEnd; ++l)
       left = std::max(left, stabiliseExcess(m_loopJoints[size_t(l)]));
     // Done when within the tolerance, or when a pass at the new poses no longer halves the error.

@@ -460,6 +460,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void applyRowImpulse(const RowSide (&sides)[2], double delta);
   btScalar contactSweep();
   void clusterIteration(Cluster& c, bool clamp);
+  bool clampAxial(int k);
+  void forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Cluster&, int)> marked);
+  bool reenter(int j);
+  void settleState(int j);
   void stabiliseCluster(Cluster& c);
   Vec6 positionError(int j) const;
   double stabiliseExcess(int j) const;

@@ -1599,32 +1599,24 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
   // stay in its core's cache; from the other core, each read and the next write of a line was a
   // transfer between the cores): the root and its children first, so that every body takes its
   // joints' impulses in node order, as in one pass (the same bits).
-  bool clamped = false;
-  if (!c.split || !m_halfHelper) {
-    for (int k = c.begin; k < c.end && c.centripetal; ++k)
+  if (c.centripetal)
+    forEachNode(c, [&](int k, int) {
       if (const int j = m_nodes[size_t(k)].joint; j >= 0) updateCentripetal(j);
-    for (int k = c.begin; k < c.end && clamp; ++k) clamped |= clampAxial(k);
-  } else {
-    if (c.centripetal) {
-      if (const int j = m_nodes[size_t(c.begin)].joint; j >= 0) updateCentripetal(j);
-      forBothHalves([&](int h) {
-        for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
-          if (const int j = m_nodes[size_t(m_laneNodes[size_t(i)])].joint; j >= 0) updateCentripetal(j);
-      });
-    }
-    if (clamp) {
-      clamped |= clampAxial(c.begin);
-      for (int i = c.lane[2]; i < c.lane[3]; ++i) clamped |= clampAxial(m_laneNodes[size_t(i)]);
-      bool halves[2] = {false, false};
-      forBothHalves([&](int h) {
-        bool any = false;
-        for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
-          if (const int k = m_laneNodes[size_t(i)]; m_nodes[size_t(k)].parent != c.begin)
-            any |= clampAxial(k);
-        halves[h] = any;
-      });
-      clamped |= halves[0] || halves[1];
-    }
+    });
+  bool clamped = false;
+  if (clamp && !c.split) {
+    for (int k = c.begin; k < c.end; ++k) clamped |= clampAxial(k);
+  } else if (clamp) {
+    clamped |= clampAxial(c.begin);
+    for (int i = c.lane[2]; i < c.lane[3]; ++i) clamped |= clampAxial(m_laneNodes[size_t(i)]);
+    bool halves[2] = {false, false};
+    forBothHalves([&](int h) {
+      bool any = false;
+      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
+        if (const int k = m_laneNodes[size_t(i)]; m_nodes[size_t(k)].parent != c.begin) any |= clampAxial(k);
+      halves[h] = any;
+    });
+    clamped |= halves[0] || halves[1];
   }
   if (clamped) c.clamped = c.dirty = true;
   if (c.loopEnd > c.loopBegin) loopIteration(c, clamp);
@@ -1668,7 +1660,7 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   bool split = false;
   for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) split |= m_clusters[size_t(ci)].split;
   if (m_halfHelper && split) {
-    forGroupJoints([&](int j) { return setupJoint(j, m_h), false; }, [](Cluster&, int) {});
+    forGroupJoints([&](int j) { return setupJoint(j, m_h), false; }, [](Cluster&, bool) {});
   } else if (m_halfHelper && int(m_groupJoints.size()) >= kSplitJoints) {
     const int n = int(m_groupJoints.size());
     forBothHalves([&](int h) {
@@ -1858,47 +1850,32 @@ void ExactSolver::finishJoints() {
   settle();
   bool reentered = false;
   forGroupJoints([&](int j) { return reenter(j); },
-                 [&](Cluster& c, int j) {
+                 [&](Cluster& c, bool loop) {
                    c.dirty = c.retry = reentered = true;
-                   if (j >= 0 && m_rows[size_t(j)].node < 0) c.full = true;
+                   c.full |= loop;
                  });
   if (reentered) {
     exactIterationWhere(true, [](const Cluster& c) { return c.retry; });
     for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) m_clusters[size_t(ci)].retry = false;
     settle();
   }
-  forGroupJoints([&](int j) { return settleState(j), false; }, [](Cluster&, int) {});
+  forGroupJoints([&](int j) { return settleState(j), false; }, [](Cluster&, bool) {});
 }
 
-/// fn(j) for each of this solver group's joints, and then, for each cluster where it returned true
-/// for a joint, marked(cluster, that joint) (with -1 for a joint in a long tree's halves). A long
-/// tree's joints are taken by its halves' threads, each its own half's (the rows and bodies its
+/// fn(j) for each of this solver group's joints, cluster by cluster, and marked(cluster, loop) for
+/// each cluster where it returned true (loop: for one of its loop joints). A long tree's joints go
+/// by its halves (forEachNode), each on the thread that solves that half (the rows and bodies its
 /// solves wrote); fn must touch only joint j's row, joint and bodies' velocities (read).
-void ExactSolver::forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Cluster&, int)> marked) {
-  int halved = 0;  // joints taken by halves
+void ExactSolver::forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Cluster&, bool)> marked) {
   for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
     Cluster& c = m_clusters[size_t(ci)];
-    if (!c.split || !m_halfHelper) continue;
-    bool any = false;
-    if (const int j = m_nodes[size_t(c.begin)].joint; j >= 0) any |= fn(j), ++halved;
-    bool halves[2] = {false, false};
-    int joints[2] = {0, 0};
-    forBothHalves([&](int h) {
-      bool mine = false;
-      int count = 0;
-      for (int i = c.lane[h]; i < c.lane[h + 1]; ++i)
-        if (const int j = m_nodes[size_t(m_laneNodes[size_t(i)])].joint; j >= 0) mine |= fn(j), ++count;
-      halves[h] = mine;
-      joints[h] = count;
+    bool tree[2] = {false, false};  // (written only where fn returns true)
+    forEachNode(c, [&](int k, int h) {
+      if (const int j = m_nodes[size_t(k)].joint; j >= 0 && fn(j)) tree[h] = true;
     });
-    if (any || halves[0] || halves[1]) marked(c, -1);
-    halved += joints[0] + joints[1];
-  }
-  if (halved == int(m_groupJoints.size())) return;  // (every joint taken)
-  for (int j : m_groupJoints) {
-    Cluster& c = jointCluster(j);
-    if (c.split && m_halfHelper) continue;
-    if (fn(j)) marked(c, j);
+    bool loop = false;
+    for (int l = c.loopBegin; l < c.loopEnd; ++l) loop |= fn(m_loopJoints[size_t(l)]);
+    if (tree[0] || tree[1] || loop) marked(c, loop);
   }
 }
 

@@ -461,7 +461,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   btScalar contactSweep();
   void clusterIteration(Cluster& c, bool clamp);
   bool clampAxial(int k);
-  void forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Cluster&, int)> marked);
+  void forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Cluster&, bool)> marked);
   bool reenter(int j);
   void settleState(int j);
   void stabiliseCluster(Cluster& c);

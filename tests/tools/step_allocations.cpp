@@ -10,7 +10,8 @@
 // and Bullet's own (btAlignedAlloc, malloc), among them the compound-pair caches Bullet makes and
 // frees as bounding boxes start and stop overlapping (see docs/benchmarks.md, "No allocation in a
 // step"). To see where a call comes from: RM3D_TRAP_ALLOCATION=1 gdb -batch -ex run -ex bt
-// build/rm3d_step_allocations (the first counted call aborts).
+// build/rm3d_step_allocations (the first counted call aborts; =N, the N-th).
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdio>
@@ -28,8 +29,10 @@ std::atomic<long> g_calls{0};
 
 void* allocate(std::size_t size, std::size_t align) {
   if (g_counting.load(std::memory_order_relaxed)) {
-    g_calls.fetch_add(1, std::memory_order_relaxed);
-    if (std::getenv("RM3D_TRAP_ALLOCATION")) std::abort();  // a debugger shows where
+    const long n = g_calls.fetch_add(1, std::memory_order_relaxed);
+    // (RM3D_TRAP_ALLOCATION=N: the N-th counted call aborts, so that a debugger shows where.)
+    if (const char* t = std::getenv("RM3D_TRAP_ALLOCATION"); t && n + 1 >= std::max(1L, std::atol(t)))
+      std::abort();  // a debugger shows where
   }
   if (size == 0) size = 1;
   void* p = align > alignof(std::max_align_t) ? std::aligned_alloc(align, (size + align - 1) / align * align)

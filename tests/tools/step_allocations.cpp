@@ -1,9 +1,10 @@
 // The step allocates nothing of its own once warm: this program replaces the global operator new
 // (and its array, aligned and nothrow forms), builds worlds like `rm3d bench`'s scenes (a crawling
 // snake of SuperBots, separate SuperBots moving every motor, spinning ATRONs), steps each 120 steps
-// to warm its buffers, then counts the calls to operator new in the next 120 steps, at 1 and 2
-// threads. A buffer that grows to a new high-water mark (more contacts than ever before) may call
-// it now and then; a call in every step fails: the count must stay under one call in ten steps.
+// to warm its buffers, then counts the calls to operator new in the next 120 steps (up to three
+// such windows, the fewest counting), at 1 and 2 threads. A buffer that grows to a new high-water mark (more
+// contacts than ever before) may call it now and then; a call in every step fails: the count must stay under
+// one call in ten steps.
 //
 // What this sees: every std::vector, std::string and std::function (over 16 bytes) that grows or
 // is made in a step, on any thread. What it does not see: Lua's allocations (lua_Alloc, realloc)
@@ -122,6 +123,7 @@ end)"},
 constexpr int kWarmSteps = 120;
 constexpr int kCountedSteps = 120;
 constexpr long kMostCalls = kCountedSteps / 10 - 1;
+constexpr int kWindows = 3;
 
 }  // namespace
 
@@ -139,11 +141,17 @@ int main() {
         rm3d::World w(o);
         w.loadString(scene.script, std::string(scene.name) + ".lua");
         for (int i = 0; i < kWarmSteps; ++i) w.step();
-        g_calls = 0;
-        g_counting = true;
-        for (int i = 0; i < kCountedSteps; ++i) w.step();
-        g_counting = false;
-        calls = g_calls.load();
+        // Up to kWindows windows, the fewest calls counting: an allocation in every step shows in
+        // each, while a buffer's new high-water mark is made once. (With a core kept busy by
+        // another process, the other thread took more island batches in one substep than ever
+        // before, and its solver's buffers grew inside the window: 12 to 106 calls in 120 steps.)
+        for (int window = 0; window < kWindows && (calls < 0 || calls > kMostCalls); ++window) {
+          g_calls = 0;
+          g_counting = true;
+          for (int i = 0; i < kCountedSteps; ++i) w.step();
+          g_counting = false;
+          calls = calls < 0 ? g_calls.load() : std::min(calls, g_calls.load());
+        }
         if (w.faultCount() != 0) error = std::to_string(w.faultCount()) + " modules faulted";
       } catch (const std::exception& e) {
         g_counting = false;

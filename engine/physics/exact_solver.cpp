@@ -2,6 +2,7 @@
 #include "physics/exact_solver.h"
 
 #include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <LinearMath/btQuickprof.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -69,6 +70,8 @@ constexpr size_t kHalvedSweepBarriers = 64;
 constexpr int kPrefetchNodes = 64;
 /// The factor fetches a node's row, joint or body this many nodes ahead (fetchInit, fetchPass).
 constexpr int kFetchAhead = 8;
+/// convertBodies: bodies ahead of the one made whose lines (a btRigidBody's ten) are fetched.
+constexpr int kBodiesAhead = 3;
 // A tree of fewer nodes than this (about 30 modules: 250 kB of nodes and rows) stays in the second-
 // level cache from one pass to the next: its passes fetch nothing ahead (m_fetch).
 constexpr int kFetchNodes = 256;
@@ -1620,6 +1623,67 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
   }
   if (clamped) c.clamped = c.dirty = true;
   if (c.loopEnd > c.loopBegin) loopIteration(c, clamp);
+}
+
+void ExactSolver::convertBodies(btCollisionObject** bodies, int numBodies, const btContactSolverInfo& info) {
+  BT_PROFILE("convertBodies");
+  // Bullet 3.24 without thread support: every listed body's companion id cleared; then, in list
+  // order, a body met first that moves (or is kinematic) takes the next solver body, made from it
+  // (initSolverBody), and anything else the one fixed body; each listed body with mass then takes
+  // its gyroscopic impulse. Here the ids are handed out first, in that order, and then the solver
+  // bodies made in the same order, each body's lines fetched a few bodies ahead: the same solver
+  // bodies, bit for bit.
+  for (int i = 0; i < numBodies; ++i) {
+    if (i + kFetchAhead < numBodies) {
+      bullet_layout::fetch(bodies[i + kFetchAhead], bullet_layout::kCompanionId);
+      bullet_layout::fetch(bodies[i + kFetchAhead], bullet_layout::kInverseMass);
+    }
+    bodies[i]->setCompanionId(-1);
+  }
+  m_tmpSolverBodyPool.reserve(numBodies + 1);
+  m_tmpSolverBodyPool.resizeNoInitialize(0);
+  m_freshBodies.clear();
+  bool again = false;  // a body listed twice (Bullet's islands never do)
+  for (int i = 0; i < numBodies; ++i) {
+    btCollisionObject& o = *bodies[i];
+    const btRigidBody* rb = btRigidBody::upcast(&o);
+    if (o.getCompanionId() >= 0) {
+      again = true;
+    } else if (rb && (rb->getInvMass() != 0 || rb->isKinematicObject())) {
+      o.setCompanionId(m_tmpSolverBodyPool.size());
+      m_tmpSolverBodyPool.expandNonInitializing();  // (initSolverBody sets every field, below)
+      m_freshBodies.push_back(i);
+    } else {
+      getOrInitSolverBody(o, info.m_timeStep);  // the fixed body
+    }
+  }
+  auto gyroscopic = [&](btCollisionObject* o) {
+    btRigidBody* body = btRigidBody::upcast(o);
+    if (!body || body->getInvMass() == 0) return;
+    btSolverBody& solverBody = m_tmpSolverBodyPool[o->getCompanionId()];
+    if (body->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_EXPLICIT) {
+      const btVector3 gyroForce = body->computeGyroscopicForceExplicit(info.m_maxGyroscopicForce);
+      solverBody.m_externalTorqueImpulse -= gyroForce * body->getInvInertiaTensorWorld() * info.m_timeStep;
+    }
+    if (body->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_WORLD)
+      solverBody.m_externalTorqueImpulse += body->computeGyroscopicImpulseImplicit_World(info.m_timeStep);
+    if (body->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY)
+      solverBody.m_externalTorqueImpulse += body->computeGyroscopicImpulseImplicit_Body(info.m_timeStep);
+  };
+  const int n = int(m_freshBodies.size());
+  for (int k = 0; k < n; ++k) {
+    if (k + kBodiesAhead < n)
+      bullet_layout::fetchRange(bodies[m_freshBodies[size_t(k + kBodiesAhead)]], 0, int(sizeof(btRigidBody)));
+    btCollisionObject* o = bodies[m_freshBodies[size_t(k)]];
+    initSolverBody(&m_tmpSolverBodyPool[o->getCompanionId()], o, info.m_timeStep);
+    gyroscopic(o);
+  }
+  if (again) {  // a second listing's gyroscopic impulse, after the first's (Bullet's order)
+    std::vector<char> first(size_t(numBodies), 0);
+    for (int i : m_freshBodies) first[size_t(i)] = 1;
+    for (int i = 0; i < numBodies; ++i)
+      if (!first[size_t(i)]) gyroscopic(bodies[i]);
+  }
 }
 
 btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies,

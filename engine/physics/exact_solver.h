@@ -246,6 +246,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
                                 const btContactSolverInfo& info, btIDebugDraw* debugDrawer) override;
   btScalar solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
                                          const btContactSolverInfo& info) override;
+  /// As Bullet's (the same solver bodies, ids and order), each body's lines fetched a few bodies
+  /// ahead: with thousands of modules the bodies lie all over memory and Bullet's loop waited on
+  /// each in turn.
+  void convertBodies(btCollisionObject** bodies, int numBodies, const btContactSolverInfo& info) override;
 
  private:
   struct Body {
@@ -352,6 +356,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void finishCaptures();
   int m_substepCount = 0;
 
+  std::vector<int> m_freshBodies;  // convertBodies: the listed bodies that take a solver body of their own
   void buildClusters(btTypedConstraint** constraints, int numConstraints);
   void setupJoint(int j, double h);
   struct JointFrame {

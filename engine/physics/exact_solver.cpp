@@ -1643,13 +1643,16 @@ void ExactSolver::convertBodies(btCollisionObject** bodies, int numBodies, const
   m_tmpSolverBodyPool.reserve(numBodies + 1);
   m_tmpSolverBodyPool.resizeNoInitialize(0);
   m_freshBodies.clear();
-  bool again = false;  // a body listed twice (Bullet's islands never do)
   for (int i = 0; i < numBodies; ++i) {
     btCollisionObject& o = *bodies[i];
     const btRigidBody* rb = btRigidBody::upcast(&o);
     if (o.getCompanionId() >= 0) {
-      again = true;
-    } else if (rb && (rb->getInvMass() != 0 || rb->isKinematicObject())) {
+      // A body listed twice (Bullet's islands never list one so) takes a second gyroscopic
+      // impulse in Bullet's order: Bullet's loop it is, from the start.
+      m_fixedBodyId = -1;
+      return btSequentialImpulseConstraintSolver::convertBodies(bodies, numBodies, info);
+    }
+    if (rb && (rb->getInvMass() != 0 || rb->isKinematicObject())) {
       o.setCompanionId(m_tmpSolverBodyPool.size());
       m_tmpSolverBodyPool.expandNonInitializing();  // (initSolverBody sets every field, below)
       m_freshBodies.push_back(i);
@@ -1657,10 +1660,15 @@ void ExactSolver::convertBodies(btCollisionObject** bodies, int numBodies, const
       getOrInitSolverBody(o, info.m_timeStep);  // the fixed body
     }
   }
-  auto gyroscopic = [&](btCollisionObject* o) {
-    btRigidBody* body = btRigidBody::upcast(o);
-    if (!body || body->getInvMass() == 0) return;
+  const int n = int(m_freshBodies.size());
+  for (int k = 0; k < n; ++k) {
+    if (k + kBodiesAhead < n)
+      bullet_layout::fetchRange(bodies[m_freshBodies[size_t(k + kBodiesAhead)]], 0, int(sizeof(btRigidBody)));
+    btCollisionObject* o = bodies[m_freshBodies[size_t(k)]];
     btSolverBody& solverBody = m_tmpSolverBodyPool[o->getCompanionId()];
+    initSolverBody(&solverBody, o, info.m_timeStep);
+    btRigidBody* body = btRigidBody::upcast(o);
+    if (body->getInvMass() == 0) continue;  // (kinematic)
     if (body->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_EXPLICIT) {
       const btVector3 gyroForce = body->computeGyroscopicForceExplicit(info.m_maxGyroscopicForce);
       solverBody.m_externalTorqueImpulse -= gyroForce * body->getInvInertiaTensorWorld() * info.m_timeStep;
@@ -1669,20 +1677,6 @@ void ExactSolver::convertBodies(btCollisionObject** bodies, int numBodies, const
       solverBody.m_externalTorqueImpulse += body->computeGyroscopicImpulseImplicit_World(info.m_timeStep);
     if (body->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY)
       solverBody.m_externalTorqueImpulse += body->computeGyroscopicImpulseImplicit_Body(info.m_timeStep);
-  };
-  const int n = int(m_freshBodies.size());
-  for (int k = 0; k < n; ++k) {
-    if (k + kBodiesAhead < n)
-      bullet_layout::fetchRange(bodies[m_freshBodies[size_t(k + kBodiesAhead)]], 0, int(sizeof(btRigidBody)));
-    btCollisionObject* o = bodies[m_freshBodies[size_t(k)]];
-    initSolverBody(&m_tmpSolverBodyPool[o->getCompanionId()], o, info.m_timeStep);
-    gyroscopic(o);
-  }
-  if (again) {  // a second listing's gyroscopic impulse, after the first's (Bullet's order)
-    std::vector<char> first(size_t(numBodies), 0);
-    for (int i : m_freshBodies) first[size_t(i)] = 1;
-    for (int i = 0; i < numBodies; ++i)
-      if (!first[size_t(i)]) gyroscopic(bodies[i]);
   }
 }
 

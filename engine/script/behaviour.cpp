@@ -8,6 +8,7 @@
 #include <lua.hpp>
 
 #include "script/behaviour_bindings.h"
+#include "script/lua_layout.h"
 #include "script/watchdog.h"
 
 namespace fs = std::filesystem;
@@ -221,6 +222,7 @@ bool Behaviour::refreshCallbacks(std::string& err) {
 }
 
 bool Behaviour::reload(const std::string& path, const std::string& source, std::string& err) {
+  m_hot.clear();  // (noted again with the world's next note)
   lua_State* L = m_vm.L();
   const int top = lua_gettop(L);
   std::string chunk = "@";
@@ -353,15 +355,31 @@ bool Behaviour::act(const double* a, int n, std::string& err) {
 }
 
 void Behaviour::fetchState(bool deep) const {
-  if (!deep) {  // the step function's reference, and the Lua state's address
+  if (!deep) {  // the step function's reference, and the Lua state's address; what step() reads
     __builtin_prefetch(&m_ctx.stepRef);
     __builtin_prefetch(m_vm.stateSlot());
+    for (const void* p : m_hot) __builtin_prefetch(p);
     return;
   }
   // The Lua state's first lines (its stack top, global state and call info).
   const char* L = reinterpret_cast<const char*>(m_vm.L());
   if (!L) return;
   for (int at = 0; at < 192; at += 64) __builtin_prefetch(L + at);
+}
+
+void Behaviour::noteHotLines() {
+  // At most kHotLines lines: the travelling-wave snake's step() reaches 85 (its code and
+  // constants, its globals' tables, the gait helper, the joint's methods), the SuperBots'
+  // alternating servos 39, an ATRON's wheel 29.
+  constexpr size_t kHotLines = 128;
+  m_hot.clear();
+  m_hot.reserve(kHotLines);  // (once: no later note allocates)
+  if (m_ctx.stepRef == LUA_NOREF) return;
+  lua_State* L = m_vm.L();
+  if (const void* slot = lua_layout::arraySlot(L, LUA_REGISTRYINDEX, m_ctx.stepRef)) m_hot.push_back(slot);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, m_ctx.stepRef);
+  lua_layout::hotLines(L, kHotLines, m_hot);
+  lua_pop(L, 1);
 }
 
 bool Behaviour::step(double dt, std::string& err) {

@@ -43,6 +43,7 @@ class Behaviour : public ModuleProgram {
   /// on_reload(). On failure (syntax or run-time error) nothing changes; err has file:line.
   bool reload(const std::string& path, const std::string& source, std::string& err) override;
   void fetchState(bool deep) const override;
+  void noteHotLines() override;
   LuaVm& vm() { return m_vm; }
   /// module.__describe() (what the percept machinery declares), or "" / "(error)".
   std::string describePercepts() override;
@@ -60,6 +61,8 @@ class Behaviour : public ModuleProgram {
   LuaVm m_vm;
   BehaviourContext m_ctx;
   std::string m_file;  ///< the behaviour file as messages show it
+  /// The lines step() read when last noted (script/lua_layout.h), fetched two modules ahead.
+  std::vector<const void*> m_hot;
 };
 
 }  // namespace rm3d

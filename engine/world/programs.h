@@ -54,6 +54,10 @@ class ModuleProgram {
   /// cold since the module's last step: the world calls it two modules ahead (the program's own
   /// fields), then one ahead with `deep` (what those fields point to). No effect on any result.
   virtual void fetchState(bool deep) const {}
+  /// Notes what fetchState() fetches beyond the program's own fields (the world calls it between
+  /// steps, on one thread, now and then: what a program reads moves as its state grows). No
+  /// effect on any result.
+  virtual void noteHotLines() {}
 };
 
 class WorldProgram {

@@ -410,6 +410,10 @@ class World {
   std::unique_ptr<WorldProgram> m_program;
   std::unique_ptr<BehaviourPool> m_pool;
   Pace m_behaviourPace;  ///< whether the behaviours pay on the threads (core/pace.h)
+  /// Each behaviour's note of what its step reads is renewed every kHotLinesEvery steps
+  /// (runBehaviours); all were noted once.
+  static constexpr int kHotLinesEvery = 512;
+  bool m_hotLinesNoted = false;
   /// n coarse tasks on the pool, one per thread first (with --threads > 1): physics and docking.
   PhysicsWorld::ForEach m_tasks;
   bool m_groundAdded = false;

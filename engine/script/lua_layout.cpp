@@ -20,6 +20,9 @@ constexpr int kDepth = 4;
 constexpr int kCodeBytes = 1024;
 constexpr int kConstants = 64;
 constexpr int kArraySlots = 8;
+// Of a table's entries, at most this many are looked at (a table of a million entries that a
+// step reaches is walked no further than a small one).
+constexpr int kEntries = 256;
 constexpr int kUpvalues = 16;
 constexpr int kObjects = 64;
 constexpr int kKeys = 128;
@@ -133,7 +136,11 @@ struct Walk {
     // goes through it). lua_next, not a look-up by key: pushing a key string may run a step of the
     // collector, and the walk must change nothing.
     lua_pushnil(L);
-    while (lua_next(L, -2)) {
+    for (int entries = 0; lua_next(L, -2); ++entries) {
+      if (entries == kEntries) {
+        lua_pop(L, 2);  // the key and value: the iteration ends here
+        break;
+      }
       if (lua_type(L, -2) == LUA_TSTRING) {
         const char* key = lua_tostring(L, -2);
         if (isKey(key) || (meta && std::strcmp(key, "__index") == 0)) {

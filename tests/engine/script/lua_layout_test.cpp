@@ -153,3 +153,26 @@ TEST_CASE("lua layout: the registry's slot of a reference") {
   CHECK(lua_layout::arraySlot(L, -1, 1) == nullptr);
   lua_close(L);
 }
+
+TEST_CASE("lua layout: a large table is walked only so far, the stack left as it was") {
+  lua_State* L = luaL_newstate();
+  luaL_openlibs(L);
+  REQUIRE(luaL_dostring(L, R"(
+big = {}
+for i = 1, 100000 do big["k" .. i] = i end
+function step() return big.k1 end
+)") == LUA_OK);
+  lua_gc(L, LUA_GCCOLLECT);
+  const int bytes = lua_gc(L, LUA_GCCOUNTB), kb = lua_gc(L, LUA_GCCOUNT);
+  lua_getglobal(L, "step");
+  const int top = lua_gettop(L);
+  std::vector<const void*> lines;
+  lua_layout::hotLines(L, 256, lines);
+  CHECK(lua_gettop(L) == top);
+  CHECK(lua_gc(L, LUA_GCCOUNT) == kb);
+  CHECK(lua_gc(L, LUA_GCCOUNTB) == bytes);
+  CHECK(has(lines, lua_topointer(L, -1)));
+  lua_getglobal(L, "big");
+  CHECK(has(lines, lua_topointer(L, -1)));  // the table itself; its entries only so far
+  lua_close(L);
+}

@@ -226,6 +226,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   bool hasSplitTrees() const { return !m_laneNodes.empty(); }
   /// Contact sweeps of this substep run in a split tree's halves (planHalvedSweep).
   int halvedSweepCount() const { return m_halvedSweeps; }
+  /// Lists of this substep made in two runs on a split tree's halves' threads (kSplitRows).
+  int halvedListCount() const { return m_halvedLists; }
   int splitTreeCount() const {
     return int(std::count_if(m_clusters.begin(), m_clusters.end(), [](const Cluster& c) { return c.split; }));
   }
@@ -522,7 +524,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Eigen::Vector3d dv, dw;  // twist change not yet passed to the bodies
     int contacts;            // contact points on the group's bodies (mass splitting)
   };
-  std::vector<Group> m_groups;  // this solver group's
+  std::vector<Group> m_groups;          // this solver group's
+  std::vector<int> m_groupContacts[2];  // buildGroups: each group's contact points, by half of the rows
   // A long tree's contact sweep in halves (planHalvedSweep): the sweep's items in order (capture
   // joints, the normal rows in Bullet's order, the patches), each with its half: 0 or 1 where
   // every body it moves (or that body's group) lies in that half of a split tree, 2 otherwise.
@@ -532,6 +535,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<int> m_itemBarriers;  // the items of side 2, in order
   bool m_halvedSweep = false;
   int m_halvedSweeps = 0;
+  int m_halvedLists = 0;
   void planHalvedSweep();
   std::vector<int> m_bodyGroup;               // by body (index into m_groups, -1: alone)
   std::vector<Eigen::Vector3d> m_bodyOffset;  // body centre of mass minus its group's

@@ -210,8 +210,18 @@ struct PhysicsWorld::Impl {
   };
 
   /// Pairs whose bodies share a module never collide (a module's own links, docked neighbours).
+  /// A body's first two owners side by side with every other body's (-1: none; second kMoreOwners:
+  /// a third too, read from Body::owners). The broadphase asks the filter below about every pair
+  /// of boxes that meet when a box is reinserted, thousands a substep on a long chain, most of
+  /// them a module's own links or its docked neighbours': with the owners in each body's own
+  /// list, each question waited on two lines from memory.
+  struct OwnerPair {
+    static constexpr int kMoreOwners = -2;
+    int first = -1, second = -1;
+  };
   struct OwnerFilter : btOverlapFilterCallback {
     const std::vector<Body>* bodies = nullptr;
+    const std::vector<OwnerPair>* pairs = nullptr;
     bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
       if (!(a->m_collisionFilterGroup & b->m_collisionFilterMask) ||
           !(b->m_collisionFilterGroup & a->m_collisionFilterMask))
@@ -219,6 +229,11 @@ struct PhysicsWorld::Impl {
       const int ia = static_cast<btCollisionObject*>(a->m_clientObject)->getUserIndex();
       const int ib = static_cast<btCollisionObject*>(b->m_clientObject)->getUserIndex();
       if (ia < 0 || ib < 0) return true;
+      const OwnerPair pa = (*pairs)[size_t(ia)], pb = (*pairs)[size_t(ib)];
+      if (pa.second != OwnerPair::kMoreOwners && pb.second != OwnerPair::kMoreOwners) {
+        const auto shares = [&](int o) { return o >= 0 && (o == pb.first || o == pb.second); };
+        return !(shares(pa.first) || shares(pa.second));
+      }
       const auto& oa = (*bodies)[ia].owners;
       const auto& ob = (*bodies)[ib].owners;
       auto i = oa.begin();
@@ -268,6 +283,7 @@ struct PhysicsWorld::Impl {
   // scattered over hundreds of megabytes and every pass streamed them from memory.
   SlotPool bodyPool{sizeof(btRigidBody), 256};
   std::vector<Body> bodies;
+  std::vector<OwnerPair> ownerPairs;  // by body (OwnerFilter)
   struct Capture {
     CaptureDesc d;
     std::unique_ptr<CaptureLink> link;
@@ -318,6 +334,7 @@ struct PhysicsWorld::Impl {
     // resting SuperBot crept 2 cm in 10 s; with two, 5 mm.
     world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     filter.bodies = &bodies;
+    filter.pairs = &ownerPairs;
     world.getPairCache()->setOverlapFilterCallback(&filter);
     // Bounding boxes of static and sleeping bodies stay as they are (transformParts updates a
     // moved one itself): hundreds of resting obstacles then cost the broadphase nothing.
@@ -452,6 +469,11 @@ struct PhysicsWorld::Impl {
     if (b.compound) shape = b.compound;
     std::sort(b.owners.begin(), b.owners.end());
     b.owners.erase(std::unique(b.owners.begin(), b.owners.end()), b.owners.end());
+    ownerPairs.resize(bodies.size());
+    OwnerPair& op = ownerPairs[size_t(index)];
+    op = OwnerPair{};
+    if (!b.owners.empty()) op.first = b.owners[0];
+    if (b.owners.size() > 1) op.second = b.owners.size() > 2 ? OwnerPair::kMoreOwners : b.owners[1];
 
     const double m = isStatic ? 0.0 : mass;
     btRigidBody::btRigidBodyConstructionInfo ci(btScalar(m), nullptr, shape,
@@ -1171,6 +1193,10 @@ Count sumOverSolvers(const ExactSolver& primary, const Solvers& helpers,
 
 int PhysicsWorld::halvedSweeps() const {
   return sumOverSolvers(m->solver, m->helpers, &ExactSolver::halvedSweepCount);
+}
+
+int PhysicsWorld::halvedLists() const {
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::halvedListCount);
 }
 
 long PhysicsWorld::reusedTrees() const {

@@ -184,6 +184,9 @@ class PhysicsWorld {
   int splitTrees() const;
   int threadedBodies() const;
   int halvedSweeps() const;
+  /// Lists of the last substep (solver bodies, contact rows, sweep items, write-backs) made in two
+  /// runs on a split tree's halves' threads (ExactSolver::halvedListCount).
+  int halvedLists() const;
   /// Factors so far that took only the nodes whose rows changed (ExactSolver::factor).
   long partialFactors() const;
   /// Substeps whose trees the exact solvers took again from the last substep (reuseTrees).

@@ -232,6 +232,10 @@ require("snake_chain").build{n = 350, type = "superbot", behavior = "behaviors/s
                              CHECK(w.physicsConst().threadedBodies() == (threads == 2 ? 1051 : 0));
                            if (threads == 2) CHECK(w.physicsConst().halvedSweeps() > 0);
                            if (threads == 1) CHECK(w.physicsConst().halvedSweeps() == 0);
+                           // The solver bodies, the contact rows' groups and sides and the
+                           // write-back in two runs each, at least once more in the settling.
+                           if (threads == 2) CHECK(w.physicsConst().halvedLists() >= 5);
+                           if (threads == 1) CHECK(w.physicsConst().halvedLists() == 0);
                          });
 }
 

@@ -622,24 +622,17 @@ void ExactSolver::buildGroups(int firstBody) {
   m_rowExtra.resize(size_t(4 * (nc + nf)));
   m_rowPush.resize(size_t(12 * (nc + nf)));
   // Each group's contact points, counted in two runs of the rows (on the halves' threads) and added.
-  auto count = [&](int h, int begin, int end) {
+  forListHalves(nc, [&](int h, int begin, int end) {
     std::vector<int>& counts = m_groupContacts[h];
     counts.assign(m_groups.size(), 0);
     for (int i = begin; i < end; ++i)
       for (int side = 0; side < 2; ++side)
         if (const RowSide r = rowSide(m_tmpSolverContactConstraintPool[i], side); r.group >= 0)
           ++counts[size_t(r.group)];
-  };
-  if (m_halfHelper && nc >= kSplitRows) {
-    ++m_halvedLists;
-    forBothHalves([&](int h) { count(h, h * nc / 2, (h + 1) * nc / 2); });
-  } else {
-    count(0, 0, nc);
-    m_groupContacts[1].assign(m_groups.size(), 0);
-  }
+  });
   for (size_t g = 0; g < m_groups.size(); ++g)
     m_groups[g].contacts = m_groupContacts[0][g] + m_groupContacts[1][g];
-  auto rows = [&](int begin, int end) {
+  forListHalves(nc + nf, [&](int, int begin, int end) {
     for (int i = begin; i < end; ++i) {
       btSolverConstraint& c = i < nc ? m_tmpSolverContactConstraintPool[i] : m_patchRows[i - nc];
       // What a unit impulse of the row does to a grouped side's group (every row: a row without
@@ -683,15 +676,7 @@ void ExactSolver::buildGroups(int firstBody) {
       x[2] = 1.0 / (w + x[1]);
       x[3] = 1.0 / (wu + x[1]);
     }
-  };
-  const int total = nc + nf;
-  if (m_halfHelper && total >= kSplitRows) {
-    const int mid = total / 2;
-    ++m_halvedLists;
-    forBothHalves([&](int h) { h == 0 ? rows(0, mid) : rows(mid, total); });
-  } else {
-    rows(0, total);
-  }
+  });
   planHalvedSweep();
 }
 
@@ -732,8 +717,8 @@ void ExactSolver::planHalvedSweep() {
   const int ncap = int(m_groupCaptures.size()), npatch = int(m_groupPatches.size());
   m_itemSide.resize(size_t(ncap + nc + npatch));
   m_itemBarriers.clear();
-  // Each item's side written at its own place: the items in two runs on the halves' threads.
-  auto sides = [&](int begin, int end) {
+  // Each item's side written at its own place (forListHalves).
+  forListHalves(ncap + nc + npatch, [&](int, int begin, int end) {
     for (int t = begin; t < end; ++t) {
       btSolverConstraint& c = t < ncap ? m_patchRows[m_groupCaptures[size_t(t)].row]
                               : t < ncap + nc
@@ -741,14 +726,7 @@ void ExactSolver::planHalvedSweep() {
                                   : m_patchRows[m_groupPatches[size_t(t - ncap - nc)].row];
       m_itemSide[size_t(t)] = static_cast<signed char>(sideOf(c));
     }
-  };
-  const int items = ncap + nc + npatch;
-  if (items >= kSplitRows) {
-    ++m_halvedLists;
-    forBothHalves([&](int h) { h == 0 ? sides(0, items / 2) : sides(items / 2, items); });
-  } else {
-    sides(0, items);
-  }
+  });
   for (size_t t = 0; t < m_itemSide.size(); ++t)
     if (m_itemSide[t] == 2) m_itemBarriers.push_back(int(t));
   m_halvedSweep =
@@ -1014,6 +992,17 @@ void ExactSolver::forBothHalves(FunctionRef<void(int)> fn) {
       cpuRelax();
     else
       std::this_thread::yield();
+  }
+}
+
+void ExactSolver::forListHalves(int n, FunctionRef<void(int, int, int)> fn) {
+  auto half = [&](int h) { fn(h, h * n / 2, (h + 1) * n / 2); };
+  if (m_halfHelper && n >= kSplitRows) {
+    ++m_halvedLists;
+    forBothHalves(half);
+  } else {
+    half(0);
+    half(1);
   }
 }
 
@@ -1704,7 +1693,7 @@ void ExactSolver::convertBodies(btCollisionObject** bodies, int numBodies, const
     }
   }
   const int n = int(m_freshBodies.size());
-  auto make = [&](int begin, int end) {
+  forListHalves(n, [&](int, int begin, int end) {
     for (int k = begin; k < end; ++k) {
       if (k + kBodiesAhead < end)
         bullet_layout::fetchRange(bodies[m_freshBodies[size_t(k + kBodiesAhead)]], 0,
@@ -1723,13 +1712,7 @@ void ExactSolver::convertBodies(btCollisionObject** bodies, int numBodies, const
       if (body->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY)
         solverBody.m_externalTorqueImpulse += body->computeGyroscopicImpulseImplicit_Body(info.m_timeStep);
     }
-  };
-  if (m_halfHelper && n >= kSplitRows) {
-    ++m_halvedLists;
-    forBothHalves([&](int h) { h == 0 ? make(0, n / 2) : make(n / 2, n); });
-  } else {
-    make(0, n);
-  }
+  });
 }
 
 btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies,
@@ -2033,19 +2016,17 @@ btScalar ExactSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodies, 
   m_settling = false;  // the sweeps after the iterations take every island they name
   if (m_groupHasJoints) finishJoints();
   if (patches) finishPatches(), finishCaptures();
-  const int contacts = m_tmpSolverContactConstraintPool.size(), solverBodies = m_tmpSolverBodyPool.size();
-  if (!m_halfHelper || solverBodies < kSplitRows)
-    return btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyFinish(bodies, numBodies, info);
   // As Bullet 3.24's: the joints' impulses written back (Bullet's rows; the solver's own write
   // theirs in finishJoints), then the contacts' (the warm start) and the bodies' velocities, each
-  // row and each body its own, in two runs on the halves' threads.
+  // row and each body its own, in two runs (forListHalves, by the bodies' count); then the pools
+  // emptied.
   BT_PROFILE("solveGroupCacheFriendlyFinish");
   writeBackJoints(0, m_tmpSolverNonContactConstraintPool.size(), info);
-  ++m_halvedLists;
-  forBothHalves([&](int h) {
+  const int contacts = m_tmpSolverContactConstraintPool.size();
+  forListHalves(m_tmpSolverBodyPool.size(), [&](int h, int begin, int end) {
     if (info.m_solverMode & SOLVER_USE_WARMSTARTING)
       writeBackContacts(h * contacts / 2, (h + 1) * contacts / 2, info);
-    writeBackBodies(h * solverBodies / 2, (h + 1) * solverBodies / 2, info);
+    writeBackBodies(begin, end, info);
   });
   m_tmpSolverContactConstraintPool.resizeNoInitialize(0);
   m_tmpSolverNonContactConstraintPool.resizeNoInitialize(0);

@@ -434,6 +434,11 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void forEachNode(const Cluster& c, const Fn& fn);
   /// fn(0) and fn(1): fn(1) on the half helper's thread while there is one (runWithHalfHelper).
   void forBothHalves(FunctionRef<void(int)> fn);
+  /// fn(h, begin, end) for the two halves of [0, n), h 0 and 1: on the half helper's thread for h 1
+  /// where a long tree's solve has one and n is at least kSplitRows (counted in m_halvedLists),
+  /// else both here in turn. For lists whose entries are each written by their own index alone,
+  /// so that either way gives the bits of one loop.
+  void forListHalves(int n, FunctionRef<void(int, int, int)> fn);
   /// Loop joints: S from one tree solve per loop row (after factor), and the step that makes
   /// the loop rows exact: their impulse change through S, passed on through the tree.
   void factorLoops(Cluster& c);

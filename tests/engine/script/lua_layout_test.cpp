@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cstring>
 #include <lua.hpp>
+#include <string>
+#include <vector>
 
 #include "core/read_at.h"
 
@@ -28,6 +30,21 @@ const void* keyNode(lua_State* L, int index, const char* key) {
   const unsigned size = 1u << readAt<unsigned char>(t, lua_layout::kTableSizeNode);
   return readAt<const char*>(t, lua_layout::kTableNode) +
          lua_layout::kNodeBytes * (readAt<unsigned>(ts, lua_layout::kStringHash) & (size - 1));
+}
+
+/// The walk from the global function `step` (left on the stack), checked to leave the stack and
+/// the collector's byte count as they were: it runs no Lua and allocates nothing.
+std::vector<const void*> walkFromStep(lua_State* L) {
+  lua_gc(L, LUA_GCCOLLECT);
+  const int kb = lua_gc(L, LUA_GCCOUNT), bytes = lua_gc(L, LUA_GCCOUNTB);
+  lua_getglobal(L, "step");
+  const int top = lua_gettop(L);
+  std::vector<const void*> lines;
+  lua_layout::hotLines(L, 256, lines);
+  CHECK(lua_gettop(L) == top);
+  CHECK(lua_gc(L, LUA_GCCOUNT) == kb);
+  CHECK(lua_gc(L, LUA_GCCOUNTB) == bytes);
+  return lines;
 }
 
 const char* const kChunk = R"(
@@ -52,17 +69,8 @@ TEST_CASE("lua layout: the walk from a step function finds what its call reads")
   lua_State* L = luaL_newstate();
   luaL_openlibs(L);
   REQUIRE(luaL_dostring(L, kChunk) == LUA_OK);
-  lua_gc(L, LUA_GCCOLLECT);
-  const int kb = lua_gc(L, LUA_GCCOUNT), bytes = lua_gc(L, LUA_GCCOUNTB);
-  lua_getglobal(L, "step");
-  const int top = lua_gettop(L);
-  std::vector<const void*> lines;
-  lua_layout::hotLines(L, 256, lines);
-  // The state as it was: the stack, and not a byte allocated.
-  CHECK(lua_gettop(L) == top);
+  const std::vector<const void*> lines = walkFromStep(L);
   CHECK(lua_type(L, -1) == LUA_TFUNCTION);
-  CHECK(lua_gc(L, LUA_GCCOUNT) == kb);
-  CHECK(lua_gc(L, LUA_GCCOUNTB) == bytes);
 
   CHECK(has(lines, lua_topointer(L, -1)));  // the function itself
   lua_pushglobaltable(L);
@@ -157,22 +165,28 @@ TEST_CASE("lua layout: the registry's slot of a reference") {
 TEST_CASE("lua layout: a large table is walked only so far, the stack left as it was") {
   lua_State* L = luaL_newstate();
   luaL_openlibs(L);
+  // step names the first key the table's iteration meets and its 1000th.
   REQUIRE(luaL_dostring(L, R"(
 big = {}
 for i = 1, 100000 do big["k" .. i] = i end
-function step() return big.k1 end
+local order = {}
+for k in next, big do
+  order[#order + 1] = k
+  if #order == 1000 then break end
+end
+early, late = order[1], order[1000]
+step = load("return function() return big." .. early .. " + big." .. late .. " end")()
 )") == LUA_OK);
-  lua_gc(L, LUA_GCCOLLECT);
-  const int bytes = lua_gc(L, LUA_GCCOUNTB), kb = lua_gc(L, LUA_GCCOUNT);
-  lua_getglobal(L, "step");
-  const int top = lua_gettop(L);
-  std::vector<const void*> lines;
-  lua_layout::hotLines(L, 256, lines);
-  CHECK(lua_gettop(L) == top);
-  CHECK(lua_gc(L, LUA_GCCOUNT) == kb);
-  CHECK(lua_gc(L, LUA_GCCOUNTB) == bytes);
+  const std::vector<const void*> lines = walkFromStep(L);
   CHECK(has(lines, lua_topointer(L, -1)));
   lua_getglobal(L, "big");
-  CHECK(has(lines, lua_topointer(L, -1)));  // the table itself; its entries only so far
+  CHECK(has(lines, lua_topointer(L, -1)));  // the table itself
+  lua_getglobal(L, "early");
+  lua_getglobal(L, "late");
+  const std::string early = lua_tostring(L, -2), late = lua_tostring(L, -1);
+  lua_pop(L, 2);
+  // Its entries only so far: the node of the key met first, not that of the key met 1000th.
+  CHECK(has(lines, keyNode(L, -1, early.c_str())));
+  CHECK_FALSE(has(lines, keyNode(L, -1, late.c_str())));
   lua_close(L);
 }

@@ -15,6 +15,7 @@ namespace {
 
 // Work handed to the threads in blocks of this many modules (posing their free docks), free docks
 // (finding their pairs) or connections (their loads).
+constexpr int kModuleBlock = 128;
 constexpr int kBoxBlock = 64;
 constexpr int kDockBlock = 128;
 constexpr int kLoadBlock = 32;
@@ -277,12 +278,14 @@ void Docking::poseFreeDocks(const DockingScene& s, size_t k) {
         (pose.pos - dockPose(s.physics, s.modules[size_t(st.brokeFromModule)], st.brokeFromDock).pos).norm() >
             def.captureRadius)
       st.brokeFromModule = st.brokeFromDock = -1;
-    m_freeDocks[out++] = {int(box.module), int(d), pose};
+    m_freeDocks[out++] = {int(box.module), int(d), pose, &def};
   }
 }
 
 void Docking::findPairs(const DockingScene& s, int i, double cell, std::vector<Hit>& out) const {
   const FreeDock& fa = m_freeDocks[size_t(i)];
+  const DockState& sa = s.modules[size_t(fa.module)].docks[size_t(fa.dock)];
+  const DockDef& da = *fa.def;
   const Eigen::Vector3i c = cellOf(fa.pose.pos, cell);
   Eigen::Vector3i side;
   for (int a = 0; a < 3; ++a) side[a] = fa.pose.pos[a] / cell - double(c[a]) < 0.5 ? -1 : 1;
@@ -294,10 +297,8 @@ void Docking::findPairs(const DockingScene& s, int i, double cell, std::vector<H
           if (e <= i) continue;  // each pair once
           const FreeDock& fb = m_freeDocks[size_t(e)];
           if (fb.module == fa.module) continue;
-          const DockState& sa = s.modules[size_t(fa.module)].docks[size_t(fa.dock)];
           if (sa.brokeFromModule == fb.module && sa.brokeFromDock == fb.dock) continue;
-          const DockDef& da = s.modules[size_t(fa.module)].type->docks[size_t(fa.dock)];
-          const DockDef& db = s.modules[size_t(fb.module)].type->docks[size_t(fb.dock)];
+          const DockDef& db = *fb.def;
           if (!gendersMate(da.gender, db.gender)) continue;
           const Vec3 gapVec = fb.pose.pos - fa.pose.pos;
           const double gap = gapVec.norm();
@@ -314,23 +315,34 @@ void Docking::dock(const DockingScene& s) {
   // Coarse pass: each module with a free dock is a box around its root link, as large as its
   // docks can reach (ModuleTypeDef::dockReach); a sweep along x finds the boxes that overlap.
   // Only those modules' docks are posed and searched below, so isolated modules cost one pose.
-  m_dockBoxes.clear();
-  for (size_t i = 0, n = s.modules.size(); i < n; ++i) {
-    // With thousands of modules their dock states and bodies lie outside the caches: the dock
-    // states of the module 8 ahead, and the root link's pose of the one 4 ahead, fetched now.
-    if (i + 8 < n) __builtin_prefetch(s.modules[i + 8].docks.data());
-    if (i + 4 < n) {
-      const Module& ahead = s.modules[i + 4];
-      if (size_t(ahead.type->rootLink) < ahead.parts.size())
-        s.physics.fetchPartPose(ahead.parts[size_t(ahead.type->rootLink)]);
+  // Each module's root, where it has a free dock, in blocks of modules on the threads where it
+  // pays (each writes its own modules' entries); then the boxes in module order, here.
+  const int n = int(s.modules.size());
+  m_roots.resize(size_t(n));
+  inBlocks(s, m_rootPace, n, kModuleBlock, [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      // With thousands of modules their dock states and bodies lie outside the caches: the dock
+      // states of the module 8 ahead, and the root link's pose of the one 4 ahead, fetched now.
+      if (i + 8 < end) __builtin_prefetch(s.modules[size_t(i + 8)].docks.data());
+      if (i + 4 < end) {
+        const Module& ahead = s.modules[size_t(i + 4)];
+        if (size_t(ahead.type->rootLink) < ahead.parts.size())
+          s.physics.fetchPartPose(ahead.parts[size_t(ahead.type->rootLink)]);
+      }
+      const Module& m = s.modules[size_t(i)];
+      bool anyFree = false;
+      for (const DockState& st : m.docks) anyFree |= st.enabled && !st.engaged;
+      ModuleRoot& root = m_roots[size_t(i)];
+      root.free = anyFree;
+      if (anyFree) root.at = linkPose(s.physics, m, m.type->rootLink).pos;
     }
-    const Module& m = s.modules[i];
-    bool anyFree = false;
-    for (const DockState& st : m.docks) anyFree |= st.enabled && !st.engaged;
-    if (!anyFree) continue;
-    const Vec3 c = linkPose(s.physics, m, m.type->rootLink).pos;
-    const Vec3 r = Vec3::Constant(m.type->dockReach);
-    m_dockBoxes.push_back({c - r, c + r, i, false});
+  });
+  m_dockBoxes.clear();
+  for (int i = 0; i < n; ++i) {
+    if (!m_roots[size_t(i)].free) continue;
+    const Vec3& c = m_roots[size_t(i)].at;
+    const Vec3 r = Vec3::Constant(s.modules[size_t(i)].type->dockReach);
+    m_dockBoxes.push_back({c - r, c + r, size_t(i), false});
   }
   // The boxes stay in module order; the sweep sorts their lower x ends (16 bytes each, not the
   // 64-byte boxes, which it then sorted back into module order).

@@ -122,6 +122,7 @@ class Docking {
   struct FreeDock {
     int module, dock;
     Pose pose;
+    const DockDef* def;  ///< its type's dock (findPairs reads it for every dock it meets)
   };
   std::vector<FreeDock> m_freeDocks;
   struct DockBox {
@@ -130,6 +131,13 @@ class Docking {
     bool near;
   };
   std::vector<DockBox> m_dockBoxes;  ///< in module order
+  /// By module: whether it has a free dock and, if so, where its root link is (the coarse pass's
+  /// first part, made in blocks).
+  struct ModuleRoot {
+    Vec3 at;
+    bool free;
+  };
+  std::vector<ModuleRoot> m_roots;
   struct SweepEnd {
     double x;      ///< a box's lower x end
     uint32_t box;  ///< its index in m_dockBoxes
@@ -148,7 +156,7 @@ class Docking {
   };
   std::vector<std::vector<Hit>> m_hits;  ///< by block of free docks, in dock order
   std::vector<Wrench> m_loads;           ///< by connection (breakage)
-  Pace m_posePace, m_pairPace, m_loadPace;
+  Pace m_rootPace, m_posePace, m_pairPace, m_loadPace;
   long m_threadedBlocks = 0;
   struct Latch {
     int a, da, b, db;

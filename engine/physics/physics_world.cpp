@@ -308,9 +308,9 @@ struct PhysicsWorld::Impl {
   std::vector<Vec3> partVelBefore, bodyOmegaBefore, partExtForce, partExtTorque;
   bool contactTracking = false;
   std::vector<char> partTouching;
-  // The passes of a step over every hinge and every manifold, on the worker threads where they
+  // The passes of a step over every hinge, manifold, body and part, on the worker threads where they
   // pay (SolverWorld::forEachIndex, the same bits either way).
-  Pace anglePace, touchPace;
+  Pace motorPace, anglePace, touchPace, omegaPace, partVelocityPace;
   mutable std::mutex rayMutex;  // Debian's Bullet shares one ray-test stack per broadphase
   // Particle colliders: each hull shape's planes (part, shape ->
   // first plane and count in hullPlanes), found once per part.
@@ -611,12 +611,16 @@ struct PhysicsWorld::Impl {
   void snapshotVelocities() {
     partVelBefore.resize(parts.size());
     bodyOmegaBefore.resize(bodies.size());
-    for (size_t b = 0; b < bodies.size(); ++b)
-      if (bodies[b].rb) bodyOmegaBefore[b] = fromBt(bodies[b].rb->getAngularVelocity());
+    // (Each body and part writes only its own entry: on the threads where it pays.)
+    world.forEachIndex(omegaPace, int(bodies.size()), 256, [&](int b) {
+      if (bodies[size_t(b)].rb)
+        bodyOmegaBefore[size_t(b)] = fromBt(bodies[size_t(b)].rb->getAngularVelocity());
+    });
     // Static and sleeping bodies do not move: their parts' velocities are zero (and unused).
-    for (size_t p = 0; p < parts.size(); ++p)
-      partVelBefore[p] =
-          bodies[size_t(parts[p].body)].rb->isActive() ? partComVelocity(int(p)) : Vec3::Zero();
+    world.forEachIndex(partVelocityPace, int(parts.size()), 256, [&](int p) {
+      partVelBefore[size_t(p)] =
+          bodies[size_t(parts[size_t(p)].body)].rb->isActive() ? partComVelocity(p) : Vec3::Zero();
+    });
   }
 
   int partOfChild(int body, int child) const {
@@ -1265,10 +1269,6 @@ void PhysicsWorld::step(double dt, int substeps) {
   m->stepSubsteps = n;
   if (m->cloth) m->cloth->setSubstep(h);
   const bool exact = m->settings.solver == SolverKind::Exact;
-  for (Impl::Hinge& hg : m->hinges) {
-    hg.torque = 0;
-    hg.saturated = false;
-  }
   // Capture joints whose parts have been merged or split into other bodies since: built anew.
   for (size_t id = 0; id < m->captures.size(); ++id) {
     const Impl::Capture& c = m->captures[id];
@@ -1278,8 +1278,17 @@ void PhysicsWorld::step(double dt, int substeps) {
     const CaptureJoint& j = m->solver.captures[id];
     if (c.link ? (j.a != ra || j.b != rb) : ra != rb) m->makeCapture(int(id));
   }
+  const int hinges = int(m->hinges.size());
   for (int s = 0; s < n; ++s) {
-    for (Impl::Hinge& hg : m->hinges) m->applyMotor(hg, h);
+    // Each hinge's motor (each writes only its own joint), the step's sums cleared first.
+    m->world.forEachIndex(m->motorPace, hinges, 64, [&](int i) {
+      Impl::Hinge& hg = m->hinges[size_t(i)];
+      if (s == 0) {
+        hg.torque = 0;
+        hg.saturated = false;
+      }
+      m->applyMotor(hg, h);
+    });
     if (exact) {
       m->solver.beginSubstep();
       for (auto& hs : m->helpers) hs->beginSubstep();
@@ -1307,7 +1316,6 @@ void PhysicsWorld::step(double dt, int substeps) {
       m->solver.followPatchPoses();
     }
     // Each hinge's load and angle (each hinge writes only its own).
-    const int hinges = int(m->hinges.size());
     m->world.forEachIndex(m->anglePace, hinges, 64, [&](int i) {
       // The bodies' poses of the hinge 4 ahead fetched now: with many modules they have left the
       // caches since the integration.

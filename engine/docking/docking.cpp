@@ -13,8 +13,8 @@ namespace rm3d {
 
 namespace {
 
-// Work handed to the threads in blocks of this many modules (posing their free docks), free docks
-// (finding their pairs) or connections (their loads).
+// Work handed to the threads in blocks of this many modules (finding those with a free dock;
+// posing their free docks), free docks (finding their pairs) or connections (their loads).
 constexpr int kModuleBlock = 128;
 constexpr int kBoxBlock = 64;
 constexpr int kDockBlock = 128;

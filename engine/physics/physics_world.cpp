@@ -1085,12 +1085,15 @@ Wrench PhysicsWorld::internalLoad(const std::vector<int>& parts, const Vec3& poi
     if (part.mass <= 0) continue;
     const int b = part.body;
     const btRigidBody* rb = m->bodies[size_t(b)].rb;
-    const Vec3 c = m->partComWorld(p);
-    const Vec3 a = (m->partComVelocity(p) - m->partVelBefore[size_t(p)]) / h;
+    // The part's pose once (partComWorld and partComVelocity each make it again: the same bits).
+    const Pose pose = m->partPose(p);
+    const Vec3 c = pose * part.com;
+    const Vec3 v = fromBt(rb->getVelocityInLocalPoint(toBt(c) - rb->getCenterOfMassPosition()));
+    const Vec3 a = (v - m->partVelBefore[size_t(p)]) / h;
     const Vec3 omegaBefore =
         size_t(b) < m->bodyOmegaBefore.size() ? m->bodyOmegaBefore[size_t(b)] : Vec3::Zero();
     const Vec3 alpha = (fromBt(rb->getAngularVelocity()) - omegaBefore) / h;
-    const Eigen::Matrix3d r = m->partPose(p).rot.toRotationMatrix();
+    const Eigen::Matrix3d r = pose.rot.toRotationMatrix();
     const Eigen::Matrix3d iw = r * part.inertia * r.transpose();
     // Bullet integrates without the gyroscopic term, so dL/dt = I alpha here.
     const Vec3 dp = part.mass * a;

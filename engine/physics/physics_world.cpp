@@ -603,9 +603,11 @@ struct PhysicsWorld::Impl {
 
   Vec3 partComWorld(int p) const { return partPose(p) * parts[p].com; }
 
-  Vec3 partComVelocity(int p) const {
+  Vec3 partComVelocity(int p) const { return partVelocityAt(p, partComWorld(p)); }
+  /// The velocity of the point `at` (world frame) moving with part p's body.
+  Vec3 partVelocityAt(int p, const Vec3& at) const {
     const btRigidBody* rb = bodies[parts[p].body].rb;
-    return fromBt(rb->getVelocityInLocalPoint(toBt(partComWorld(p)) - rb->getCenterOfMassPosition()));
+    return fromBt(rb->getVelocityInLocalPoint(toBt(at) - rb->getCenterOfMassPosition()));
   }
 
   void snapshotVelocities() {
@@ -1085,11 +1087,10 @@ Wrench PhysicsWorld::internalLoad(const std::vector<int>& parts, const Vec3& poi
     if (part.mass <= 0) continue;
     const int b = part.body;
     const btRigidBody* rb = m->bodies[size_t(b)].rb;
-    // The part's pose once (partComWorld and partComVelocity each make it again: the same bits).
+    // The part's pose made once (partComWorld and partComVelocity would each make it again).
     const Pose pose = m->partPose(p);
     const Vec3 c = pose * part.com;
-    const Vec3 v = fromBt(rb->getVelocityInLocalPoint(toBt(c) - rb->getCenterOfMassPosition()));
-    const Vec3 a = (v - m->partVelBefore[size_t(p)]) / h;
+    const Vec3 a = (m->partVelocityAt(p, c) - m->partVelBefore[size_t(p)]) / h;
     const Vec3 omegaBefore =
         size_t(b) < m->bodyOmegaBefore.size() ? m->bodyOmegaBefore[size_t(b)] : Vec3::Zero();
     const Vec3 alpha = (fromBt(rb->getAngularVelocity()) - omegaBefore) / h;

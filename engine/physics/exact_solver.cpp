@@ -1781,7 +1781,7 @@ void ExactSolver::planSettling() {
   for (const int tag : m_slotIsland) m_islandSlot[size_t(tag)] = -1;
   m_slotIsland.clear();
   m_itemSlot.clear();
-  m_settling = patches && !m_shared->everyIteration && m_tmpSolverNonContactConstraintPool.size() == 0;
+  m_settling = patches && m_tmpSolverNonContactConstraintPool.size() == 0;
   if (!m_settling) return;
   auto slotOf = [&](const btSolverConstraint& c) {
     for (const int sid : {c.m_solverBodyIdA, c.m_solverBodyIdB}) {
@@ -1824,7 +1824,7 @@ int ExactSolver::clusterSlot(const Cluster& c) const {
 bool ExactSolver::settleIslands(int iteration, int last) {
   if (!m_settling) return false;
   bool all = !m_slotSettle.empty();
-  const bool may = iteration >= 1 && iteration < last;
+  const bool may = !m_shared->everyIteration && iteration >= 1 && iteration < last;
   for (size_t s = 0; s < m_slotSettle.size(); ++s) {
     Settle& state = m_slotSettle[s];
     double& change0 = m_slotChange[0][s];
@@ -1862,6 +1862,8 @@ btScalar ExactSolver::solveSingleIteration(int iteration, btCollisionObject** bo
   }
   // Mass splitting in the first iteration only (see m_useSplit).
   m_useSplit = iteration == 0;
+  if (iteration == 0 && m_shared->denseIslands && m_settling && m_groupHasJoints)
+    solveDenseIslands(std::max(m_maxOverrideNumSolverIterations, info.m_numIterations));
   r = std::max(r, contactSweep());
   const int last = std::max(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
   const bool settled = settleIslands(iteration, last);

@@ -166,6 +166,11 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// Every island swept in every iteration (PhysicsSettings::everyIteration; batch solvers read
   /// the primary's): none settles (planSettling).
   bool everyIteration = false;
+  /// Small islands' contacts solved on their own operator (dense_islands.cpp;
+  /// PhysicsSettings::denseIslands; batch solvers read the primary's).
+  bool denseIslands = true;
+  /// Islands so far whose contacts were solved on their own operator (dense_islands.cpp).
+  long denseIslandCount() const { return m_denseIslands; }
   /// Factors so far that took only the nodes whose rows changed (factor).
   long partialFactorCount() const { return m_partialFactors; }
   /// Substeps whose trees were taken again from the last substep (reuseTrees).
@@ -575,6 +580,33 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   bool settleIslands(int iteration, int last);
   std::vector<int> m_adjStart, m_adj, m_queue, m_component;
   std::vector<char> m_seenJoint;
+
+  // Small islands' contacts on their own operator (dense_islands.cpp): an island of one tree (no
+  // loop, no split, a body at its root, few hinges), its contact rows' matrix A = J H^-1 J^T in
+  // the tree's own coordinates (the root's twist and each hinge's speed; H the tree's mass
+  // matrix and each motor's stiffness), swept to convergence, then one exact solve.
+  struct DenseRow {
+    btSolverConstraint* c;
+    int extra;  // into m_rowExtra
+    RowSide sides[2];
+  };
+  struct DenseUnit {
+    enum Kind : char { Normal, Tangent, Twist, Rolling } kind;
+    int row;    // its first row in m_denseRows
+    int patch;  // into m_groupPatches (not Normal)
+  };
+  std::vector<DenseRow> m_denseRows;
+  std::vector<DenseUnit> m_denseUnits;
+  std::vector<double> m_denseA, m_denseU0, m_denseVel, m_denseLam, m_denseStart;
+  std::vector<double> m_denseT, m_denseH, m_denseY;  // per body 6 x nu; nu x nu; per row nu
+  std::vector<int> m_denseNodeIndex;                 // per node of the cluster: body row or hinge column
+  std::vector<int> m_denseSlotStart, m_denseSlotItems, m_denseSlotClusters;
+  long m_denseIslands = 0;
+  void solveDenseIslands(int sweeps);
+  bool denseIsland(Cluster& c, const int* items, int count, int sweeps);
+  int denseShape(const Cluster& c);
+  bool denseOperator(const Cluster& c, int n, int nu);
+  int denseSweeps(int n, int sweeps);
 };
 
 /// One side of a contact row: its solver body, Jacobian, and (if it is one of ours) body and group.

@@ -327,6 +327,7 @@ struct PhysicsWorld::Impl {
     solver.wholeFactors = s.wholeFactors;
     solver.freshTrees = s.freshTrees;
     solver.everyIteration = s.everyIteration;
+    solver.denseIslands = s.denseIslands;
     solver.alwaysThreads = s.alwaysThreads;
     world.getSolverInfo().m_numIterations = s.solverIterations;
     world.getSolverInfo().m_erp = btScalar(s.erp);
@@ -809,6 +810,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
   m->solver.wholeFactors = s.wholeFactors;
   m->solver.freshTrees = s.freshTrees;
   m->solver.everyIteration = s.everyIteration;
+  m->solver.denseIslands = s.denseIslands;
   m->solver.alwaysThreads = s.alwaysThreads;
   m->world.setAlwaysThreads(s.alwaysThreads);
   m->dispatcher.setAlwaysThreads(s.alwaysThreads);
@@ -1217,6 +1219,10 @@ long PhysicsWorld::islandSweeps() const {
 
 long PhysicsWorld::sparedSweeps() const {
   return sumOverSolvers(m->solver, m->helpers, &ExactSolver::sparedSweepCount);
+}
+
+long PhysicsWorld::denseIslands() const {
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::denseIslandCount);
 }
 
 long PhysicsWorld::partialFactors() const {

@@ -45,6 +45,9 @@ struct PhysicsSettings {
   /// The exact solver sweeps every island in every iteration, also one whose contacts have
   /// settled (tests: a settled island must end where all iterations take it).
   bool everyIteration = false;
+  /// The exact solver solves the contacts of an island of one small tree on their own operator
+  /// (physics/dense_islands.cpp); off: by the sweeps alone (tests and measurements).
+  bool denseIslands = true;
   /// Every piece of a step that can go to the worker threads goes there, not only where the
   /// clock says it pays (tests: core/pace.h; the bits are the same either way).
   bool alwaysThreads = false;
@@ -195,6 +198,9 @@ class PhysicsWorld {
   /// (ExactSolver::planSettling).
   long islandSweeps() const;
   long sparedSweeps() const;
+  /// Islands whose contacts the exact solvers solved on their own operator so far (one an island
+  /// a substep; ExactSolver::denseIslandCount).
+  long denseIslands() const;
   /// Advances by dt in `substeps` equal steps, updating servos before each one.
   void step(double dt, int substeps);
 

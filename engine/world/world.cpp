@@ -155,6 +155,7 @@ void World::ensurePhysics() {
   ps.wholeFactors = m_options.wholeFactors;
   ps.freshTrees = m_options.freshTrees;
   ps.everyIteration = m_options.everyIteration;
+  ps.denseIslands = m_options.denseIslands;
   ps.alwaysThreads = m_options.alwaysThreads;
   m_physics = std::make_unique<PhysicsWorld>(ps);
   if (m_tasks) m_physics->setParallel(m_pool->threads(), m_tasks, m_pool->watches());

@@ -52,6 +52,7 @@ struct RunOptions {
   bool wholeFactors = false;                  ///< tests: PhysicsSettings::wholeFactors
   bool freshTrees = false;                    ///< tests: PhysicsSettings::freshTrees
   bool everyIteration = false;                ///< tests: PhysicsSettings::everyIteration
+  bool denseIslands = true;                   ///< tests: PhysicsSettings::denseIslands
   bool alwaysThreads = false;                 ///< tests: PhysicsSettings::alwaysThreads
   size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
   int64_t behaviourBudget = 10'000'000;       ///< Lua instructions per callback

@@ -3,6 +3,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "world/world.h"
 
@@ -38,6 +39,15 @@ inline double relativeAngle(const World& w, int m, int a, int b, const Vec3& axi
   const Quat rel = w.linkPose(m, a).rot.conjugate() * w.linkPose(m, b).rot;
   const Eigen::AngleAxisd aa(rel);
   return aa.angle() * aa.axis().dot(axis);
+}
+
+/// Every module's link poses and joint angles, module by module, appended to `links` and `angles`.
+inline void collectPoses(const World& w, std::vector<Pose>& links, std::vector<double>& angles) {
+  for (size_t m = 0; m < w.modules().size(); ++m) {
+    const Module& mod = w.modules()[m];
+    for (size_t l = 0; l < mod.type->links.size(); ++l) links.push_back(w.linkPose(int(m), int(l)));
+    for (size_t j = 0; j < mod.type->joints.size(); ++j) angles.push_back(w.jointAngle(int(m), int(j)));
+  }
 }
 
 }  // namespace rm3d::test

@@ -41,11 +41,7 @@ Run run(bool everyIteration, int threads) {
   rm3d::test::stepFor(*w, 2.0);
   CHECK(w->faultCount() == 0);
   Run r;
-  for (size_t m = 0; m < w->modules().size(); ++m) {
-    const Module& mod = w->modules()[m];
-    for (size_t l = 0; l < mod.type->links.size(); ++l) r.links.push_back(w->linkPose(int(m), int(l)));
-    for (size_t j = 0; j < mod.type->joints.size(); ++j) r.angles.push_back(w->jointAngle(int(m), int(j)));
-  }
+  rm3d::test::collectPoses(*w, r.links, r.angles);
   r.sweeps = w->physicsConst().islandSweeps();
   r.spared = w->physicsConst().sparedSweeps();
   return r;

@@ -1,0 +1,341 @@
+// Small islands' contacts solved on their own operator (docs/physics.md, "Joint solvers").
+//
+// The sweep moves a rigid group (a module whose motors hold) as one body, where its servos in
+// fact give a little; the exact solve after each sweep puts that right, and the two alternate for
+// the substep's iterations. For an island of one small tree the contact rows' own operator is
+// cheap to make exactly: in the tree's coordinates (the root body's twist and each hinge's speed)
+// the mass matrix H is at most 16 x 16, each motor's compliance adds its stiffness on its hinge's
+// diagonal, and A = J H^-1 J^T, n x n for the island's n contact rows, is what a unit impulse of
+// each row does to every row through the hinges as they are. Gauss-Seidel sweeps on A (the same
+// bounds as the sweep's: normal rows clamped, each patch's tangent and rolling pairs to their
+// circles, its twist to its bound) then converge without the exact solve between them; one exact
+// solve with the motors' ratings applies the result. Where a motor reaches its rating there, the
+// operator is made again without that motor's stiffness, and the rows swept again.
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "physics/exact_solver.h"
+#include "physics/hypot.h"
+
+namespace rm3d {
+
+namespace {
+
+using Vec3d = Eigen::Vector3d;
+
+constexpr int kDenseDofs = 16;      // the largest tree: 6 + 10 hinges (three SuperBots)
+constexpr int kDenseNodes = 5;      // the smallest tree: two hinges and their three bodies
+constexpr int kDenseRows = 64;      // the most contact rows an island may have
+constexpr int kDenseRounds = 4;     // operators made again where motors reach their rating
+constexpr double kHardRow = 1e9;    // a hard axial row's stiffness, as the tree's regularisation
+constexpr double kSettled = 1e-16;  // (N s)^2: the sweeps' own threshold (kSweepSettled)
+
+}  // namespace
+
+/// At the substep's first iteration, before its sweep: every island of this solver group that is
+/// one small tree has its contacts solved here, and is then settled (swept and solved no more).
+void ExactSolver::solveDenseIslands(int sweeps) {
+  const int slots = int(m_slotSettle.size());
+  if (slots == 0) return;
+  // Each slot's items (in sweep order) and its count of clusters.
+  const int items = int(m_itemSlot.size());
+  m_denseSlotStart.assign(size_t(slots) + 1, 0);
+  for (int t = 0; t < items; ++t)
+    if (const int s = m_itemSlot[size_t(t)]; s >= 0) ++m_denseSlotStart[size_t(s) + 1];
+  for (int s = 0; s < slots; ++s) m_denseSlotStart[size_t(s) + 1] += m_denseSlotStart[size_t(s)];
+  m_denseSlotItems.resize(size_t(m_denseSlotStart[size_t(slots)]));
+  std::vector<int>& fill = m_denseSlotClusters;
+  fill.assign(m_denseSlotStart.begin(), m_denseSlotStart.end() - 1);
+  for (int t = 0; t < items; ++t)
+    if (const int s = m_itemSlot[size_t(t)]; s >= 0) m_denseSlotItems[size_t(fill[size_t(s)]++)] = t;
+  m_denseSlotClusters.assign(size_t(slots), 0);
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci)
+    if (const int s = clusterSlot(m_clusters[size_t(ci)]); s >= 0) ++m_denseSlotClusters[size_t(s)];
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
+    Cluster& c = m_clusters[size_t(ci)];
+    const int s = clusterSlot(c);
+    if (s < 0 || m_slotSettle[size_t(s)] != Settle::Open || m_denseSlotClusters[size_t(s)] != 1) continue;
+    // (A tree of one hinge, an ATRON's, settles in two sweeps: its operator costs more than it
+    // saves, 12 to 17% more of atrons_275's physics.)
+    const int nodes = c.end - c.begin;
+    if (c.split || c.loopEnd > c.loopBegin || nodes < kDenseNodes || nodes > 2 * kDenseDofs) continue;
+    const int b = m_denseSlotStart[size_t(s)];
+    if (denseIsland(c, m_denseSlotItems.data() + b, m_denseSlotStart[size_t(s) + 1] - b, sweeps))
+      m_slotSettle[size_t(s)] = Settle::Settled;
+  }
+}
+
+/// Whether cluster c's tree is one the operator takes (a body at its root, no hinge to the static
+/// world, at most kDenseDofs coordinates), its bodies' and hinges' places noted
+/// (m_denseNodeIndex); its coordinates' count, or 0.
+int ExactSolver::denseShape(const Cluster& c) {
+  if (m_nodes[size_t(c.begin)].body < 0) return 0;
+  const int nodes = c.end - c.begin;
+  if (int(m_denseNodeIndex.size()) < nodes) m_denseNodeIndex.resize(size_t(nodes));
+  int bodies = 0, nu = 6;
+  for (int k = c.begin; k < c.end; ++k) {
+    const Node& nd = m_nodes[size_t(k)];
+    if (nd.body >= 0) {
+      m_denseNodeIndex[size_t(k - c.begin)] = bodies++;
+      continue;
+    }
+    const Row& r = m_rows[size_t(nd.joint)];
+    if (r.na < 0 || r.nb < 0) return 0;
+    m_denseNodeIndex[size_t(k - c.begin)] = nu++;
+  }
+  return nu <= kDenseDofs ? nu : 0;
+}
+
+/// The operator of the contact rows m_denseRows[0, n) on cluster c's tree (of denseShape's form,
+/// nu coordinates) into m_denseA (n x n); false where its mass matrix is not positive definite.
+bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
+  using A = ExactJoint::Axial;
+  const int bodies = (c.end - c.begin + 1) / 2;  // (a tree of bodies and hinges: one more body)
+  const size_t tsize = size_t(bodies) * 6 * size_t(nu);
+  if (m_denseT.size() < tsize) m_denseT.resize(tsize);
+  if (m_denseH.size() < size_t(nu * nu)) m_denseH.resize(size_t(nu * nu));
+  std::fill_n(m_denseT.begin(), tsize, 0.0);
+  double* H = m_denseH.data();
+  std::fill_n(H, nu * nu, 0.0);
+  // T_b maps the coordinates to body b's twist (linear at its centre, then angular): the root's is
+  // the identity on the root's six; a child's is its parent's carried to its centre, plus its
+  // hinge's axis. H = sum of T_b^T M_b T_b.
+  double mt[6 * kDenseDofs];
+  for (int k = c.begin; k < c.end; ++k) {
+    const Node& nd = m_nodes[size_t(k)];
+    if (nd.body < 0) continue;
+    double* T = m_denseT.data() + size_t(m_denseNodeIndex[size_t(k - c.begin)]) * 6 * size_t(nu);
+    if (k == c.begin) {
+      for (int i = 0; i < 6; ++i) T[i * nu + i] = 1;
+    } else {
+      const Node& jn = m_nodes[size_t(nd.parent)];
+      const Row& r = m_rows[size_t(jn.joint)];
+      const double* P =
+          m_denseT.data() + size_t(m_denseNodeIndex[size_t(jn.parent - c.begin)]) * 6 * size_t(nu);
+      // The child's side of the hinge: v_b = v_a + w_a x (r_a - r_b) - q z x r_b, w_b = w_a + q z
+      // (b the child); v_a = v_b + w_b x (r_b - r_a) + q z x r_a, w_a = w_b - q z (a the child).
+      const bool childIsB = jn.parentIsA;
+      const Vec3d z = r.frame.col(2);
+      const Vec3d d = childIsB ? Vec3d(r.ra - r.rb) : Vec3d(r.rb - r.ra);
+      for (int col = 0; col < nu; ++col) {
+        const Vec3d w(P[3 * nu + col], P[4 * nu + col], P[5 * nu + col]);
+        const Vec3d v = Vec3d(P[col], P[nu + col], P[2 * nu + col]) + w.cross(d);
+        for (int i = 0; i < 3; ++i) T[i * nu + col] = v[i], T[(3 + i) * nu + col] = w[i];
+      }
+      const int q = m_denseNodeIndex[size_t(nd.parent - c.begin)];
+      const Vec3d lin = childIsB ? Vec3d(-z.cross(r.rb)) : Vec3d(z.cross(r.ra));
+      const Vec3d ang = childIsB ? z : Vec3d(-z);
+      for (int i = 0; i < 3; ++i) T[i * nu + q] += lin[i], T[(3 + i) * nu + q] += ang[i];
+    }
+    const Body& b = m_bodies[size_t(nd.body)];
+    const double m = 1.0 / b.invMass;
+    for (int col = 0; col < nu; ++col) {
+      for (int i = 0; i < 3; ++i) mt[i * nu + col] = m * T[i * nu + col];
+      for (int i = 0; i < 3; ++i)
+        mt[(3 + i) * nu + col] = b.inertia(i, 0) * T[3 * nu + col] + b.inertia(i, 1) * T[4 * nu + col] +
+                                 b.inertia(i, 2) * T[5 * nu + col];
+    }
+    for (int i = 0; i < nu; ++i)
+      for (int j = i; j < nu; ++j) {
+        double h = 0;
+        for (int r = 0; r < 6; ++r) h += T[r * nu + i] * mt[r * nu + j];
+        H[i * nu + j] += h;
+      }
+  }
+  // Each motor's stiffness on its hinge (the tree's axial row: compliance, or hard at a limit).
+  for (int k = c.begin; k < c.end; ++k) {
+    const Node& nd = m_nodes[size_t(k)];
+    if (nd.joint < 0 || !m_rows[size_t(nd.joint)].axialActive) continue;
+    const ExactJoint& e = m_shared->joints[size_t(nd.joint)];
+    const int q = m_denseNodeIndex[size_t(k - c.begin)];
+    H[q * nu + q] += e.state == A::Motor ? 1.0 / (e.compliance + 1.0 / kHardRow) : kHardRow;
+  }
+  // H = L L^T, in place (the lower triangle; H's upper triangle holds H).
+  for (int j = 0; j < nu; ++j) {
+    double djj = H[j * nu + j];
+    for (int k = 0; k < j; ++k) djj -= H[j * nu + k] * H[j * nu + k];
+    if (!(djj > 0)) return false;
+    const double ljj = std::sqrt(djj);
+    H[j * nu + j] = ljj;
+    for (int i = j + 1; i < nu; ++i) {
+      double s = H[j * nu + i];  // (H's entry (i, j), from the upper triangle)
+      for (int k = 0; k < j; ++k) s -= H[i * nu + k] * H[j * nu + k];
+      H[i * nu + j] = s / ljj;
+    }
+  }
+  // Each row's Jacobian in the tree's coordinates, J_i = sum over its sides of T_b^T j, then
+  // y_i = L^-1 J_i; A = Y^T Y.
+  if (m_denseY.size() < size_t(n * nu)) m_denseY.resize(size_t(n * nu));
+  for (int i = 0; i < n; ++i) {
+    double* y = m_denseY.data() + size_t(i * nu);
+    std::fill_n(y, nu, 0.0);
+    for (const RowSide& side : m_denseRows[size_t(i)].sides) {
+      if (!side.body->m_originalBody) continue;
+      const int node = m_nodeOfBody[size_t(side.index)];
+      const double* T = m_denseT.data() + size_t(m_denseNodeIndex[size_t(node - c.begin)]) * 6 * size_t(nu);
+      const double j[6] = {side.n->x(), side.n->y(), side.n->z(), side.rc->x(), side.rc->y(), side.rc->z()};
+      for (int r = 0; r < 6; ++r)
+        for (int col = 0; col < nu; ++col) y[col] += j[r] * T[r * nu + col];
+    }
+    for (int col = 0; col < nu; ++col) {
+      double s = y[col];
+      for (int k = 0; k < col; ++k) s -= H[col * nu + k] * y[k];
+      y[col] = s / H[col * nu + col];
+    }
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = i; j < n; ++j) {
+      const double* yi = m_denseY.data() + size_t(i * nu);
+      const double* yj = m_denseY.data() + size_t(j * nu);
+      double a = 0;
+      for (int col = 0; col < nu; ++col) a += yi[col] * yj[col];
+      m_denseA[size_t(i * n + j)] = m_denseA[size_t(j * n + i)] = a;
+    }
+  return true;
+}
+
+/// Up to `sweeps` Gauss-Seidel sweeps on m_denseA from the impulses in m_denseLam (the velocities
+/// in m_denseVel), in the sweep's order and with its bounds; ends early where no impulse changed
+/// by more than the settling's threshold. Returns the sweeps made.
+int ExactSolver::denseSweeps(int n, int sweeps) {
+  double* lam = m_denseLam.data();
+  double* vel = m_denseVel.data();
+  const double* A = m_denseA.data();
+  auto set = [&](int r, double next) {
+    const double d = next - lam[r];
+    if (d == 0) return;
+    lam[r] = next;
+    m_denseRows[size_t(r)].c->m_appliedImpulse = btScalar(next);  // (read by patchLoad)
+    const double* col = A + size_t(r * n);                        // (symmetric: row r)
+    for (int j = 0; j < n; ++j) vel[j] += col[j] * d;
+  };
+  // Row r's impulse where its velocity meets its target, the others held.
+  auto target = [&](int r) {
+    const double* x = &m_rowExtra[size_t(4 * m_denseRows[size_t(r)].extra)];
+    const double diag = A[size_t(r * n + r)] + x[1];
+    return diag > 0 ? lam[r] + (x[0] - x[1] * lam[r] - vel[r]) / diag : lam[r];
+  };
+  int sweep = 0;
+  while (sweep < sweeps) {
+    ++sweep;
+    double largest = 0;
+    for (const DenseUnit& u : m_denseUnits) {
+      const int r = u.row;
+      const double before0 = lam[r];
+      if (u.kind == DenseUnit::Normal) {
+        const btSolverConstraint& c = *m_denseRows[size_t(r)].c;
+        set(r, std::clamp(target(r), double(c.m_lowerLimit), double(c.m_upperLimit)));
+        largest = std::max(largest, (lam[r] - before0) * (lam[r] - before0));
+        continue;
+      }
+      const PatchRows& pr = m_groupPatches[size_t(u.patch)];
+      const auto [normalSum, twistArm] = patchLoad(pr);
+      if (u.kind == DenseUnit::Twist) {
+        const double bound = pr.mu * twistArm + pr.spin * normalSum;
+        set(r, std::clamp(target(r), -bound, bound));
+        largest = std::max(largest, (lam[r] - before0) * (lam[r] - before0));
+        continue;
+      }
+      // A pair, each row then the other, then both scaled back to their circle.
+      const double bound = (u.kind == DenseUnit::Tangent ? pr.mu : pr.rolling) * normalSum;
+      const double before1 = lam[r + 1];
+      set(r, target(r));
+      set(r + 1, target(r + 1));
+      const double len = hypotInline(lam[r], lam[r + 1]);
+      if (len > bound) {
+        const double scale = bound / len;
+        const double a = lam[r] * scale, b = lam[r + 1] * scale;
+        set(r, a);
+        set(r + 1, b);
+      }
+      largest = std::max(
+          largest, (lam[r] - before0) * (lam[r] - before0) + (lam[r + 1] - before1) * (lam[r + 1] - before1));
+    }
+    if (largest < kSettled) break;
+  }
+  return sweep;
+}
+
+/// Island of cluster c (its sweep items `items`): its contacts solved on their own operator, true
+/// if they were; else the island is left to the sweeps (untouched, but for one exact solve where
+/// its mass matrix was not positive definite).
+bool ExactSolver::denseIsland(Cluster& c, const int* items, int count, int sweeps) {
+  const int nc = m_tmpSolverContactConstraintPool.size();
+  const int captures = int(m_groupCaptures.size());
+  const int ci = int(&c - m_clusters.data());
+  m_denseRows.clear();
+  m_denseUnits.clear();
+  // Every row's sides: the static world, or a body of this cluster (moved by the row directly,
+  // not through a rigid group).
+  auto addRow = [&](btSolverConstraint& row, int extra) {
+    DenseRow d{&row, extra, {rowSide(row, 0), rowSide(row, 1)}};
+    for (RowSide& side : d.sides) {
+      side.group = -1;
+      side.push = nullptr;
+      if (side.body->m_originalBody && (side.index < 0 || m_bodyCluster[size_t(side.index)] != ci))
+        return false;
+    }
+    m_denseRows.push_back(d);
+    return true;
+  };
+  for (int i = 0; i < count; ++i) {
+    const int t = items[i];
+    if (t < captures) return false;
+    if (t < captures + nc) {
+      const int r = m_orderTmpConstraintPool[t - captures];
+      if (m_rowExtra[size_t(4 * r + 2)] == 0) continue;  // (not swept either)
+      m_denseUnits.push_back({DenseUnit::Normal, int(m_denseRows.size()), -1});
+      if (!addRow(m_tmpSolverContactConstraintPool[r], r)) return false;
+      continue;
+    }
+    const int p = t - captures - nc;
+    const PatchRows& pr = m_groupPatches[size_t(p)];
+    const int first = int(m_denseRows.size());
+    m_denseUnits.push_back({DenseUnit::Tangent, first, p});
+    m_denseUnits.push_back({DenseUnit::Twist, first + 2, p});
+    if (pr.roll) m_denseUnits.push_back({DenseUnit::Rolling, first + 3, p});
+    for (int k = 0; k < (pr.roll ? 5 : 3); ++k)
+      if (!addRow(m_patchRows[pr.row + k], nc + pr.row + k)) return false;
+  }
+  const int n = int(m_denseRows.size());
+  const int nu = n > 0 && n <= kDenseRows ? denseShape(c) : 0;
+  if (nu == 0) return false;
+  for (std::vector<double>* v : {&m_denseU0, &m_denseVel, &m_denseLam, &m_denseStart})
+    if (v->size() < size_t(n)) v->resize(size_t(n));
+  if (m_denseA.size() < size_t(n * n)) m_denseA.resize(size_t(n * n));
+
+  for (int round = 0; round < kDenseRounds; ++round) {
+    // The velocities the hinges make of the substep's start (the warm start included), and the
+    // rows' operator at the motors' present states.
+    if (c.dirty) factor(c);
+    solve(c, true);
+    if (!denseOperator(c, n, nu)) {
+      // (Its mass matrix not positive definite: the sweeps take the rest, from here; never met.)
+      if (round == 0) return false;
+      c.clamped = true;
+      break;
+    }
+    for (int j = 0; j < n; ++j) {
+      m_denseU0[size_t(j)] = m_denseVel[size_t(j)] = rowVelocity(m_denseRows[size_t(j)].sides);
+      m_denseLam[size_t(j)] = m_denseStart[size_t(j)] = m_denseRows[size_t(j)].c->m_appliedImpulse;
+    }
+    denseSweeps(n, sweeps);
+    // The impulses' changes to the bodies, and the exact solve with the motors' ratings.
+    for (int j = 0; j < n; ++j)
+      applyRowImpulse(m_denseRows[size_t(j)].sides, m_denseLam[size_t(j)] - m_denseStart[size_t(j)]);
+    const bool before = c.clamped;
+    c.clamped = false;
+    clusterIteration(c, true);
+    const bool clamped = c.clamped;
+    // A motor fixed at its rating in the last round leaves the contacts to the sweeps after the
+    // iterations (finishJoints), as elsewhere.
+    c.clamped = before || (clamped && round + 1 == kDenseRounds);
+    if (!clamped) break;
+  }
+  ++m_denseIslands;
+  return true;
+}
+
+}  // namespace rm3d

@@ -164,7 +164,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// primary's): never taken again from the last substep (reuseTrees).
   bool freshTrees = false;
   /// Every island swept in every iteration (PhysicsSettings::everyIteration; batch solvers read
-  /// the primary's): none settles (planSettling).
+  /// the primary's): none settles (planSettling), but for those solved on their own operator.
   bool everyIteration = false;
   /// Small islands' contacts solved on their own operator (dense_islands.cpp;
   /// PhysicsSettings::denseIslands; batch solvers read the primary's).

@@ -43,7 +43,8 @@ struct PhysicsSettings {
   /// those of the last (tests: trees taken again must give the same bits).
   bool freshTrees = false;
   /// The exact solver sweeps every island in every iteration, also one whose contacts have
-  /// settled (tests: a settled island must end where all iterations take it).
+  /// settled (tests: a settled island must end where all iterations take it); an island whose
+  /// contacts are solved on their own operator (denseIslands) is solved so either way.
   bool everyIteration = false;
   /// The exact solver solves the contacts of an island of one small tree on their own operator
   /// (physics/dense_islands.cpp); off: by the sweeps alone (tests and measurements).

@@ -25,12 +25,10 @@ namespace {
 
 using Vec3d = Eigen::Vector3d;
 
-constexpr int kDenseDofs = 16;      // the largest tree: 6 + 10 hinges (three SuperBots)
-constexpr int kDenseNodes = 5;      // the smallest tree: two hinges and their three bodies
-constexpr int kDenseRows = 64;      // the most contact rows an island may have
-constexpr int kDenseRounds = 4;     // operators made again where motors reach their rating
-constexpr double kHardRow = 1e9;    // a hard axial row's stiffness, as the tree's regularisation
-constexpr double kSettled = 1e-16;  // (N s)^2: the sweeps' own threshold (kSweepSettled)
+constexpr int kDenseDofs = 16;   // the largest tree: 6 + 10 hinges (three SuperBots)
+constexpr int kDenseNodes = 5;   // the smallest tree: two hinges and their three bodies
+constexpr int kDenseRows = 64;   // the most contact rows an island may have
+constexpr int kDenseRounds = 4;  // operators made again where motors reach their rating
 
 }  // namespace
 
@@ -150,7 +148,7 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
     if (nd.joint < 0 || !m_rows[size_t(nd.joint)].axialActive) continue;
     const ExactJoint& e = m_shared->joints[size_t(nd.joint)];
     const int q = m_denseNodeIndex[size_t(k - c.begin)];
-    H[q * nu + q] += e.state == A::Motor ? 1.0 / (e.compliance + 1.0 / kHardRow) : kHardRow;
+    H[q * nu + q] += 1.0 / (e.state == A::Motor ? e.compliance + kRegularisation : kRegularisation);
   }
   // H = L L^T, in place (the lower triangle; H's upper triangle holds H).
   for (int j = 0; j < nu; ++j) {
@@ -198,8 +196,8 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
 
 /// Up to `sweeps` Gauss-Seidel sweeps on m_denseA from the impulses in m_denseLam (the velocities
 /// in m_denseVel), in the sweep's order and with its bounds; ends early where no impulse changed
-/// by more than the settling's threshold. Returns the sweeps made.
-int ExactSolver::denseSweeps(int n, int sweeps) {
+/// by more than the settling's threshold (kSweepSettled).
+void ExactSolver::denseSweeps(int n, int sweeps) {
   double* lam = m_denseLam.data();
   double* vel = m_denseVel.data();
   const double* A = m_denseA.data();
@@ -217,9 +215,7 @@ int ExactSolver::denseSweeps(int n, int sweeps) {
     const double diag = A[size_t(r * n + r)] + x[1];
     return diag > 0 ? lam[r] + (x[0] - x[1] * lam[r] - vel[r]) / diag : lam[r];
   };
-  int sweep = 0;
-  while (sweep < sweeps) {
-    ++sweep;
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
     double largest = 0;
     for (const DenseUnit& u : m_denseUnits) {
       const int r = u.row;
@@ -253,9 +249,8 @@ int ExactSolver::denseSweeps(int n, int sweeps) {
       largest = std::max(
           largest, (lam[r] - before0) * (lam[r] - before0) + (lam[r + 1] - before1) * (lam[r + 1] - before1));
     }
-    if (largest < kSettled) break;
+    if (largest < kSweepSettled) break;
   }
-  return sweep;
 }
 
 /// Island of cluster c (its sweep items `items`): its contacts solved on their own operator, true

@@ -21,7 +21,6 @@ namespace {
 using Vec3d = Eigen::Vector3d;
 using Mat3d = Eigen::Matrix3d;
 
-constexpr double kRegularisation = 1e-9;  // -e on the joint diagonal (m/(N s) and rad/(N m s))
 // Bodies in one rigid group at most: a long held chain is not rigid at its scale (its motors are
 // bounded), and a group that spans it lets friction take self-cancelling impulses that its
 // joints must then carry.
@@ -39,11 +38,6 @@ constexpr int kClaimed = -2;              // a body whose joint node is placed, 
 // 0.32 deg / 2.6 mm.
 constexpr int kResweeps = 4;
 constexpr double kResweepSettled = 1e-4;  // (N s)^2: the squared impulse change of a row
-// An island whose contact sweep (after the first, with split masses) changed no row's impulse by
-// more than 1e-8 N s has settled (planSettling): that is the resolution of the float impulses
-// Bullet keeps for a row of 0.1 N s, and with its contacts unchanged the exact solve that follows
-// finds what the last one did. An ATRON on the ground settles in the second iteration of 15.
-constexpr double kSweepSettled = 1e-16;  // (N s)^2
 // Position stabilisation: a joint error (m of pivot gap, rad of axis tilt) left above this after a
 // pass is projected again, with rows at the corrected poses, up to kStabilisePasses in all. One
 // pass with the substep's rows leaves about (motion per substep) x error: a free chain tumbling at

@@ -199,6 +199,14 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// solved as two halves, which may run on two threads (splitTree). (From 1024 to 256: a
   /// 150-module snake, 449 joints, ran 6% faster at 2 threads, where it had been no faster than 1.)
   static constexpr int kSplitJoints = 256;
+  /// -e on the joint diagonal (m/(N s) and rad/(N m s)): the rows' regularisation.
+  static constexpr double kRegularisation = 1e-9;
+  /// An island whose contact sweep (after the first, with split masses) changed no row's impulse
+  /// by more than 1e-8 N s has settled (planSettling): that is the resolution of the float
+  /// impulses Bullet keeps for a row of 0.1 N s, and with its contacts unchanged the exact solve
+  /// that follows finds what the last one did. An ATRON on the ground settles in the second
+  /// iteration of 15. The dense sweeps (dense_islands.cpp) stop there too. (N s)^2.
+  static constexpr double kSweepSettled = 1e-16;
   /// A second thread for the halves of long trees (splitTree), while this solver works alone
   /// (runWithHalfHelper): it runs helpHalves(h) until h.stop. Each second half is offered to it;
   /// whichever thread takes it first solves it (this one, once its own half is done, if the
@@ -606,7 +614,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   bool denseIsland(Cluster& c, const int* items, int count, int sweeps);
   int denseShape(const Cluster& c);
   bool denseOperator(const Cluster& c, int n, int nu);
-  int denseSweeps(int n, int sweeps);
+  void denseSweeps(int n, int sweeps);
 };
 
 /// One side of a contact row: its solver body, Jacobian, and (if it is one of ours) body and group.

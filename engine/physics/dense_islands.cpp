@@ -100,43 +100,57 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
   // T_b maps the coordinates to body b's twist (linear at its centre, then angular): the root's is
   // the identity on the root's six; a child's is its parent's carried to its centre, plus its
   // hinge's axis. H = sum of T_b^T M_b T_b.
+  // Only the columns of the root and of the hinges on a body's path from it are not zero in its
+  // T_b (m_denseCols: in increasing order, as the hinges' columns follow the tree's order).
+  if (m_denseCols.size() < size_t(bodies * (kDenseDofs + 1)))
+    m_denseCols.resize(size_t(bodies * (kDenseDofs + 1)));
   double mt[6 * kDenseDofs];
   for (int k = c.begin; k < c.end; ++k) {
     const Node& nd = m_nodes[size_t(k)];
     if (nd.body < 0) continue;
-    double* T = m_denseT.data() + size_t(m_denseNodeIndex[size_t(k - c.begin)]) * 6 * size_t(nu);
+    const int bi = m_denseNodeIndex[size_t(k - c.begin)];
+    double* T = m_denseT.data() + size_t(bi) * 6 * size_t(nu);
+    int* cols = m_denseCols.data() + bi * (kDenseDofs + 1);  // (its count, then its columns)
     if (k == c.begin) {
-      for (int i = 0; i < 6; ++i) T[i * nu + i] = 1;
+      for (int i = 0; i < 6; ++i) T[i * nu + i] = 1, cols[1 + i] = i;
+      cols[0] = 6;
     } else {
       const Node& jn = m_nodes[size_t(nd.parent)];
       const Row& r = m_rows[size_t(jn.joint)];
-      const double* P =
-          m_denseT.data() + size_t(m_denseNodeIndex[size_t(jn.parent - c.begin)]) * 6 * size_t(nu);
+      const int pi = m_denseNodeIndex[size_t(jn.parent - c.begin)];
+      const double* P = m_denseT.data() + size_t(pi) * 6 * size_t(nu);
+      const int* pcols = m_denseCols.data() + pi * (kDenseDofs + 1);
       // The child's side of the hinge: v_b = v_a + w_a x (r_a - r_b) - q z x r_b, w_b = w_a + q z
       // (b the child); v_a = v_b + w_b x (r_b - r_a) + q z x r_a, w_a = w_b - q z (a the child).
       const bool childIsB = jn.parentIsA;
       const Vec3d z = r.frame.col(2);
       const Vec3d d = childIsB ? Vec3d(r.ra - r.rb) : Vec3d(r.rb - r.ra);
-      for (int col = 0; col < nu; ++col) {
+      for (int a = 1; a <= pcols[0]; ++a) {
+        const int col = pcols[a];
         const Vec3d w(P[3 * nu + col], P[4 * nu + col], P[5 * nu + col]);
         const Vec3d v = Vec3d(P[col], P[nu + col], P[2 * nu + col]) + w.cross(d);
         for (int i = 0; i < 3; ++i) T[i * nu + col] = v[i], T[(3 + i) * nu + col] = w[i];
+        cols[a] = col;
       }
       const int q = m_denseNodeIndex[size_t(nd.parent - c.begin)];
+      cols[0] = pcols[0] + 1;
+      cols[cols[0]] = q;
       const Vec3d lin = childIsB ? Vec3d(-z.cross(r.rb)) : Vec3d(z.cross(r.ra));
       const Vec3d ang = childIsB ? z : Vec3d(-z);
       for (int i = 0; i < 3; ++i) T[i * nu + q] += lin[i], T[(3 + i) * nu + q] += ang[i];
     }
     const Body& b = m_bodies[size_t(nd.body)];
     const double m = 1.0 / b.invMass;
-    for (int col = 0; col < nu; ++col) {
+    for (int a = 1; a <= cols[0]; ++a) {
+      const int col = cols[a];
       for (int i = 0; i < 3; ++i) mt[i * nu + col] = m * T[i * nu + col];
       for (int i = 0; i < 3; ++i)
         mt[(3 + i) * nu + col] = b.inertia(i, 0) * T[3 * nu + col] + b.inertia(i, 1) * T[4 * nu + col] +
                                  b.inertia(i, 2) * T[5 * nu + col];
     }
-    for (int i = 0; i < nu; ++i)
-      for (int j = i; j < nu; ++j) {
+    for (int a = 1; a <= cols[0]; ++a)
+      for (int b2 = a; b2 <= cols[0]; ++b2) {
+        const int i = cols[a], j = cols[b2];
         double h = 0;
         for (int r = 0; r < 6; ++r) h += T[r * nu + i] * mt[r * nu + j];
         H[i * nu + j] += h;
@@ -164,33 +178,48 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
     }
   }
   // Each row's Jacobian in the tree's coordinates, J_i = sum over its sides of T_b^T j, then
-  // y_i = L^-1 J_i; A = Y^T Y.
+  // Y = L^-1 J^T (nu x n, a coordinate's entries for all rows together: the substitution runs
+  // across the rows, not down one row's chain); A = Y^T Y.
   if (m_denseY.size() < size_t(n * nu)) m_denseY.resize(size_t(n * nu));
-  for (int i = 0; i < n; ++i) {
-    double* y = m_denseY.data() + size_t(i * nu);
-    std::fill_n(y, nu, 0.0);
+  double* Y = m_denseY.data();
+  std::fill_n(Y, n * nu, 0.0);
+  for (int i = 0; i < n; ++i)
     for (const RowSide& side : m_denseRows[size_t(i)].sides) {
       if (!side.body->m_originalBody) continue;
       const int node = m_nodeOfBody[size_t(side.index)];
-      const double* T = m_denseT.data() + size_t(m_denseNodeIndex[size_t(node - c.begin)]) * 6 * size_t(nu);
+      const int bi = m_denseNodeIndex[size_t(node - c.begin)];
+      const double* T = m_denseT.data() + size_t(bi) * 6 * size_t(nu);
+      const int* cols = m_denseCols.data() + bi * (kDenseDofs + 1);
       const double j[6] = {side.n->x(), side.n->y(), side.n->z(), side.rc->x(), side.rc->y(), side.rc->z()};
-      for (int r = 0; r < 6; ++r)
-        for (int col = 0; col < nu; ++col) y[col] += j[r] * T[r * nu + col];
+      for (int a = 1; a <= cols[0]; ++a) {
+        const int col = cols[a];
+        double s = 0;
+        for (int r = 0; r < 6; ++r) s += j[r] * T[r * nu + col];
+        Y[col * n + i] += s;
+      }
     }
-    for (int col = 0; col < nu; ++col) {
-      double s = y[col];
-      for (int k = 0; k < col; ++k) s -= H[col * nu + k] * y[k];
-      y[col] = s / H[col * nu + col];
+  for (int col = 0; col < nu; ++col) {
+    double* y = Y + col * n;
+    for (int k = 0; k < col; ++k) {
+      const double l = H[col * nu + k];
+      const double* yk = Y + k * n;
+      for (int i = 0; i < n; ++i) y[i] -= l * yk[i];
+    }
+    const double inv = 1.0 / H[col * nu + col];
+    for (int i = 0; i < n; ++i) y[i] *= inv;
+  }
+  double* op = m_denseA.data();
+  std::fill_n(op, n * n, 0.0);
+  for (int col = 0; col < nu; ++col) {
+    const double* y = Y + col * n;
+    for (int i = 0; i < n; ++i) {
+      const double yi = y[i];
+      double* a = op + i * n;
+      for (int j = i; j < n; ++j) a[j] += yi * y[j];
     }
   }
   for (int i = 0; i < n; ++i)
-    for (int j = i; j < n; ++j) {
-      const double* yi = m_denseY.data() + size_t(i * nu);
-      const double* yj = m_denseY.data() + size_t(j * nu);
-      double a = 0;
-      for (int col = 0; col < nu; ++col) a += yi[col] * yj[col];
-      m_denseA[size_t(i * n + j)] = m_denseA[size_t(j * n + i)] = a;
-    }
+    for (int j = i + 1; j < n; ++j) op[j * n + i] = op[i * n + j];
   return true;
 }
 
@@ -209,11 +238,18 @@ void ExactSolver::denseSweeps(int n, int sweeps) {
     const double* col = A + size_t(r * n);                        // (symmetric: row r)
     for (int j = 0; j < n; ++j) vel[j] += col[j] * d;
   };
-  // Row r's impulse where its velocity meets its target, the others held.
-  auto target = [&](int r) {
+  // Each row's target velocity, compliance and 1 / (its diagonal + compliance) (0: the row
+  // cannot move), so that the sweeps' chain of updates multiplies instead of divides.
+  double* rx = m_denseRowX.data();
+  for (int r = 0; r < n; ++r) {
     const double* x = &m_rowExtra[size_t(4 * m_denseRows[size_t(r)].extra)];
     const double diag = A[size_t(r * n + r)] + x[1];
-    return diag > 0 ? lam[r] + (x[0] - x[1] * lam[r] - vel[r]) / diag : lam[r];
+    rx[3 * r] = x[0], rx[3 * r + 1] = x[1], rx[3 * r + 2] = diag > 0 ? 1 / diag : 0;
+  }
+  // Row r's impulse where its velocity meets its target, the others held.
+  auto target = [&](int r) {
+    const double* x = rx + 3 * r;
+    return lam[r] + (x[0] - x[1] * lam[r] - vel[r]) * x[2];
   };
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     double largest = 0;
@@ -239,9 +275,9 @@ void ExactSolver::denseSweeps(int n, int sweeps) {
       const double before1 = lam[r + 1];
       set(r, target(r));
       set(r + 1, target(r + 1));
-      const double len = hypotInline(lam[r], lam[r + 1]);
-      if (len > bound) {
-        const double scale = bound / len;
+      // (The square root only for a pair outside its circle: at rest most are inside.)
+      if (lam[r] * lam[r] + lam[r + 1] * lam[r + 1] > bound * bound) {
+        const double scale = bound / hypotInline(lam[r], lam[r + 1]);
         const double a = lam[r] * scale, b = lam[r + 1] * scale;
         set(r, a);
         set(r + 1, b);
@@ -300,6 +336,7 @@ bool ExactSolver::denseIsland(Cluster& c, const int* items, int count, int sweep
   for (std::vector<double>* v : {&m_denseU0, &m_denseVel, &m_denseLam, &m_denseStart})
     if (v->size() < size_t(n)) v->resize(size_t(n));
   if (m_denseA.size() < size_t(n * n)) m_denseA.resize(size_t(n * n));
+  if (m_denseRowX.size() < size_t(3 * n)) m_denseRowX.resize(size_t(3 * n));
 
   for (int round = 0; round < kDenseRounds; ++round) {
     // The velocities the hinges make of the substep's start (the warm start included), and the

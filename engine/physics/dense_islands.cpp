@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "physics/exact_solver.h"
 #include "physics/hypot.h"
@@ -253,17 +254,23 @@ void ExactSolver::denseSweeps(int n, int sweeps) {
   };
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     double largest = 0;
+    // A patch's load, made at its first unit and kept for the next ones of the same patch (its
+    // tangent, twist and rolling units follow one another and change none of its normal rows).
+    int loadOf = -1;
+    std::pair<double, double> load;
     for (const DenseUnit& u : m_denseUnits) {
       const int r = u.row;
       const double before0 = lam[r];
       if (u.kind == DenseUnit::Normal) {
         const btSolverConstraint& c = *m_denseRows[size_t(r)].c;
         set(r, std::clamp(target(r), double(c.m_lowerLimit), double(c.m_upperLimit)));
+        loadOf = -1;
         largest = std::max(largest, (lam[r] - before0) * (lam[r] - before0));
         continue;
       }
       const PatchRows& pr = m_groupPatches[size_t(u.patch)];
-      const auto [normalSum, twistArm] = patchLoad(pr);
+      if (loadOf != u.patch) load = patchLoad(pr), loadOf = u.patch;
+      const auto [normalSum, twistArm] = load;
       if (u.kind == DenseUnit::Twist) {
         const double bound = pr.mu * twistArm + pr.spin * normalSum;
         set(r, std::clamp(target(r), -bound, bound));

@@ -348,8 +348,10 @@ bool ExactSolver::denseIsland(Cluster& c, const int* items, int count, int sweep
   for (int round = 0; round < kDenseRounds; ++round) {
     // The velocities the hinges make of the substep's start (the warm start included), and the
     // rows' operator at the motors' present states.
-    if (c.dirty) factor(c);
-    solve(c, true);
+    if (c.dirty)
+      factor(c, true);  // (and the solve, in the factor's passes: a tree without loops)
+    else
+      solve(c, true);
     if (!denseOperator(c, n, nu)) {
       // (Its mass matrix not positive definite: the sweeps take the rest, from here; never met.)
       if (round == 0) return false;

@@ -1,6 +1,7 @@
 // The exact joint solver (see exact_solver.h for the method).
 #include "physics/exact_solver.h"
 
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btQuickprof.h>
 
@@ -1707,6 +1708,87 @@ void ExactSolver::convertBodies(btCollisionObject** bodies, int numBodies, const
         solverBody.m_externalTorqueImpulse += body->computeGyroscopicImpulseImplicit_Body(info.m_timeStep);
     }
   });
+}
+
+void ExactSolver::convertContacts(btPersistentManifold** manifolds, int numManifolds,
+                                  const btContactSolverInfo& info) {
+  if (!patches) {
+    btSequentialImpulseConstraintSolver::convertContacts(manifolds, numManifolds, info);
+    return;
+  }
+  // Bullet 3.24's convertContact, point by point, but for the friction rows' set-up
+  // (setupFrictionConstraint: Jacobians, diagonals, targets nobody reads here) and the rolling and
+  // spinning rows (addTorsionalFrictionConstraint: never swept here).
+  const bool twoDirections = info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS;
+  for (int i = 0; i < numManifolds; ++i) {
+    btPersistentManifold* manifold = manifolds[i];
+    auto* colObj0 = const_cast<btCollisionObject*>(manifold->getBody0());
+    auto* colObj1 = const_cast<btCollisionObject*>(manifold->getBody1());
+    const int idA = getOrInitSolverBody(*colObj0, info.m_timeStep);
+    const int idB = getOrInitSolverBody(*colObj1, info.m_timeStep);
+    btSolverBody* bodyA = &m_tmpSolverBodyPool[idA];
+    btSolverBody* bodyB = &m_tmpSolverBodyPool[idB];
+    // (No response between two static objects.)
+    if (!bodyA || (bodyA->m_invMass.fuzzyZero() && (!bodyB || bodyB->m_invMass.fuzzyZero()))) continue;
+    for (int j = 0; j < manifold->getNumContacts(); ++j) {
+      btManifoldPoint& cp = manifold->getContactPoint(j);
+      if (!(cp.getDistance() <= manifold->getContactProcessingThreshold())) continue;
+      btSolverConstraint& row = m_tmpSolverContactConstraintPool.expandNonInitializing();
+      row.m_solverBodyIdA = idA;
+      row.m_solverBodyIdB = idB;
+      row.m_originalContactPoint = &cp;
+      const btVector3 relPos1 = cp.getPositionWorldOnA() - colObj0->getWorldTransform().getOrigin();
+      const btVector3 relPos2 = cp.getPositionWorldOnB() - colObj1->getWorldTransform().getOrigin();
+      btVector3 vel1, vel2;
+      bodyA->getVelocityInLocalPointNoDelta(relPos1, vel1);
+      bodyB->getVelocityInLocalPointNoDelta(relPos2, vel2);
+      const btVector3 vel = vel1 - vel2;
+      const btScalar relVel = cp.m_normalWorldOnB.dot(vel);
+      btScalar relaxation;
+      setupContactConstraint(row, idA, idB, cp, info, relaxation, relPos1, relPos2);
+      row.m_frictionIndex = m_tmpSolverContactFrictionConstraintPool.size();
+      // The friction directions, as Bullet's (no direction caching here): along the sliding
+      // velocity, or any two across the normal.
+      cp.m_lateralFrictionDir1 = vel - cp.m_normalWorldOnB * relVel;
+      const btScalar latRelVel = cp.m_lateralFrictionDir1.length2();
+      if (!(info.m_solverMode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION) &&
+          latRelVel > SIMD_EPSILON) {
+        cp.m_lateralFrictionDir1 *= 1.f / btSqrt(latRelVel);
+        applyAnisotropicFriction(colObj0, cp.m_lateralFrictionDir1,
+                                 btCollisionObject::CF_ANISOTROPIC_FRICTION);
+        applyAnisotropicFriction(colObj1, cp.m_lateralFrictionDir1,
+                                 btCollisionObject::CF_ANISOTROPIC_FRICTION);
+        if (twoDirections) {
+          cp.m_lateralFrictionDir2 = cp.m_lateralFrictionDir1.cross(cp.m_normalWorldOnB);
+          cp.m_lateralFrictionDir2.normalize();
+          applyAnisotropicFriction(colObj0, cp.m_lateralFrictionDir2,
+                                   btCollisionObject::CF_ANISOTROPIC_FRICTION);
+          applyAnisotropicFriction(colObj1, cp.m_lateralFrictionDir2,
+                                   btCollisionObject::CF_ANISOTROPIC_FRICTION);
+        }
+      } else {
+        btPlaneSpace1(cp.m_normalWorldOnB, cp.m_lateralFrictionDir1, cp.m_lateralFrictionDir2);
+        applyAnisotropicFriction(colObj0, cp.m_lateralFrictionDir1,
+                                 btCollisionObject::CF_ANISOTROPIC_FRICTION);
+        applyAnisotropicFriction(colObj1, cp.m_lateralFrictionDir1,
+                                 btCollisionObject::CF_ANISOTROPIC_FRICTION);
+        if (twoDirections) {
+          applyAnisotropicFriction(colObj0, cp.m_lateralFrictionDir2,
+                                   btCollisionObject::CF_ANISOTROPIC_FRICTION);
+          applyAnisotropicFriction(colObj1, cp.m_lateralFrictionDir2,
+                                   btCollisionObject::CF_ANISOTROPIC_FRICTION);
+          if (info.m_solverMode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION)
+            cp.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+        }
+      }
+      for (int k = 0; k < (twoDirections ? 2 : 1); ++k) {
+        btSolverConstraint& f = m_tmpSolverContactFrictionConstraintPool.expandNonInitializing();
+        f.m_frictionIndex = m_tmpSolverContactConstraintPool.size() - 1;
+        f.m_originalContactPoint = nullptr;
+        f.m_appliedImpulse = 0;
+      }
+    }
+  }
 }
 
 btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies,

@@ -265,6 +265,13 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// ahead: with thousands of modules the bodies lie all over memory and Bullet's loop waited on
   /// each in turn.
   void convertBodies(btCollisionObject** bodies, int numBodies, const btContactSolverInfo& info) override;
+  /// As Bullet's with `patches` on (the same normal rows, friction directions and pools' sizes),
+  /// but each point's friction rows left empty (their impulses 0) and no rolling or spinning rows
+  /// made: the patches solve friction with rows of their own, and Bullet's per point only carry
+  /// the patches' shares back to the points (finishPatches, writeBackContacts). Without
+  /// `patches` ("pgs"), Bullet's.
+  void convertContacts(btPersistentManifold** manifolds, int numManifolds,
+                       const btContactSolverInfo& info) override;
 
  private:
   struct Body {

@@ -12,4 +12,12 @@ namespace rm3d {
 /// ids and every field the same bits; else what differed first.
 std::string solverBodiesMismatch();
 
+/// Empty when ExactSolver::convertContacts (friction by patches) makes the contact rows Bullet
+/// 3.24's convertContacts makes (every field the same bits), as many friction rows (all at 0),
+/// the same friction directions at the points and the same solver bodies after the rows' warm
+/// start: a sliding body on the ground (a point beyond the processing threshold), a body at rest,
+/// a contact between the bodies with rolling friction, one between two static bodies; else what
+/// differed first.
+std::string contactRowsMismatch();
+
 }  // namespace rm3d

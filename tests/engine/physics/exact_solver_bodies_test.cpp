@@ -8,3 +8,10 @@
 TEST_CASE("exact solver: its solver bodies are Bullet's, bit for bit") {
   CHECK(rm3d::solverBodiesMismatch() == "");
 }
+
+// ExactSolver::convertContacts, with friction by patches, leaves Bullet's per-point friction rows
+// unmade (and its rolling rows): the contact rows, friction directions, pools' sizes and the
+// solver bodies after the warm start are still Bullet's, bit for bit.
+TEST_CASE("exact solver: its contact rows are Bullet's, bit for bit") {
+  CHECK(rm3d::contactRowsMismatch() == "");
+}

@@ -44,6 +44,7 @@ struct Probe : Solver {
   int rollingRows() const { return this->m_tmpSolverContactRollingFrictionConstraintPool.size(); }
 };
 
+// Whether two vectors are the same bits (as numbers: 0 and -0 alike).
 bool same(const btVector3& u, const btVector3& v) {
   return u.x() == v.x() && u.y() == v.y() && u.z() == v.z();
 }
@@ -82,9 +83,6 @@ std::string firstDifference(const btSolverConstraint& a, const btSolverConstrain
 
 // The first field of the two solver bodies that differs, or "".
 std::string firstDifference(const btSolverBody& a, const btSolverBody& b) {
-  auto same = [](const btVector3& u, const btVector3& v) {
-    return u.x() == v.x() && u.y() == v.y() && u.z() == v.z();
-  };
   const btTransform ta = a.getWorldTransform(), tb = b.getWorldTransform();
   for (int r = 0; r < 3; ++r)
     if (!same(ta.getBasis()[r], tb.getBasis()[r])) return "basis row " + std::to_string(r);

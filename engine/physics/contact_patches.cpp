@@ -386,40 +386,44 @@ void ExactSolver::finishPatches() {
 void ExactSolver::notePatchPoses() {
   if (!patches) return;
   m_patchPoses.resize(m_patches.size());
-  for (size_t i = 0; i < m_patches.size(); ++i) {
-    const Patch& p = m_patches[i];
-    // (A manifold the solve of this substep did not see may be gone: only those it saw.)
-    if (!p.manifold || !p.anchored || p.seen != m_substepCount) continue;
-    m_patchPoses[i] = {p.manifold->getBody0()->getWorldTransform(),
-                       p.manifold->getBody1()->getWorldTransform()};
-  }
+  for (size_t i = 0; i < m_patches.size(); ++i)
+    if (m_patches[i].finished != m_substepCount) notePatchPose(m_patches[i], m_patchPoses[i]);
+}
+
+void ExactSolver::notePatchPose(const Patch& p, PatchPoses& poses) const {
+  // (A manifold the solve of this substep did not see may be gone: only those it saw.)
+  const int substep = m_shared->m_substepCount;
+  if (!p.manifold || !p.anchored || p.seen != substep) return;
+  poses = {p.manifold->getBody0()->getWorldTransform(), p.manifold->getBody1()->getWorldTransform()};
 }
 
 void ExactSolver::followPatchPoses() {
   if (!patches) return;
+  for (size_t i = 0; i < m_patches.size() && i < m_patchPoses.size(); ++i)
+    if (m_patches[i].finished != m_substepCount) followPatchPose(m_patches[i], m_patchPoses[i]);
+}
+
+void ExactSolver::followPatchPose(Patch& p, const PatchPoses& was) const {
+  const int substep = m_shared->m_substepCount;
+  if (!p.manifold || !p.anchored || p.seen != substep) return;
+  const btCollisionObject *body0 = p.manifold->getBody0(), *body1 = p.manifold->getBody1();
+  if (body0->getUserIndex3() != substep && body1->getUserIndex3() != substep) return;
+  const btTransform& now0 = body0->getWorldTransform();
+  const btTransform& now1 = body1->getWorldTransform();
+  if (now0 == was.body0 && now1 == was.body1) return;
   // Body 0's pose in body 1's frame, as setupPatches measures the anchor.
   auto relative = [](const btTransform& t0, const btTransform& t1) {
     const Eigen::Quaterniond r0 = toEigen(t0.getRotation()), r1 = toEigen(t1.getRotation());
     return std::make_pair(Eigen::Quaterniond(r1.conjugate() * r0),
                           Vec3d(r1.conjugate() * (toEigen(t0.getOrigin()) - toEigen(t1.getOrigin()))));
   };
-  for (size_t i = 0; i < m_patches.size() && i < m_patchPoses.size(); ++i) {
-    Patch& p = m_patches[i];
-    if (!p.manifold || !p.anchored || p.seen != m_substepCount) continue;
-    const btCollisionObject *body0 = p.manifold->getBody0(), *body1 = p.manifold->getBody1();
-    if (body0->getUserIndex3() != m_substepCount && body1->getUserIndex3() != m_substepCount) continue;
-    const btTransform& now0 = body0->getWorldTransform();
-    const btTransform& now1 = body1->getWorldTransform();
-    const PatchPoses& was = m_patchPoses[i];
-    if (now0 == was.body0 && now1 == was.body1) continue;
-    const auto [rotWas, posWas] = relative(was.body0, was.body1);
-    const auto [rotNow, posNow] = relative(now0, now1);
-    const Eigen::Quaterniond turn = rotNow * rotWas.conjugate();
-    // The anchor moves as body 0 moved in body 1's frame: where the stabilisation was the only
-    // change since the patch stuck, the slip stays zero.
-    p.pos = turn * (p.pos - posWas) + posNow;
-    p.rot = (turn * p.rot).normalized();
-  }
+  const auto [rotWas, posWas] = relative(was.body0, was.body1);
+  const auto [rotNow, posNow] = relative(now0, now1);
+  const Eigen::Quaterniond turn = rotNow * rotWas.conjugate();
+  // The anchor moves as body 0 moved in body 1's frame: where the stabilisation was the only
+  // change since the patch stuck, the slip stays zero.
+  p.pos = turn * (p.pos - posWas) + posNow;
+  p.rot = (turn * p.rot).normalized();
 }
 
 }  // namespace rm3d

@@ -145,6 +145,7 @@ void ExactSolver::beginSubstep() {
     }
   }
   ++m_substepCount;
+  m_groupsSolved = m_groupsFinished = 0;
   m_halvedSweeps = 0;
   m_halvedLists = 0;
   m_bodies.clear();
@@ -2092,6 +2093,7 @@ void ExactSolver::settleState(int j) {
 btScalar ExactSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
                                                     const btContactSolverInfo& info) {
   m_settling = false;  // the sweeps after the iterations take every island they name
+  ++m_groupsSolved, ++m_solvedBatches;
   if (m_groupHasJoints) finishJoints();
   if (patches) finishPatches(), finishCaptures();
   // As Bullet 3.24's: the joints' impulses written back (Bullet's rows; the solver's own write
@@ -2130,8 +2132,36 @@ void ExactSolver::postStabilise() {
             bullet_layout::fetch(m_bodies[size_t(b)].rb, bullet_layout::kVelocities + 16);
           }
     }
-    stabiliseCluster(m_clusters[size_t(ci)]);
+    if (!m_clusters[size_t(ci)].stabilised) stabiliseCluster(m_clusters[size_t(ci)]);
   });
+}
+
+bool ExactSolver::batchFinishable() const {
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci)
+    if (m_clusters[size_t(ci)].split) return false;
+  return true;
+}
+
+void ExactSolver::finishBatch() {
+  // (Each patch of the batch is this group's; the table is the primary's.)
+  if (patches) {
+    std::vector<PatchPoses>& poses = m_shared->m_patchPoses;
+    if (poses.size() < m_shared->m_patches.size()) poses.resize(m_shared->m_patches.size());
+    for (const PatchRows& pr : m_groupPatches) {
+      Patch& p = m_shared->m_patches[size_t(pr.slot)];
+      p.finished = m_shared->m_substepCount;
+      notePatchPose(p, poses[size_t(pr.slot)]);
+    }
+  }
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
+    Cluster& c = m_clusters[size_t(ci)];
+    stabiliseCluster(c);
+    c.stabilised = true;
+  }
+  if (patches)
+    for (const PatchRows& pr : m_groupPatches)
+      followPatchPose(m_shared->m_patches[size_t(pr.slot)], m_shared->m_patchPoses[size_t(pr.slot)]);
+  ++m_groupsFinished, ++m_finishedBatches;
 }
 
 /// Position errors at the integrated poses, projected out: first with the cluster's last factor

@@ -250,6 +250,21 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// contact anchors follow the moves the stabilisation makes (contact_patches.cpp).
   void notePatchPoses();
   void followPatchPoses();
+  /// Right after this solver's solveGroup (SolverWorld::setFinishBatches, its bodies integrated):
+  /// whether the batch may be finished now (no tree of it in halves), and then its patches'
+  /// poses noted, its clusters stabilised and its patches' anchors followed, as notePatchPoses,
+  /// postStabilise and followPatchPoses would do for them later (which then pass them over).
+  bool batchFinishable() const;
+  void finishBatch();
+  /// Every batch this solver solved this substep was finished (finishBatch): nothing is left for
+  /// notePatchPoses, postStabilise and followPatchPoses.
+  bool batchesFinished() const { return m_groupsFinished == m_groupsSolved; }
+  /// Batches so far solved, and finished right after their solve (finishBatch).
+  long solvedBatchCount() const { return m_solvedBatches; }
+  long finishedBatchCount() const { return m_finishedBatches; }
+  /// The primary's pose table as large as its patch table (before batches are finished on
+  /// several threads: the table does not grow then).
+  void sizePatchPoses() { m_patchPoses.resize(m_patches.size()); }
 
   btScalar solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies,
                                         btPersistentManifold** manifolds, int numManifolds,
@@ -307,6 +322,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     // m_laneNodes[lane[h], lane[h + 1]) in node order, and the root's children in
     // m_laneNodes[lane[2], lane[3]).
     bool split = false;
+    bool stabilised = false;  // by finishBatch (postStabilise passes it over)
     int lane[4] = {0, 0, 0, 0};
     Eigen::MatrixXd schur;        // S, then its eigenvectors
     Eigen::VectorXd schurInv;     // damped inverse eigenvalues (0 for the redundant directions)
@@ -333,7 +349,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Eigen::Quaterniond rot = Eigen::Quaterniond::Identity();  // body 0 in body 1's frame when it stuck
     Eigen::Vector3d pos = Eigen::Vector3d::Zero();
     bool anchored = false;
-    int seen = -1;  // substep count when it last had rows
+    int seen = -1;      // substep count when it last had rows
+    int finished = -1;  // substep count when finishBatch noted and followed it
     // Last substep's impulses (warm start): tangential (world), twist and rolling (about the
     // normal and the tangent axes, world).
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), roll = Eigen::Vector3d::Zero();
@@ -364,7 +381,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   struct PatchPoses {  // a patch's two bodies before the stabilisation (notePatchPoses)
     btTransform body0, body1;
   };
-  std::vector<PatchPoses> m_patchPoses;   ///< by slot
+  std::vector<PatchPoses> m_patchPoses;  ///< by slot
+  /// notePatchPoses' and followPatchPoses' step for one patch (at the primary's substep count).
+  void notePatchPose(const Patch& p, PatchPoses& poses) const;
+  void followPatchPose(Patch& p, const PatchPoses& was) const;
   std::vector<PatchRows> m_groupPatches;  // this solver group's
   btAlignedObjectArray<btSolverConstraint> m_patchRows;
   std::vector<double> m_contactArm;  // by contact row: its distance from its patch's centre (m)
@@ -377,6 +397,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   double sweepCapture(const GroupCapture& gc);
   void finishCaptures();
   int m_substepCount = 0;
+  int m_groupsSolved = 0, m_groupsFinished = 0;  // this substep's (batchesFinished)
+  long m_solvedBatches = 0, m_finishedBatches = 0;
 
   std::vector<int> m_freshBodies;  // convertBodies: the listed bodies that take a solver body of their own
   void buildClusters(btTypedConstraint** constraints, int numConstraints);

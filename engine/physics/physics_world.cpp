@@ -1213,6 +1213,14 @@ long PhysicsWorld::reusedTrees() const {
   return sumOverSolvers(m->solver, m->helpers, &ExactSolver::reusedTreeCount);
 }
 
+long PhysicsWorld::solvedBatches() const {
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::solvedBatchCount);
+}
+
+long PhysicsWorld::finishedBatches() const {
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::finishedBatchCount);
+}
+
 long PhysicsWorld::islandSweeps() const {
   return sumOverSolvers(m->solver, m->helpers, &ExactSolver::islandSweepCount);
 }
@@ -1309,8 +1317,13 @@ void PhysicsWorld::step(double dt, int substeps) {
       rb->applyTorque(toBt(f.torque));
     }
     if (m->tracking && s == 0) m->snapshotVelocities();
+    m->world.setFinishBatches(exact && m->settings.finishBatches ? &m->solver : nullptr);
     m->world.stepSimulation(btScalar(h), 0, btScalar(h));
-    if (exact) {
+    // (Every batch finished after its solve: nothing left for the passes over them all.)
+    const bool finished =
+        m->solver.batchesFinished() && std::all_of(m->helpers.begin(), m->helpers.end(),
+                                                   [](const auto& hs) { return hs->batchesFinished(); });
+    if (exact && !finished) {
       m->solver.notePatchPoses();
       if (std::none_of(m->helpers.begin(), m->helpers.end(), [](auto& s) { return s->hasClusters(); })) {
         // Everything was solved on the primary (a long tree's halves on two threads).

@@ -52,6 +52,10 @@ struct PhysicsSettings {
   /// Every piece of a step that can go to the worker threads goes there, not only where the
   /// clock says it pays (tests: core/pace.h; the bits are the same either way).
   bool alwaysThreads = false;
+  /// The exact solver's batches are each integrated and stabilised right after their solve,
+  /// while their data is in the caches (SolverWorld::setFinishBatches); off: in passes over every
+  /// body and tree after all of them (tests and measurements: the same bits either way).
+  bool finishBatches = true;
 };
 
 struct PartDesc {
@@ -195,6 +199,10 @@ class PhysicsWorld {
   long partialFactors() const;
   /// Substeps whose trees the exact solvers took again from the last substep (reuseTrees).
   long reusedTrees() const;
+  /// Solver batches so far, and those integrated and stabilised right after their solve
+  /// (PhysicsSettings::finishBatches).
+  long solvedBatches() const;
+  long finishedBatches() const;
   /// Contact sweeps of islands so far, and those spared because the island had settled
   /// (ExactSolver::planSettling).
   long islandSweeps() const;

@@ -36,6 +36,8 @@ struct IslandOrder {
 
 /// Bullet's InplaceSolverIslandCallback, with each island's joints looked up instead of searched.
 class Batches : public btSimulationIslandManager::IslandCallback {
+  SolverWorld* m_world;  // (with m_finisher: each batch finished after its solve)
+  ExactSolver* m_finisher;
   // The batch being gathered: in `scratch` (SolverWorld::m_gathering), whose storage is kept
   // from one substep to the next (arrays of its own grew by doubling every substep: 26
   // allocations a step on a 100-module snake).
@@ -48,8 +50,10 @@ class Batches : public btSimulationIslandManager::IslandCallback {
   Batches(btConstraintSolver& solver, btContactSolverInfo& info, btIDebugDraw* draw, btDispatcher* dispatcher,
           btTypedConstraint** sorted, int count, const std::vector<int>& start, const std::vector<int>& runs,
           SolverWorld::Batch& scratch, std::vector<SolverWorld::Batch>* out = nullptr,
-          int* outCount = nullptr)
-      : m_bodies(scratch.bodies),
+          int* outCount = nullptr, SolverWorld* world = nullptr, ExactSolver* finisher = nullptr)
+      : m_world(world),
+        m_finisher(finisher),
+        m_bodies(scratch.bodies),
         m_manifolds(scratch.manifolds),
         m_constraints(scratch.constraints),
         m_out(out),
@@ -100,6 +104,8 @@ class Batches : public btSimulationIslandManager::IslandCallback {
                         m_manifolds.size() ? &m_manifolds[0] : nullptr, m_manifolds.size(),
                         m_constraints.size() ? &m_constraints[0] : nullptr, m_constraints.size(), m_info,
                         m_draw, m_dispatcher);
+    if (m_finisher && m_bodies.size())
+      m_world->finishBatch(*m_finisher, &m_bodies[0], m_bodies.size(), m_info.m_timeStep);
     m_bodies.resize(0);
     m_manifolds.resize(0);
     m_constraints.resize(0);
@@ -341,8 +347,13 @@ void SolverWorld::solveConstraints(btContactSolverInfo& info) {
   btTypedConstraint** sorted = n ? &m_sortedConstraints[0] : nullptr;
   const bool parallel = !m_helpers.empty() && m_tasks;
   int count = 0;
+  // (Finished batch by batch only where this substep's passes run fused: otherwise Bullet's
+  // separate passes come after the integration.)
+  const bool finish = m_finisher && m_fused;
+  if (finish) m_integrated.assign(size_t(getNumCollisionObjects()), 0);
   Batches batches(*m_constraintSolver, info, getDebugDrawer(), getDispatcher(), sorted, n, m_islandStart,
-                  m_islandCount, m_gathering, parallel ? &m_batches : nullptr, &count);
+                  m_islandCount, m_gathering, parallel ? &m_batches : nullptr, &count, this,
+                  finish && !parallel ? m_finisher : nullptr);
   m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
   static_cast<ContactIslands*>(m_islandManager)->buildAndProcess(getDispatcher(), this, &batches);
   batches.flush();
@@ -516,18 +527,38 @@ void SolverWorld::integrateTransforms(btScalar timeStep) {
   // only bodies with a CCD motion threshold take (none here); fused, then each body's part of
   // updateActivationState, synchronizeMotionStates and clearForces.
   const bool fused = m_fused;
+  const char* done = m_integrated.empty() ? nullptr : m_integrated.data();  // (finishBatch's)
   m_threadedBodies = forEachBody(m_integratePace, [=, this](btRigidBody* body) {
-    body->setHitFraction(1.f);
-    if (body->isActive() && !body->isStaticOrKinematicObject()) {
-      btTransform predicted;
-      body->predictIntegratedTransform(timeStep, predicted);
-      body->proceedToTransform(predicted);
-    }
-    if (!fused) return;
-    activation(body, timeStep);
-    if (body->isActive()) synchronizeSingleMotionState(body);
-    body->clearForces();
+    if (!done || !done[body->getWorldArrayIndex()]) integrateBody(body, timeStep, fused);
   });
+  m_integrated.clear();
+}
+
+void SolverWorld::integrateBody(btRigidBody* body, btScalar timeStep, bool fused) {
+  body->setHitFraction(1.f);
+  if (body->isActive() && !body->isStaticOrKinematicObject()) {
+    btTransform predicted;
+    body->predictIntegratedTransform(timeStep, predicted);
+    body->proceedToTransform(predicted);
+  }
+  if (!fused) return;
+  activation(body, timeStep);
+  if (body->isActive()) synchronizeSingleMotionState(body);
+  body->clearForces();
+}
+
+void SolverWorld::finishBatch(ExactSolver& s, btCollisionObject* const* bodies, int numBodies,
+                              btScalar timeStep) {
+  // The batch's contact anchors and poses are the solver's to note before its clusters move them;
+  // a batch it does not take (a tree in halves) is left to the passes after the integration.
+  if (!s.batchFinishable()) return;
+  for (int i = 0; i < numBodies; ++i) {
+    btRigidBody* body = btRigidBody::upcast(bodies[i]);
+    if (!body || body->isStaticObject()) continue;
+    integrateBody(body, timeStep, true);
+    m_integrated[size_t(body->getWorldArrayIndex())] = 1;
+  }
+  s.finishBatch();
 }
 
 void SolverWorld::activation(btRigidBody* body, btScalar timeStep) {
@@ -566,12 +597,15 @@ void SolverWorld::solveBatches(btContactSolverInfo& info, int count) {
   // scratch, and shares the primary's state.
   btIDebugDraw* draw = getDebugDrawer();
   btDispatcher* dispatcher = getDispatcher();
+  const bool finish = m_finisher && m_fused;
+  if (finish) m_primary->sizePatchPoses();
   auto solve = [&](ExactSolver* s, int i) {
     Batch& b = m_batches[size_t(i)];
     s->solveGroup(b.bodies.size() ? &b.bodies[0] : nullptr, b.bodies.size(),
                   b.manifolds.size() ? &b.manifolds[0] : nullptr, b.manifolds.size(),
                   b.constraints.size() ? &b.constraints[0] : nullptr, b.constraints.size(), info, draw,
                   dispatcher);
+    if (finish && b.bodies.size()) finishBatch(*s, &b.bodies[0], b.bodies.size(), info.m_timeStep);
   };
   if (count == 1) {
     // One batch (one island holds most of the world): a second thread takes the second half of

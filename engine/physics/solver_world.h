@@ -37,6 +37,16 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   /// Every pass that can go to the threads goes there, not only where the clock says it pays
   /// (tests: core/pace.h).
   void setAlwaysThreads(bool always) { m_alwaysThreads = always; }
+  /// Each batch finished right after its solve, where this substep's passes run fused: its bodies
+  /// integrated and its clusters stabilised (ExactSolver::finishBatch) while the batch's data is
+  /// in the caches, instead of in the passes over every body and cluster after all the batches.
+  /// Each body, cluster and contact patch belongs to one batch and these steps read nothing of
+  /// another's, so the order changes no bit. For the exact solver `primary` (the world's
+  /// constraint solver; null: off).
+  void setFinishBatches(ExactSolver* primary) { m_finisher = primary; }
+  /// After solver s solved a batch of these bodies (setFinishBatches, in a fused substep): where
+  /// s takes it, the batch finished and its bodies marked as integrated.
+  void finishBatch(ExactSolver& s, btCollisionObject* const* bodies, int numBodies, btScalar timeStep);
   /// Takes every joint and rigid body out of the world (a teardown) in the order that keeps
   /// Bullet's searches short: its lists are searched from the front and a removal moves the last
   /// entry to the hole, so removing the first entry each time costs O(1). Removed in any other
@@ -111,6 +121,8 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
 
  private:
   void solveBatches(btContactSolverInfo& info, int count);
+  /// One body's part of integrateTransforms (fused: with its activation, motion state and forces).
+  void integrateBody(btRigidBody* body, btScalar timeStep, bool fused);
   static constexpr int kChunk = 256;  ///< bodies (objects) a thread takes at a time
   /// fn(body) for every non-static rigid body, as forEachIndex. (The bodies lie in this order,
   /// and the processor's own prefetching keeps up: fetching them ahead gained nothing.)
@@ -128,9 +140,11 @@ class SolverWorld : public btSoftRigidDynamicsWorld {
   Batch m_gathering;             ///< the batch being gathered, its storage reused (solveConstraints)
   int m_threadedBodies = 0;
   bool m_alwaysThreads = false;
-  bool m_fused = false;          ///< this stepSimulation's passes run fused (stepSimulation)
-  btScalar m_kinematicStep = 0;  ///< saveKinematicState's step, for the fused pass
-  bool m_gravityDue = false;     ///< applyGravity was called: the fused pass applies it
+  bool m_fused = false;               ///< this stepSimulation's passes run fused (stepSimulation)
+  btScalar m_kinematicStep = 0;       ///< saveKinematicState's step, for the fused pass
+  bool m_gravityDue = false;          ///< applyGravity was called: the fused pass applies it
+  ExactSolver* m_finisher = nullptr;  ///< setFinishBatches
+  std::vector<char> m_integrated;     ///< by world array index: integrated with its batch this substep
   /// Whether the threads pay (core/pace.h): the bounding boxes, the motion prediction, the
   /// integration, the solver batches.
   Pace m_boxPace, m_predictPace, m_integratePace, m_batchPace;

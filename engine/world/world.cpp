@@ -157,6 +157,7 @@ void World::ensurePhysics() {
   ps.everyIteration = m_options.everyIteration;
   ps.denseIslands = m_options.denseIslands;
   ps.alwaysThreads = m_options.alwaysThreads;
+  ps.finishBatches = m_options.finishBatches;
   m_physics = std::make_unique<PhysicsWorld>(ps);
   if (m_tasks) m_physics->setParallel(m_pool->threads(), m_tasks, m_pool->watches());
 }

@@ -54,6 +54,7 @@ struct RunOptions {
   bool everyIteration = false;                ///< tests: PhysicsSettings::everyIteration
   bool denseIslands = true;                   ///< tests: PhysicsSettings::denseIslands
   bool alwaysThreads = false;                 ///< tests: PhysicsSettings::alwaysThreads
+  bool finishBatches = true;                  ///< tests: PhysicsSettings::finishBatches
   size_t vmMemoryLimit = 32u << 20;           ///< bytes per behaviour VM
   int64_t behaviourBudget = 10'000'000;       ///< Lua instructions per callback
   int64_t worldBudget = 500'000'000;          ///< for the world script and its hooks

@@ -33,11 +33,15 @@ constexpr int kDenseRounds = 4;  // operators made again where motors reach thei
 
 }  // namespace
 
-/// At the substep's first iteration, before its sweep: every island of this solver group that is
-/// one small tree has its contacts solved here, and is then settled (swept and solved no more).
-void ExactSolver::solveDenseIslands(int sweeps) {
+/// At a solver group's setup, after planSettling: the islands whose contacts the dense solve will
+/// take at the first iteration (each one small tree and its rows, as denseIsland asks), so that
+/// buildGroups makes no sweep data for them (m_slotDense, m_rowDense).
+void ExactSolver::planDenseIslands() {
   const int slots = int(m_slotSettle.size());
-  if (slots == 0) return;
+  const int nc = m_tmpSolverContactConstraintPool.size();
+  m_slotDense.assign(size_t(slots), 0);
+  m_rowDense.assign(size_t(nc + m_patchRows.size()), 0);
+  if (slots == 0 || !m_shared->denseIslands || !m_settling || !m_groupHasJoints) return;
   // Each slot's items (in sweep order) and its count of clusters.
   const int items = int(m_itemSlot.size());
   m_denseSlotStart.assign(size_t(slots) + 1, 0);
@@ -52,17 +56,88 @@ void ExactSolver::solveDenseIslands(int sweeps) {
   m_denseSlotClusters.assign(size_t(slots), 0);
   for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci)
     if (const int s = clusterSlot(m_clusters[size_t(ci)]); s >= 0) ++m_denseSlotClusters[size_t(s)];
+  const int captures = int(m_groupCaptures.size());
   for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
-    Cluster& c = m_clusters[size_t(ci)];
+    const Cluster& c = m_clusters[size_t(ci)];
     const int s = clusterSlot(c);
     if (s < 0 || m_slotSettle[size_t(s)] != Settle::Open || m_denseSlotClusters[size_t(s)] != 1) continue;
     // (A tree of one hinge, an ATRON's, settles in two sweeps: its operator costs more than it
     // saves, 12 to 17% more of atrons_275's physics.)
     const int nodes = c.end - c.begin;
     if (c.split || c.loopEnd > c.loopBegin || nodes < kDenseNodes || nodes > 2 * kDenseDofs) continue;
+    if (denseShape(c) == 0) continue;
+    // Every row on this tree's bodies or the static world, and not too many of them.
+    auto ours = [&](btSolverConstraint& row) {
+      for (int side = 0; side < 2; ++side) {
+        const RowSide r = rowSide(row, side);
+        if (r.body->m_originalBody && (r.index < 0 || m_bodyCluster[size_t(r.index)] != ci)) return false;
+      }
+      return true;
+    };
+    int n = 0;
+    bool taken = true;
+    for (int k = m_denseSlotStart[size_t(s)]; k < m_denseSlotStart[size_t(s) + 1] && taken; ++k) {
+      const int t = m_denseSlotItems[size_t(k)];
+      if (t < captures) {
+        taken = false;
+      } else if (t < captures + nc) {
+        btSolverConstraint& row = m_tmpSolverContactConstraintPool[m_orderTmpConstraintPool[t - captures]];
+        if (row.m_jacDiagABInv == 0) continue;  // (not swept either)
+        taken = ours(row);
+        ++n;
+      } else {
+        const PatchRows& pr = m_groupPatches[size_t(t - captures - nc)];
+        for (int k2 = 0; k2 < (pr.roll ? 5 : 3) && taken; ++k2) taken = ours(m_patchRows[pr.row + k2]);
+        n += pr.roll ? 5 : 3;
+      }
+    }
+    if (!taken || n == 0 || n > kDenseRows) continue;
+    m_slotDense[size_t(s)] = 1;
+    for (int k = m_denseSlotStart[size_t(s)]; k < m_denseSlotStart[size_t(s) + 1]; ++k) {
+      const int t = m_denseSlotItems[size_t(k)];
+      if (t < captures + nc) {
+        m_rowDense[size_t(m_orderTmpConstraintPool[t - captures])] = 1;
+      } else {
+        const PatchRows& pr = m_groupPatches[size_t(t - captures - nc)];
+        for (int k2 = 0; k2 < (pr.roll ? 5 : 3); ++k2) m_rowDense[size_t(nc + pr.row + k2)] = 1;
+      }
+    }
+  }
+}
+
+/// Whether body b (of this group) is on an island planDenseIslands gave to the dense solve.
+bool ExactSolver::denseBody(int b) const {
+  const int ci = m_bodyCluster[size_t(b)];
+  const int s = ci >= 0 ? clusterSlot(m_clusters[size_t(ci)]) : -1;
+  return s >= 0 && m_slotDense[size_t(s)];
+}
+
+/// At the substep's first iteration, before its sweep: every island planDenseIslands chose has
+/// its contacts solved here, and is then settled (swept and solved no more). One it chose and
+/// that is left to the sweeps after all (its mass matrix not positive definite) has its rows'
+/// sweep data made now, with its bodies ungrouped.
+void ExactSolver::solveDenseIslands(int sweeps) {
+  for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) {
+    Cluster& c = m_clusters[size_t(ci)];
+    const int s = clusterSlot(c);
+    if (s < 0 || !m_slotDense[size_t(s)]) continue;
     const int b = m_denseSlotStart[size_t(s)];
-    if (denseIsland(c, m_denseSlotItems.data() + b, m_denseSlotStart[size_t(s) + 1] - b, sweeps))
+    if (denseIsland(c, m_denseSlotItems.data() + b, m_denseSlotStart[size_t(s) + 1] - b, sweeps)) {
       m_slotSettle[size_t(s)] = Settle::Settled;
+      continue;
+    }
+    m_slotDense[size_t(s)] = 0;
+    const int nc = m_tmpSolverContactConstraintPool.size();
+    const int captures = int(m_groupCaptures.size());
+    for (int k = b; k < m_denseSlotStart[size_t(s) + 1]; ++k) {
+      const int t = m_denseSlotItems[size_t(k)];
+      if (t < captures + nc) {
+        rowData(m_orderTmpConstraintPool[t - captures], true);
+      } else {
+        const PatchRows& pr = m_groupPatches[size_t(t - captures - nc)];
+        for (int k2 = 0; k2 < (pr.roll ? 5 : 3); ++k2) rowData(nc + pr.row + k2, true);
+      }
+    }
   }
 }
 

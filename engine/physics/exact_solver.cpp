@@ -545,7 +545,7 @@ void ExactSolver::keepTrees() {
 
 /// Rigid groups of this solver group's bodies (hinges whose motors hold them), their mass
 /// properties, and each contact row's velocity error and effective mass as the sweep sees it.
-void ExactSolver::buildGroups(int firstBody) {
+void ExactSolver::buildGroups(int firstBody, bool planned) {
   using A = ExactJoint::Axial;
   const int nb = int(m_bodies.size()) - firstBody;
   m_groupParent.resize(size_t(nb));
@@ -561,6 +561,7 @@ void ExactSolver::buildGroups(int firstBody) {
     const ExactJoint& e = m_shared->joints[size_t(j)];
     const Row& r = m_rows[size_t(j)];
     if (r.na < 0 || r.nb < 0 || !e.motorOn || e.state == A::Fixed) continue;
+    if (planned && denseBody(r.na)) continue;  // (a tree the dense solve takes: no sweep moves it)
     const int a = find(r.na - firstBody), b = find(r.nb - firstBody);
     if (a == b || size[size_t(a)] + size[size_t(b)] > kMaxGroupBodies) continue;
     m_groupParent[size_t(std::max(a, b))] = std::min(a, b);
@@ -629,51 +630,60 @@ void ExactSolver::buildGroups(int firstBody) {
   for (size_t g = 0; g < m_groups.size(); ++g)
     m_groups[g].contacts = m_groupContacts[0][g] + m_groupContacts[1][g];
   forListHalves(nc + nf, [&](int, int begin, int end) {
-    for (int i = begin; i < end; ++i) {
-      btSolverConstraint& c = i < nc ? m_tmpSolverContactConstraintPool[i] : m_patchRows[i - nc];
-      // What a unit impulse of the row does to a grouped side's group (every row: a row without
-      // mass of its own may still take an impulse when its ball is clamped).
-      for (int side = 0; side < 2; ++side) {
-        const RowSide r = rowSide(c, side, i);
-        if (!r.push || !r.body->m_originalBody) continue;
-        const Group& gr = m_groups[size_t(r.group)];
-        const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
-        double* push = m_rowPush.data() + 12 * i + 6 * side;
-        Eigen::Map<Vec3d> linear(push), angular(push + 3);
-        linear = gr.invMass * toEigen(*r.n);
-        angular = gr.invInertia * rg;
-      }
-      double* x = &m_rowExtra[size_t(4 * i)];
-      const double jd = c.m_jacDiagABInv;
-      if (jd == 0) {
-        x[0] = x[1] = x[2] = x[3] = 0;
-        continue;
-      }
-      double w = 0, wu = 0;
-      for (int side = 0; side < 2; ++side) {
-        const RowSide r = rowSide(c, side);
-        if (!r.body->m_originalBody) continue;
-        if (r.group < 0) {
-          w += double(r.body->m_originalBody->getInvMass()) * double(r.n->length2()) +
-               double(r.ac->dot(*r.rc));
-          wu += double(r.body->m_originalBody->getInvMass()) * double(r.n->length2()) +
-                double(r.ac->dot(*r.rc));
-        } else {
-          const Group& gr = m_groups[size_t(r.group)];
-          const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
-          // Split among the group's contacts, so that they share its weight instead of the first
-          // one swept carrying it all.
-          w += (gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg)) * std::max(1, gr.contacts);
-          wu += (gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg));
-        }
-      }
-      x[0] = double(c.m_rhs) / jd;
-      x[1] = double(c.m_cfm) / jd;
-      x[2] = 1.0 / (w + x[1]);
-      x[3] = 1.0 / (wu + x[1]);
-    }
+    for (int i = begin; i < end; ++i) rowData(i, !planned || !m_rowDense[size_t(i)]);
   });
   planHalvedSweep();
+}
+
+void ExactSolver::rowData(int i, bool sweep) {
+  const int nc = m_tmpSolverContactConstraintPool.size();
+  btSolverConstraint& c = i < nc ? m_tmpSolverContactConstraintPool[i] : m_patchRows[i - nc];
+  double* x = &m_rowExtra[size_t(4 * i)];
+  const double jd = c.m_jacDiagABInv;
+  if (!sweep) {
+    // (Its island's contacts solved on their own operator: the sweep's entries only say whether
+    // the row has mass, x[2] = 0 where it has none, as below.)
+    x[0] = jd == 0 ? 0 : double(c.m_rhs) / jd;
+    x[1] = jd == 0 ? 0 : double(c.m_cfm) / jd;
+    x[2] = x[3] = jd == 0 ? 0 : 1;
+    return;
+  }
+  // What a unit impulse of the row does to a grouped side's group (every row: a row without
+  // mass of its own may still take an impulse when its ball is clamped).
+  for (int side = 0; side < 2; ++side) {
+    const RowSide r = rowSide(c, side, i);
+    if (!r.push || !r.body->m_originalBody) continue;
+    const Group& gr = m_groups[size_t(r.group)];
+    const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
+    double* push = m_rowPush.data() + 12 * i + 6 * side;
+    Eigen::Map<Vec3d> linear(push), angular(push + 3);
+    linear = gr.invMass * toEigen(*r.n);
+    angular = gr.invInertia * rg;
+  }
+  if (jd == 0) {
+    x[0] = x[1] = x[2] = x[3] = 0;
+    return;
+  }
+  double w = 0, wu = 0;
+  for (int side = 0; side < 2; ++side) {
+    const RowSide r = rowSide(c, side);
+    if (!r.body->m_originalBody) continue;
+    if (r.group < 0) {
+      w += double(r.body->m_originalBody->getInvMass()) * double(r.n->length2()) + double(r.ac->dot(*r.rc));
+      wu += double(r.body->m_originalBody->getInvMass()) * double(r.n->length2()) + double(r.ac->dot(*r.rc));
+    } else {
+      const Group& gr = m_groups[size_t(r.group)];
+      const Vec3d rg = toEigen(*r.rc) + m_bodyOffset[size_t(r.index)].cross(toEigen(*r.n));
+      // Split among the group's contacts, so that they share its weight instead of the first
+      // one swept carrying it all.
+      w += (gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg)) * std::max(1, gr.contacts);
+      wu += (gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg));
+    }
+  }
+  x[0] = double(c.m_rhs) / jd;
+  x[1] = double(c.m_cfm) / jd;
+  x[2] = 1.0 / (w + x[1]);
+  x[3] = 1.0 / (wu + x[1]);
 }
 
 void ExactSolver::planHalvedSweep() {
@@ -1843,8 +1853,9 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
     const ExactJoint& e = m_shared->joints[size_t(j)];
     if (e.state == ExactJoint::Axial::Fixed) applyAxial(j, e.fixedImpulse);
   }
-  if (m_groupHasJoints || patches) buildGroups(m_groupFirstBody);
   planSettling();
+  planDenseIslands();
+  if (m_groupHasJoints || patches) buildGroups(m_groupFirstBody, true);
   return r;
 }
 

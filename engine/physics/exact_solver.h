@@ -508,7 +508,12 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// `row`: the row's index in m_rowExtra (a contact row's own, a solver row's after the
   /// contacts), for the sweep's m_rowPush; -1 where the sweep's figures are not wanted.
   RowSide rowSide(btSolverConstraint& c, int side, int row = -1);
-  void buildGroups(int firstBody);
+  /// `planned`: at the group's setup, after planDenseIslands: the islands the dense solve takes
+  /// get no rigid groups and their rows no sweep data (made for them later, where it declines).
+  void buildGroups(int firstBody, bool planned = false);
+  /// Row i's share of buildGroups: its velocity error and cfm, and for the sweeps (`sweep`) what
+  /// a unit impulse does to its grouped sides and its effective masses.
+  void rowData(int i, bool sweep);
   double sweepRow(btSolverConstraint& c, double lo, double hi, int row);
   double rowVelocity(const RowSide (&sides)[2]) const;
   void applyRowImpulse(const RowSide (&sides)[2], double delta);
@@ -641,6 +646,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<int> m_denseCols;                      // per body: its count of non-zero columns, then them
   std::vector<int> m_denseSlotStart, m_denseSlotItems, m_denseSlotClusters;
   long m_denseIslands = 0;
+  std::vector<char> m_slotDense;  // per settling slot: its island is one the dense solve takes
+  std::vector<char> m_rowDense;   // per contact and patch row: on such an island
+  void planDenseIslands();
+  bool denseBody(int b) const;
   void solveDenseIslands(int sweeps);
   bool denseIsland(Cluster& c, const int* items, int count, int sweeps);
   int denseShape(const Cluster& c);

@@ -170,14 +170,14 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
   const size_t tsize = size_t(bodies) * 6 * size_t(nu);
   if (m_denseT.size() < tsize) m_denseT.resize(tsize);
   if (m_denseH.size() < size_t(nu * nu)) m_denseH.resize(size_t(nu * nu));
-  std::fill_n(m_denseT.begin(), tsize, 0.0);
   double* H = m_denseH.data();
   std::fill_n(H, nu * nu, 0.0);
   // T_b maps the coordinates to body b's twist (linear at its centre, then angular): the root's is
   // the identity on the root's six; a child's is its parent's carried to its centre, plus its
   // hinge's axis. H = sum of T_b^T M_b T_b.
   // Only the columns of the root and of the hinges on a body's path from it are not zero in its
-  // T_b (m_denseCols: in increasing order, as the hinges' columns follow the tree's order).
+  // T_b (m_denseCols: in increasing order, as the hinges' columns follow the tree's order); only
+  // those are written and read (the others are not zeroed either).
   if (m_denseCols.size() < size_t(bodies * (kDenseDofs + 1)))
     m_denseCols.resize(size_t(bodies * (kDenseDofs + 1)));
   double mt[6 * kDenseDofs];
@@ -188,7 +188,10 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
     double* T = m_denseT.data() + size_t(bi) * 6 * size_t(nu);
     int* cols = m_denseCols.data() + bi * (kDenseDofs + 1);  // (its count, then its columns)
     if (k == c.begin) {
-      for (int i = 0; i < 6; ++i) T[i * nu + i] = 1, cols[1 + i] = i;
+      for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 6; ++j) T[i * nu + j] = i == j ? 1 : 0;
+        cols[1 + i] = i;
+      }
       cols[0] = 6;
     } else {
       const Node& jn = m_nodes[size_t(nd.parent)];
@@ -213,7 +216,8 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
       cols[cols[0]] = q;
       const Vec3d lin = childIsB ? Vec3d(-z.cross(r.rb)) : Vec3d(z.cross(r.ra));
       const Vec3d ang = childIsB ? z : Vec3d(-z);
-      for (int i = 0; i < 3; ++i) T[i * nu + q] += lin[i], T[(3 + i) * nu + q] += ang[i];
+      // (0.0 + x: as added to a zeroed entry, a -0.0 made +0.0.)
+      for (int i = 0; i < 3; ++i) T[i * nu + q] = 0.0 + lin[i], T[(3 + i) * nu + q] = 0.0 + ang[i];
     }
     const Body& b = m_bodies[size_t(nd.body)];
     const double m = 1.0 / b.invMass;
@@ -285,8 +289,13 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
     for (int i = 0; i < n; ++i) y[i] *= inv;
   }
   double* op = m_denseA.data();
-  std::fill_n(op, n * n, 0.0);
-  for (int col = 0; col < nu; ++col) {
+  // (The first coordinate's products written, not added to a zeroed A: 0.0 + x, as added.)
+  for (int i = 0; i < n; ++i) {
+    const double yi = Y[i];
+    double* a = op + i * n;
+    for (int j = i; j < n; ++j) a[j] = 0.0 + yi * Y[j];
+  }
+  for (int col = 1; col < nu; ++col) {
     const double* y = Y + col * n;
     for (int i = 0; i < n; ++i) {
       const double yi = y[i];

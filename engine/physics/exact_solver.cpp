@@ -213,8 +213,10 @@ void ExactSolver::jointRows(int j) {
   r.ra = ra;
   r.rb = rb;
   r.frame = frame;
-  r.ja.setZero();
-  r.jb.setZero();
+  // (Each block written once, the zero block too: a whole matrix zeroed first cost as much as the
+  // rest of the rows.)
+  r.ja.bottomLeftCorner<3, 3>().setZero();
+  r.jb.bottomLeftCorner<3, 3>().setZero();
   // Pivot: v_a + w_a x r_a - v_b - w_b x r_b = 0.
   r.ja.topLeftCorner<3, 3>().setIdentity();
   r.ja.topRightCorner<3, 3>() = -skew(ra);
@@ -1847,7 +1849,17 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
       for (int i = h * n / 2; i < (h + 1) * n / 2; ++i) setupJoint(m_groupJoints[size_t(i)], m_h);
     });
   } else {
-    for (int j : m_groupJoints) setupJoint(j, m_h);
+    // (Each joint's row, about 13 lines that have left the caches since the last substep with
+    // many modules, fetched a few joints ahead: setupJoint writes every one.)
+    const int n = int(m_groupJoints.size());
+    for (int i = 0; i < n; ++i) {
+      if (i + kFetchAhead < n) {
+        const char* row =
+            reinterpret_cast<const char*>(&m_rows[size_t(m_groupJoints[size_t(i + kFetchAhead)])]);
+        for (size_t at = 0; at < sizeof(Row); at += 64) __builtin_prefetch(row + at, 1);
+      }
+      setupJoint(m_groupJoints[size_t(i)], m_h);
+    }
   }
   for (int j : m_groupJoints) {
     const ExactJoint& e = m_shared->joints[size_t(j)];
@@ -2200,10 +2212,12 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
     if (c.dirty) factor(c);
     // (Each half's largest on a cache line of its own: written node by node, a shared line went
     // back and forth between the halves' cores.)
+    // (Set field by field: a zero-initialised pair was a 128-byte clear for each.)
     struct alignas(64) Largest {
-      double v = 0;
+      double v;
     };
     Largest largest[2];
+    largest[0].v = largest[1].v = 0;
     forEachNode(c, [&](int k, int h) {
       Node& n = m_nodes[size_t(k)];
       n.y.setZero();
@@ -2213,6 +2227,7 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
     if (pass == 0) before = std::max(largest[0].v, largest[1].v);
     solve(c);
     Largest moves[2];  // the largest move by half
+    moves[0].v = moves[1].v = 0;
     forEachNode(c, [&](int k, int h) {
       const Node& n = m_nodes[size_t(k)];
       if (n.body < 0) return;
@@ -2235,6 +2250,7 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
       applyPositionChanges(c);
     }
     Largest lefts[2];
+    lefts[0].v = lefts[1].v = 0;
     forEachNode(c, [&](int k, int h) {
       if (const int j = m_nodes[size_t(k)].joint; j >= 0)
         lefts[h].v = std::max(lefts[h].v, stabiliseExcess(j));

@@ -51,6 +51,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <utility>
@@ -304,6 +305,17 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     Mat6 dinv;
     Mat6 g;  // D^-1 H(node, parent), kept from the factor for the solves
     Vec6 y, x;
+    // Not zeroed (a value-initialised node was a 700-byte clear each, every substep): each field
+    // is written before it is read (initNode, passToParent, the solves). Without NDEBUG (the
+    // sanitizer build) a new node's numbers are NaN, so that a read before a write shows.
+    Node() {
+#ifndef NDEBUG
+      dinv.setConstant(std::nan(""));
+      g.setConstant(std::nan(""));
+      y.setConstant(std::nan(""));
+      x.setConstant(std::nan(""));
+#endif
+    }
   };
   struct Cluster {
     int begin = 0, end = 0;  // nodes, in order root first

@@ -576,8 +576,8 @@ void ExactSolver::buildGroups(int firstBody, bool planned) {
   m_bodyGroup.resize(m_bodies.size());
   m_bodyOffset.resize(m_bodies.size());
   m_bodyImpulse.resize(m_bodies.size());
-  std::fill(m_bodyGroup.begin() + firstBody, m_bodyGroup.end(), -1);
-  std::fill(m_bodyImpulse.begin() + firstBody, m_bodyImpulse.end(), Vec6(Vec6::Zero()));
+  // (Each body's group is written below; only a grouped body's impulse is read, so only those
+  // are cleared: the dense islands' bodies are none.)
   // A group's root is its smallest body: groups are numbered in body order.
   std::vector<int>& rootGroup = m_queue;
   rootGroup.assign(size_t(nb), -1);
@@ -589,12 +589,14 @@ void ExactSolver::buildGroups(int firstBody, bool planned) {
     }
   }
   for (int i = 0; i < nb; ++i) {
-    // (Each body's pose fetched a few bodies ahead: with many modules the bodies are outside the
-    // caches.)
-    if (i + kFetchAhead < nb) bullet_layout::fetchPose(m_bodies[size_t(firstBody + i + kFetchAhead)].rb);
+    // (Each grouped body's pose fetched a few bodies ahead: with many modules the bodies are
+    // outside the caches. An ungrouped one's is not read here.)
+    if (i + kFetchAhead < nb && rootGroup[size_t(find(i + kFetchAhead))] >= 0)
+      bullet_layout::fetchPose(m_bodies[size_t(firstBody + i + kFetchAhead)].rb);
     const int g = rootGroup[size_t(find(i))];
     m_bodyGroup[size_t(firstBody + i)] = g;
     if (g < 0) continue;
+    m_bodyImpulse[size_t(firstBody + i)].setZero();
     const Body& b = m_bodies[size_t(firstBody + i)];
     const double m = 1.0 / b.invMass;
     m_groups[size_t(g)].invMass += m;  // the mass, until inverted below

@@ -66,11 +66,13 @@ void ExactSolver::planDenseIslands() {
     const int nodes = c.end - c.begin;
     if (c.split || c.loopEnd > c.loopBegin || nodes < kDenseNodes || nodes > 2 * kDenseDofs) continue;
     if (denseShape(c) == 0) continue;
-    // Every row on this tree's bodies or the static world, and not too many of them.
-    auto ours = [&](btSolverConstraint& row) {
-      for (int side = 0; side < 2; ++side) {
-        const RowSide r = rowSide(row, side);
-        if (r.body->m_originalBody && (r.index < 0 || m_bodyCluster[size_t(r.index)] != ci)) return false;
+    // Every row on this tree's bodies or the static world, and not too many of them. (Not through
+    // rowSide: the groups it reads are made after this.)
+    auto ours = [&](const btSolverConstraint& row) {
+      for (const int sid : {row.m_solverBodyIdA, row.m_solverBodyIdB}) {
+        if (!m_tmpSolverBodyPool[sid].m_originalBody) continue;
+        const int index = sid < int(m_sidToBody.size()) ? m_sidToBody[size_t(sid)] : -1;
+        if (index < 0 || m_bodyCluster[size_t(index)] != ci) return false;
       }
       return true;
     };

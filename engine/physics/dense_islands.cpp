@@ -95,14 +95,24 @@ void ExactSolver::planDenseIslands() {
     }
     if (!taken || n == 0 || n > kDenseRows) continue;
     m_slotDense[size_t(s)] = 1;
-    for (int k = m_denseSlotStart[size_t(s)]; k < m_denseSlotStart[size_t(s) + 1]; ++k) {
-      const int t = m_denseSlotItems[size_t(k)];
-      if (t < captures + nc) {
-        m_rowDense[size_t(m_orderTmpConstraintPool[t - captures])] = 1;
-      } else {
-        const PatchRows& pr = m_groupPatches[size_t(t - captures - nc)];
-        for (int k2 = 0; k2 < (pr.roll ? 5 : 3); ++k2) m_rowDense[size_t(nc + pr.row + k2)] = 1;
-      }
+    forSlotRows(s, [&](int i) { m_rowDense[size_t(i)] = 1; });
+  }
+}
+
+/// fn(i) for each row (index into m_rowExtra) of slot s's contact and patch items (a slot the
+/// dense solve takes has no capture item).
+template <class Fn>
+void ExactSolver::forSlotRows(int s, const Fn& fn) {
+  const int nc = m_tmpSolverContactConstraintPool.size();
+  const int captures = int(m_groupCaptures.size());
+  for (int k = m_denseSlotStart[size_t(s)]; k < m_denseSlotStart[size_t(s) + 1]; ++k) {
+    const int t = m_denseSlotItems[size_t(k)];
+    if (t < captures) continue;
+    if (t < captures + nc) {
+      fn(m_orderTmpConstraintPool[t - captures]);
+    } else {
+      const PatchRows& pr = m_groupPatches[size_t(t - captures - nc)];
+      for (int k2 = 0; k2 < (pr.roll ? 5 : 3); ++k2) fn(nc + pr.row + k2);
     }
   }
 }
@@ -129,17 +139,7 @@ void ExactSolver::solveDenseIslands(int sweeps) {
       continue;
     }
     m_slotDense[size_t(s)] = 0;
-    const int nc = m_tmpSolverContactConstraintPool.size();
-    const int captures = int(m_groupCaptures.size());
-    for (int k = b; k < m_denseSlotStart[size_t(s) + 1]; ++k) {
-      const int t = m_denseSlotItems[size_t(k)];
-      if (t < captures + nc) {
-        rowData(m_orderTmpConstraintPool[t - captures], true);
-      } else {
-        const PatchRows& pr = m_groupPatches[size_t(t - captures - nc)];
-        for (int k2 = 0; k2 < (pr.roll ? 5 : 3); ++k2) rowData(nc + pr.row + k2, true);
-      }
-    }
+    forSlotRows(s, [&](int i) { rowData(i, true); });
   }
 }
 

@@ -642,19 +642,9 @@ void ExactSolver::buildGroups(int firstBody, bool planned) {
 void ExactSolver::rowData(int i, bool sweep) {
   const int nc = m_tmpSolverContactConstraintPool.size();
   btSolverConstraint& c = i < nc ? m_tmpSolverContactConstraintPool[i] : m_patchRows[i - nc];
-  double* x = &m_rowExtra[size_t(4 * i)];
-  const double jd = c.m_jacDiagABInv;
-  if (!sweep) {
-    // (Its island's contacts solved on their own operator: the sweep's entries only say whether
-    // the row has mass, x[2] = 0 where it has none, as below.)
-    x[0] = jd == 0 ? 0 : double(c.m_rhs) / jd;
-    x[1] = jd == 0 ? 0 : double(c.m_cfm) / jd;
-    x[2] = x[3] = jd == 0 ? 0 : 1;
-    return;
-  }
   // What a unit impulse of the row does to a grouped side's group (every row: a row without
   // mass of its own may still take an impulse when its ball is clamped).
-  for (int side = 0; side < 2; ++side) {
+  for (int side = 0; sweep && side < 2; ++side) {
     const RowSide r = rowSide(c, side, i);
     if (!r.push || !r.body->m_originalBody) continue;
     const Group& gr = m_groups[size_t(r.group)];
@@ -664,8 +654,18 @@ void ExactSolver::rowData(int i, bool sweep) {
     linear = gr.invMass * toEigen(*r.n);
     angular = gr.invInertia * rg;
   }
+  double* x = &m_rowExtra[size_t(4 * i)];
+  const double jd = c.m_jacDiagABInv;
   if (jd == 0) {
     x[0] = x[1] = x[2] = x[3] = 0;
+    return;
+  }
+  x[0] = double(c.m_rhs) / jd;
+  x[1] = double(c.m_cfm) / jd;
+  if (!sweep) {
+    // (Its island's contacts solved on their own operator: of the sweep's entries only whether
+    // the row has mass is read, x[2] != 0.)
+    x[2] = x[3] = 1;
     return;
   }
   double w = 0, wu = 0;
@@ -684,8 +684,6 @@ void ExactSolver::rowData(int i, bool sweep) {
       wu += (gr.invMass * double(r.n->length2()) + rg.dot(gr.invInertia * rg));
     }
   }
-  x[0] = double(c.m_rhs) / jd;
-  x[1] = double(c.m_cfm) / jd;
   x[2] = 1.0 / (w + x[1]);
   x[3] = 1.0 / (wu + x[1]);
 }
@@ -1855,11 +1853,9 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
     // many modules, fetched a few joints ahead: setupJoint writes every one.)
     const int n = int(m_groupJoints.size());
     for (int i = 0; i < n; ++i) {
-      if (i + kFetchAhead < n) {
-        const char* row =
-            reinterpret_cast<const char*>(&m_rows[size_t(m_groupJoints[size_t(i + kFetchAhead)])]);
-        for (size_t at = 0; at < sizeof(Row); at += 64) __builtin_prefetch(row + at, 1);
-      }
+      if (i + kFetchAhead < n)
+        bullet_layout::fetchRange(&m_rows[size_t(m_groupJoints[size_t(i + kFetchAhead)])], 0,
+                                  int(sizeof(Row)));
       setupJoint(m_groupJoints[size_t(i)], m_h);
     }
   }

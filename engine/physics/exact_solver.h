@@ -661,6 +661,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<char> m_slotDense;  // per settling slot: its island is one the dense solve takes
   std::vector<char> m_rowDense;   // per contact and patch row: on such an island
   void planDenseIslands();
+  template <class Fn>
+  void forSlotRows(int s, const Fn& fn);
   bool denseBody(int b) const;
   void solveDenseIslands(int sweeps);
   bool denseIsland(Cluster& c, const int* items, int count, int sweeps);

@@ -262,7 +262,7 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
   // Each row's Jacobian in the tree's coordinates, J_i = sum over its sides of T_b^T j, then
   // Y = L^-1 J^T (nu x n, a coordinate's entries for all rows together: the substitution runs
   // across the rows, not down one row's chain); A = Y^T Y.
-  if (m_denseY.size() < size_t(n * nu)) m_denseY.resize(size_t(n * nu));
+  if (m_denseY.size() < size_t(n * nu + 4)) m_denseY.resize(size_t(n * nu + 4));
   double* Y = m_denseY.data();
   std::fill_n(Y, n * nu, 0.0);
   for (int i = 0; i < n; ++i)
@@ -290,23 +290,23 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
     const double inv = 1.0 / H[col * nu + col];
     for (int i = 0; i < n; ++i) y[i] *= inv;
   }
+  // A = Y^T Y, each entry's sum over the coordinates in their order from 0.0 + its first product,
+  // four entries of a row at a time (Y has four entries of slack for the last ones), each entry
+  // written to both halves.
   double* op = m_denseA.data();
-  // (The first coordinate's products written, not added to a zeroed A: 0.0 + x, as added.)
   for (int i = 0; i < n; ++i) {
-    const double yi = Y[i];
-    double* a = op + i * n;
-    for (int j = i; j < n; ++j) a[j] = 0.0 + yi * Y[j];
-  }
-  for (int col = 1; col < nu; ++col) {
-    const double* y = Y + col * n;
-    for (int i = 0; i < n; ++i) {
-      const double yi = y[i];
-      double* a = op + i * n;
-      for (int j = i; j < n; ++j) a[j] += yi * y[j];
+    for (int j0 = i; j0 < n; j0 += 4) {
+      double acc[4];
+      const double y0 = Y[i];
+      for (int k = 0; k < 4; ++k) acc[k] = 0.0 + y0 * Y[j0 + k];
+      for (int col = 1; col < nu; ++col) {
+        const double* y = Y + col * n;
+        const double yi = y[i];
+        for (int k = 0; k < 4; ++k) acc[k] += yi * y[j0 + k];
+      }
+      for (int k = 0; k < 4 && j0 + k < n; ++k) op[i * n + j0 + k] = op[(j0 + k) * n + i] = acc[k];
     }
   }
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j) op[j * n + i] = op[i * n + j];
   return true;
 }
 
@@ -357,26 +357,62 @@ void ExactSolver::denseSweeps(int n, int sweeps) {
       const PatchRows& pr = m_groupPatches[size_t(u.patch)];
       if (loadOf != u.patch) load = patchLoad(pr), loadOf = u.patch;
       const auto [normalSum, twistArm] = load;
-      if (u.kind == DenseUnit::Twist) {
-        const double bound = pr.mu * twistArm + pr.spin * normalSum;
-        set(r, std::clamp(target(r), -bound, bound));
-        largest = std::max(largest, (lam[r] - before0) * (lam[r] - before0));
-        continue;
-      }
-      // A pair, each row then the other, then both scaled back to their circle.
+      // A pair, each row then the other, then both scaled back to their circle, and after the
+      // tangent pair the patch's twist, clamped. The velocities are changed in one pass for the
+      // unit's rows, each taking the rows' changes in the order a pass a change would (the same
+      // sums); a row's target reads its own velocity with the changes before it added.
       const double bound = (u.kind == DenseUnit::Tangent ? pr.mu : pr.rolling) * normalSum;
       const double before1 = lam[r + 1];
-      set(r, target(r));
-      set(r + 1, target(r + 1));
+      const double* col0 = A + size_t(r * n);
+      const double* col1 = A + size_t((r + 1) * n);
+      const double* x0 = rx + 3 * r;
+      const double* x1 = rx + 3 * (r + 1);
+      double a = before0 + (x0[0] - x0[1] * before0 - vel[r]) * x0[2];
+      const double d0 = a - before0;
+      const double v1 = vel[r + 1] + col0[r + 1] * d0;
+      double b = before1 + (x1[0] - x1[1] * before1 - v1) * x1[2];
+      const double d1 = b - before1;
       // (The square root only for a pair outside its circle: at rest most are inside.)
-      if (lam[r] * lam[r] + lam[r + 1] * lam[r + 1] > bound * bound) {
-        const double scale = bound / hypotInline(lam[r], lam[r + 1]);
-        const double a = lam[r] * scale, b = lam[r + 1] * scale;
-        set(r, a);
-        set(r + 1, b);
+      double d2 = 0, d3 = 0;  // (the scaling's changes)
+      const bool scaled = a * a + b * b > bound * bound;
+      if (scaled) {
+        const double scale = bound / hypotInline(a, b);
+        const double as = a * scale, bs = b * scale;
+        d2 = as - a, d3 = bs - b;
+        a = as, b = bs;
       }
-      largest = std::max(
-          largest, (lam[r] - before0) * (lam[r] - before0) + (lam[r + 1] - before1) * (lam[r + 1] - before1));
+      const double e0 = a - before0, e1 = b - before1;
+      lam[r] = a, lam[r + 1] = b;
+      m_denseRows[size_t(r)].c->m_appliedImpulse = btScalar(a);
+      m_denseRows[size_t(r + 1)].c->m_appliedImpulse = btScalar(b);
+      largest = std::max(largest, e0 * e0 + e1 * e1);
+      auto pairChange = [&](int j) {
+        const double v = vel[j] + col0[j] * d0 + col1[j] * d1;
+        return scaled ? v + col0[j] * d2 + col1[j] * d3 : v;
+      };
+      if (u.kind == DenseUnit::Rolling) {
+        if (scaled)
+          for (int j = 0; j < n; ++j)
+            vel[j] = vel[j] + col0[j] * d0 + col1[j] * d1 + col0[j] * d2 + col1[j] * d3;
+        else
+          for (int j = 0; j < n; ++j) vel[j] = vel[j] + col0[j] * d0 + col1[j] * d1;
+        continue;
+      }
+      const double twistBound = pr.mu * twistArm + pr.spin * normalSum;
+      const double before2 = lam[r + 2];
+      const double* col2 = A + size_t((r + 2) * n);
+      const double* x2 = rx + 3 * (r + 2);
+      const double t = std::clamp(before2 + (x2[0] - x2[1] * before2 - pairChange(r + 2)) * x2[2],
+                                  -twistBound, twistBound);
+      const double e2 = t - before2;
+      lam[r + 2] = t;
+      m_denseRows[size_t(r + 2)].c->m_appliedImpulse = btScalar(t);
+      largest = std::max(largest, e2 * e2);
+      if (scaled)
+        for (int j = 0; j < n; ++j)
+          vel[j] = vel[j] + col0[j] * d0 + col1[j] * d1 + col0[j] * d2 + col1[j] * d3 + col2[j] * e2;
+      else
+        for (int j = 0; j < n; ++j) vel[j] = vel[j] + col0[j] * d0 + col1[j] * d1 + col2[j] * e2;
     }
     if (largest < kSweepSettled) break;
   }
@@ -418,7 +454,6 @@ bool ExactSolver::denseIsland(Cluster& c, const int* items, int count, int sweep
     const PatchRows& pr = m_groupPatches[size_t(p)];
     const int first = int(m_denseRows.size());
     m_denseUnits.push_back({DenseUnit::Tangent, first, p});
-    m_denseUnits.push_back({DenseUnit::Twist, first + 2, p});
     if (pr.roll) m_denseUnits.push_back({DenseUnit::Rolling, first + 3, p});
     for (int k = 0; k < (pr.roll ? 5 : 3); ++k)
       if (!addRow(m_patchRows[pr.row + k], nc + pr.row + k)) return false;

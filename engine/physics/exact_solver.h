@@ -645,7 +645,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     RowSide sides[2];
   };
   struct DenseUnit {
-    enum Kind : char { Normal, Tangent, Twist, Rolling } kind;
+    // Normal: a contact row; Tangent: a patch's tangent pair, then its twist; Rolling: its pair.
+    enum Kind : char { Normal, Tangent, Rolling } kind;
     int row;    // its first row in m_denseRows
     int patch;  // into m_groupPatches (not Normal)
   };

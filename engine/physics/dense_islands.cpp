@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "physics/exact_solver.h"
@@ -30,6 +31,32 @@ constexpr int kDenseDofs = 16;   // the largest tree: 6 + 10 hinges (three Super
 constexpr int kDenseNodes = 5;   // the smallest tree: two hinges and their three bodies
 constexpr int kDenseRows = 64;   // the most contact rows an island may have
 constexpr int kDenseRounds = 4;  // operators made again where motors reach their rating
+
+// Four doubles side by side as two SSE2 pairs, for sums taken four entries at a time: each
+// entry's products and sums as one at a time would make them.
+typedef double Two __attribute__((vector_size(16), aligned(8)));
+struct Four {
+  Two lo, hi;
+};
+inline Four load4(const double* p) {
+  Four v;
+  std::memcpy(&v.lo, p, sizeof v.lo);
+  std::memcpy(&v.hi, p + 2, sizeof v.hi);
+  return v;
+}
+inline Four operator*(double s, const Four& v) {
+  return {s * v.lo, s * v.hi};
+}
+inline Four operator+(double s, const Four& v) {
+  return {s + v.lo, s + v.hi};
+}
+inline Four& operator+=(Four& a, const Four& b) {
+  a.lo += b.lo, a.hi += b.hi;
+  return a;
+}
+inline double at(const Four& v, int q) {
+  return q < 2 ? v.lo[q] : v.hi[q - 2];
+}
 
 }  // namespace
 
@@ -169,29 +196,33 @@ int ExactSolver::denseShape(const Cluster& c) {
 bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
   using A = ExactJoint::Axial;
   const int bodies = (c.end - c.begin + 1) / 2;  // (a tree of bodies and hinges: one more body)
-  const size_t tsize = size_t(bodies) * 6 * size_t(nu);
-  if (m_denseT.size() < tsize) m_denseT.resize(tsize);
-  if (m_denseH.size() < size_t(nu * nu)) m_denseH.resize(size_t(nu * nu));
-  double* H = m_denseH.data();
-  std::fill_n(H, nu * nu, 0.0);
   // T_b maps the coordinates to body b's twist (linear at its centre, then angular): the root's is
   // the identity on the root's six; a child's is its parent's carried to its centre, plus its
   // hinge's axis. H = sum of T_b^T M_b T_b.
   // Only the columns of the root and of the hinges on a body's path from it are not zero in its
-  // T_b (m_denseCols: in increasing order, as the hinges' columns follow the tree's order); only
-  // those are written and read (the others are not zeroed either).
+  // T_b (m_denseCols: its count, then the columns in increasing order, as the hinges' columns
+  // follow the tree's order, so that a child's are its parent's and its hinge's). T_b holds only
+  // those, side by side (a row of kStride: the sums below take four columns at a time, and what
+  // lies past a body's last column is finite and not used).
+  constexpr int kStride = kDenseDofs + 4;
+  const size_t tsize = size_t(bodies) * 6 * kStride;
+  if (m_denseT.size() < tsize) m_denseT.resize(tsize);
+  if (m_denseMT.size() < 6 * kStride) m_denseMT.resize(6 * kStride);
+  if (m_denseH.size() < size_t(nu * nu)) m_denseH.resize(size_t(nu * nu));
+  double* H = m_denseH.data();
+  std::fill_n(H, nu * nu, 0.0);
   if (m_denseCols.size() < size_t(bodies * (kDenseDofs + 1)))
     m_denseCols.resize(size_t(bodies * (kDenseDofs + 1)));
-  double mt[6 * kDenseDofs];
+  double* mt = m_denseMT.data();  // M_b T_b
   for (int k = c.begin; k < c.end; ++k) {
     const Node& nd = m_nodes[size_t(k)];
     if (nd.body < 0) continue;
     const int bi = m_denseNodeIndex[size_t(k - c.begin)];
-    double* T = m_denseT.data() + size_t(bi) * 6 * size_t(nu);
-    int* cols = m_denseCols.data() + bi * (kDenseDofs + 1);  // (its count, then its columns)
+    double* T = m_denseT.data() + size_t(bi) * 6 * kStride;
+    int* cols = m_denseCols.data() + bi * (kDenseDofs + 1);
     if (k == c.begin) {
       for (int i = 0; i < 6; ++i) {
-        for (int j = 0; j < 6; ++j) T[i * nu + j] = i == j ? 1 : 0;
+        for (int a = 0; a < 6; ++a) T[i * kStride + a] = i == a ? 1 : 0;
         cols[1 + i] = i;
       }
       cols[0] = 6;
@@ -199,44 +230,51 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
       const Node& jn = m_nodes[size_t(nd.parent)];
       const Row& r = m_rows[size_t(jn.joint)];
       const int pi = m_denseNodeIndex[size_t(jn.parent - c.begin)];
-      const double* P = m_denseT.data() + size_t(pi) * 6 * size_t(nu);
+      const double* P = m_denseT.data() + size_t(pi) * 6 * kStride;
       const int* pcols = m_denseCols.data() + pi * (kDenseDofs + 1);
       // The child's side of the hinge: v_b = v_a + w_a x (r_a - r_b) - q z x r_b, w_b = w_a + q z
       // (b the child); v_a = v_b + w_b x (r_b - r_a) + q z x r_a, w_a = w_b - q z (a the child).
       const bool childIsB = jn.parentIsA;
       const Vec3d z = r.frame.col(2);
       const Vec3d d = childIsB ? Vec3d(r.ra - r.rb) : Vec3d(r.rb - r.ra);
-      for (int a = 1; a <= pcols[0]; ++a) {
-        const int col = pcols[a];
-        const Vec3d w(P[3 * nu + col], P[4 * nu + col], P[5 * nu + col]);
-        const Vec3d v = Vec3d(P[col], P[nu + col], P[2 * nu + col]) + w.cross(d);
-        for (int i = 0; i < 3; ++i) T[i * nu + col] = v[i], T[(3 + i) * nu + col] = w[i];
-        cols[a] = col;
+      const int pm = pcols[0];
+      for (int a = 0; a < pm; ++a) {
+        // v + w x d, the cross product's terms as Eigen's.
+        const double wx = P[3 * kStride + a], wy = P[4 * kStride + a], wz = P[5 * kStride + a];
+        T[a] = P[a] + (wy * d.z() - wz * d.y());
+        T[kStride + a] = P[kStride + a] + (wz * d.x() - wx * d.z());
+        T[2 * kStride + a] = P[2 * kStride + a] + (wx * d.y() - wy * d.x());
+        T[3 * kStride + a] = wx, T[4 * kStride + a] = wy, T[5 * kStride + a] = wz;
       }
-      const int q = m_denseNodeIndex[size_t(nd.parent - c.begin)];
-      cols[0] = pcols[0] + 1;
-      cols[cols[0]] = q;
+      for (int a = 1; a <= pm; ++a) cols[a] = pcols[a];
+      cols[0] = pm + 1;
+      cols[pm + 1] = m_denseNodeIndex[size_t(nd.parent - c.begin)];
       const Vec3d lin = childIsB ? Vec3d(-z.cross(r.rb)) : Vec3d(z.cross(r.ra));
       const Vec3d ang = childIsB ? z : Vec3d(-z);
       // (0.0 + x: as added to a zeroed entry, a -0.0 made +0.0.)
-      for (int i = 0; i < 3; ++i) T[i * nu + q] = 0.0 + lin[i], T[(3 + i) * nu + q] = 0.0 + ang[i];
+      for (int i = 0; i < 3; ++i)
+        T[i * kStride + pm] = 0.0 + lin[i], T[(3 + i) * kStride + pm] = 0.0 + ang[i];
     }
     const Body& b = m_bodies[size_t(nd.body)];
     const double m = 1.0 / b.invMass;
-    for (int a = 1; a <= cols[0]; ++a) {
-      const int col = cols[a];
-      for (int i = 0; i < 3; ++i) mt[i * nu + col] = m * T[i * nu + col];
+    const int cm = cols[0];
+    for (int a = 0; a < cm; ++a) {
+      for (int i = 0; i < 3; ++i) mt[i * kStride + a] = m * T[i * kStride + a];
       for (int i = 0; i < 3; ++i)
-        mt[(3 + i) * nu + col] = b.inertia(i, 0) * T[3 * nu + col] + b.inertia(i, 1) * T[4 * nu + col] +
-                                 b.inertia(i, 2) * T[5 * nu + col];
+        mt[(3 + i) * kStride + a] = b.inertia(i, 0) * T[3 * kStride + a] +
+                                    b.inertia(i, 1) * T[4 * kStride + a] +
+                                    b.inertia(i, 2) * T[5 * kStride + a];
     }
-    for (int a = 1; a <= cols[0]; ++a)
-      for (int b2 = a; b2 <= cols[0]; ++b2) {
-        const int i = cols[a], j = cols[b2];
-        double h = 0;
-        for (int r = 0; r < 6; ++r) h += T[r * nu + i] * mt[r * nu + j];
-        H[i * nu + j] += h;
+    // H's entries (i, j), i <= j, among the body's columns: each sum over the twist's six in
+    // order, four j at a time.
+    for (int a = 0; a < cm; ++a) {
+      double* h = H + cols[1 + a] * nu;
+      for (int b0 = a; b0 < cm; b0 += 4) {
+        Four acc = {{0, 0}, {0, 0}};
+        for (int r = 0; r < 6; ++r) acc += T[r * kStride + a] * load4(mt + r * kStride + b0);
+        for (int q = 0; q < 4 && b0 + q < cm; ++q) h[cols[1 + b0 + q]] += at(acc, q);
       }
+    }
   }
   // Each motor's stiffness on its hinge (the tree's axial row: compliance, or hard at a limit).
   for (int k = c.begin; k < c.end; ++k) {
@@ -270,14 +308,13 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
       if (!side.body->m_originalBody) continue;
       const int node = m_nodeOfBody[size_t(side.index)];
       const int bi = m_denseNodeIndex[size_t(node - c.begin)];
-      const double* T = m_denseT.data() + size_t(bi) * 6 * size_t(nu);
+      const double* T = m_denseT.data() + size_t(bi) * 6 * kStride;
       const int* cols = m_denseCols.data() + bi * (kDenseDofs + 1);
       const double j[6] = {side.n->x(), side.n->y(), side.n->z(), side.rc->x(), side.rc->y(), side.rc->z()};
-      for (int a = 1; a <= cols[0]; ++a) {
-        const int col = cols[a];
-        double s = 0;
-        for (int r = 0; r < 6; ++r) s += j[r] * T[r * nu + col];
-        Y[col * n + i] += s;
+      for (int a0 = 0; a0 < cols[0]; a0 += 4) {
+        Four acc = {{0, 0}, {0, 0}};
+        for (int r = 0; r < 6; ++r) acc += j[r] * load4(T + r * kStride + a0);
+        for (int q = 0; q < 4 && a0 + q < cols[0]; ++q) Y[cols[1 + a0 + q] * n + i] += at(acc, q);
       }
     }
   for (int col = 0; col < nu; ++col) {
@@ -296,15 +333,9 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
   double* op = m_denseA.data();
   for (int i = 0; i < n; ++i) {
     for (int j0 = i; j0 < n; j0 += 4) {
-      double acc[4];
-      const double y0 = Y[i];
-      for (int k = 0; k < 4; ++k) acc[k] = 0.0 + y0 * Y[j0 + k];
-      for (int col = 1; col < nu; ++col) {
-        const double* y = Y + col * n;
-        const double yi = y[i];
-        for (int k = 0; k < 4; ++k) acc[k] += yi * y[j0 + k];
-      }
-      for (int k = 0; k < 4 && j0 + k < n; ++k) op[i * n + j0 + k] = op[(j0 + k) * n + i] = acc[k];
+      Four acc = 0.0 + Y[i] * load4(Y + j0);
+      for (int col = 1; col < nu; ++col) acc += Y[col * n + i] * load4(Y + col * n + j0);
+      for (int k = 0; k < 4 && j0 + k < n; ++k) op[i * n + j0 + k] = op[(j0 + k) * n + i] = at(acc, k);
     }
   }
   return true;

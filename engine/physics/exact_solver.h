@@ -654,7 +654,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<DenseUnit> m_denseUnits;
   std::vector<double> m_denseA, m_denseU0, m_denseVel, m_denseLam, m_denseStart;
   std::vector<double> m_denseRowX;  // per row: target velocity, compliance, 1 / (diagonal + compliance)
-  std::vector<double> m_denseT, m_denseH, m_denseY;  // per body 6 x nu; nu x nu; per coordinate n
+  std::vector<double> m_denseT, m_denseH, m_denseY;  // per body 6 x its columns; nu x nu; per coordinate n
+  std::vector<double> m_denseMT;                     // a body's M_b T_b
   std::vector<int> m_denseNodeIndex;                 // per node of the cluster: body row or hinge column
   std::vector<int> m_denseCols;                      // per body: its count of non-zero columns, then them
   std::vector<int> m_denseSlotStart, m_denseSlotItems, m_denseSlotClusters;

@@ -32,31 +32,52 @@ constexpr int kDenseNodes = 5;   // the smallest tree: two hinges and their thre
 constexpr int kDenseRows = 64;   // the most contact rows an island may have
 constexpr int kDenseRounds = 4;  // operators made again where motors reach their rating
 
-// Four doubles side by side as two SSE2 pairs, for sums taken four entries at a time: each
-// entry's products and sums as one at a time would make them.
+// Four doubles side by side, for sums taken four entries at a time: each entry's products and
+// sums as one at a time would make them. Two SSE2 pairs, or (FourAvx, in denseOperatorAvx) one
+// AVX vector (GCC's vector extension).
 typedef double Two __attribute__((vector_size(16), aligned(8)));
 struct Four {
   Two lo, hi;
+  [[gnu::always_inline]] static Four load(const double* p) {
+    Four v;
+    std::memcpy(&v.lo, p, sizeof v.lo);
+    std::memcpy(&v.hi, p + 2, sizeof v.hi);
+    return v;
+  }
+  [[gnu::always_inline]] static Four zero() {
+    Four f;
+    f.lo = Two{0, 0}, f.hi = Two{0, 0};
+    return f;
+  }
+  [[gnu::always_inline]] friend Four operator*(double s, const Four& v) { return {s * v.lo, s * v.hi}; }
+  [[gnu::always_inline]] friend Four operator+(double s, const Four& v) { return {s + v.lo, s + v.hi}; }
+  [[gnu::always_inline]] Four& operator+=(const Four& b) {
+    lo += b.lo, hi += b.hi;
+    return *this;
+  }
+  [[gnu::always_inline]] double operator[](int q) const { return q < 2 ? lo[q] : hi[q - 2]; }
 };
-inline Four load4(const double* p) {
-  Four v;
-  std::memcpy(&v.lo, p, sizeof v.lo);
-  std::memcpy(&v.hi, p + 2, sizeof v.hi);
-  return v;
-}
-inline Four operator*(double s, const Four& v) {
-  return {s * v.lo, s * v.hi};
-}
-inline Four operator+(double s, const Four& v) {
-  return {s + v.lo, s + v.hi};
-}
-inline Four& operator+=(Four& a, const Four& b) {
-  a.lo += b.lo, a.hi += b.hi;
-  return a;
-}
-inline double at(const Four& v, int q) {
-  return q < 2 ? v.lo[q] : v.hi[q - 2];
-}
+typedef double Quad __attribute__((vector_size(32), aligned(8)));
+struct FourAvx {
+  Quad v;
+  [[gnu::always_inline]] static FourAvx load(const double* p) {
+    FourAvx f;
+    std::memcpy(&f.v, p, sizeof f.v);
+    return f;
+  }
+  [[gnu::always_inline]] static FourAvx zero() {
+    FourAvx f;
+    f.v = Quad{0, 0, 0, 0};
+    return f;
+  }
+  [[gnu::always_inline]] friend FourAvx operator*(double s, const FourAvx& f) { return {s * f.v}; }
+  [[gnu::always_inline]] friend FourAvx operator+(double s, const FourAvx& f) { return {s + f.v}; }
+  [[gnu::always_inline]] FourAvx& operator+=(const FourAvx& b) {
+    v += b.v;
+    return *this;
+  }
+  [[gnu::always_inline]] double operator[](int q) const { return v[q]; }
+};
 
 }  // namespace
 
@@ -193,7 +214,9 @@ int ExactSolver::denseShape(const Cluster& c) {
 
 /// The operator of the contact rows m_denseRows[0, n) on cluster c's tree (of denseShape's form,
 /// nu coordinates) into m_denseA (n x n); false where its mass matrix is not positive definite.
-bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
+/// F: four doubles side by side (Four, or FourAvx inlined into denseOperatorAvx).
+template <class F>
+bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
   using A = ExactJoint::Axial;
   const int bodies = (c.end - c.begin + 1) / 2;  // (a tree of bodies and hinges: one more body)
   // T_b maps the coordinates to body b's twist (linear at its centre, then angular): the root's is
@@ -270,9 +293,9 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
     for (int a = 0; a < cm; ++a) {
       double* h = H + cols[1 + a] * nu;
       for (int b0 = a; b0 < cm; b0 += 4) {
-        Four acc = {{0, 0}, {0, 0}};
-        for (int r = 0; r < 6; ++r) acc += T[r * kStride + a] * load4(mt + r * kStride + b0);
-        for (int q = 0; q < 4 && b0 + q < cm; ++q) h[cols[1 + b0 + q]] += at(acc, q);
+        F acc = F::zero();
+        for (int r = 0; r < 6; ++r) acc += T[r * kStride + a] * F::load(mt + r * kStride + b0);
+        for (int q = 0; q < 4 && b0 + q < cm; ++q) h[cols[1 + b0 + q]] += acc[q];
       }
     }
   }
@@ -312,9 +335,9 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
       const int* cols = m_denseCols.data() + bi * (kDenseDofs + 1);
       const double j[6] = {side.n->x(), side.n->y(), side.n->z(), side.rc->x(), side.rc->y(), side.rc->z()};
       for (int a0 = 0; a0 < cols[0]; a0 += 4) {
-        Four acc = {{0, 0}, {0, 0}};
-        for (int r = 0; r < 6; ++r) acc += j[r] * load4(T + r * kStride + a0);
-        for (int q = 0; q < 4 && a0 + q < cols[0]; ++q) Y[cols[1 + a0 + q] * n + i] += at(acc, q);
+        F acc = F::zero();
+        for (int r = 0; r < 6; ++r) acc += j[r] * F::load(T + r * kStride + a0);
+        for (int q = 0; q < 4 && a0 + q < cols[0]; ++q) Y[cols[1 + a0 + q] * n + i] += acc[q];
       }
     }
   for (int col = 0; col < nu; ++col) {
@@ -333,12 +356,21 @@ bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
   double* op = m_denseA.data();
   for (int i = 0; i < n; ++i) {
     for (int j0 = i; j0 < n; j0 += 4) {
-      Four acc = 0.0 + Y[i] * load4(Y + j0);
-      for (int col = 1; col < nu; ++col) acc += Y[col * n + i] * load4(Y + col * n + j0);
-      for (int k = 0; k < 4 && j0 + k < n; ++k) op[i * n + j0 + k] = op[(j0 + k) * n + i] = at(acc, k);
+      F acc = 0.0 + Y[i] * F::load(Y + j0);
+      for (int col = 1; col < nu; ++col) acc += Y[col * n + i] * F::load(Y + col * n + j0);
+      for (int k = 0; k < 4 && j0 + k < n; ++k) op[i * n + j0 + k] = op[(j0 + k) * n + i] = acc[k];
     }
   }
   return true;
+}
+
+/// denseOperatorOf, by the CPU's widest vectors (the same bits).
+bool ExactSolver::denseOperator(const Cluster& c, int n, int nu) {
+  return m_avx ? denseOperatorAvx(c, n, nu) : denseOperatorOf<Four>(c, n, nu);
+}
+
+bool ExactSolver::denseOperatorAvx(const Cluster& c, int n, int nu) {
+  return denseOperatorOf<FourAvx>(c, n, nu);
 }
 
 /// Up to `sweeps` Gauss-Seidel sweeps on m_denseA from the impulses in m_denseLam (the velocities

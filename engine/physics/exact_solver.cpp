@@ -1811,6 +1811,7 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
                                                    btIDebugDraw* debugDrawer) {
   const btScalar r = btSequentialImpulseConstraintSolver::solveGroupCacheFriendlySetup(
       bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer);
+  m_avx = m_shared->avx;
   m_h = double(info.m_timeStep);
   setupPatches(manifolds, numManifolds);
   if (patches)

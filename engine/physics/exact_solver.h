@@ -170,6 +170,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// Small islands' contacts solved on their own operator (dense_islands.cpp;
   /// PhysicsSettings::denseIslands; batch solvers read the primary's).
   bool denseIslands = true;
+  /// The tree solve's and the dense operator's AVX variants, where the CPU has AVX
+  /// (PhysicsSettings::avx; batch solvers read the primary's); off: their SSE2 ones, the same bits.
+  bool avx = __builtin_cpu_supports("avx");
   /// Islands so far whose contacts were solved on their own operator (dense_islands.cpp).
   long denseIslandCount() const { return m_denseIslands; }
   /// Factors so far that took only the nodes whose rows changed (factor).
@@ -469,7 +472,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void solveUpPlain(int from, int to, const int* order, bool iteration);
   [[gnu::target("avx")]] void solveDownAvx(int from, int to, const int* order, int skip, bool iteration);
   [[gnu::target("avx")]] void solveUpAvx(int from, int to, const int* order, bool iteration);
-  const bool m_avx = __builtin_cpu_supports("avx");
+  bool m_avx = __builtin_cpu_supports("avx");  // the primary's avx, taken at each group's setup
   /// Long trees: the body that splits the tree from `begin` (this substep's newest cluster's
   /// first node) most evenly, and the two halves of a tree rooted there.
   int centroidBody(int begin);
@@ -670,6 +673,9 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   bool denseIsland(Cluster& c, const int* items, int count, int sweeps);
   int denseShape(const Cluster& c);
   bool denseOperator(const Cluster& c, int n, int nu);
+  [[gnu::target("avx")]] bool denseOperatorAvx(const Cluster& c, int n, int nu);
+  template <class F>
+  [[gnu::always_inline]] inline bool denseOperatorOf(const Cluster& c, int n, int nu);
   void denseSweeps(int n, int sweeps);
 };
 

@@ -49,6 +49,9 @@ struct PhysicsSettings {
   /// The exact solver solves the contacts of an island of one small tree on their own operator
   /// (physics/dense_islands.cpp); off: by the sweeps alone (tests and measurements).
   bool denseIslands = true;
+  /// The exact solver's AVX variants where the CPU has AVX; off: the SSE2 ones (tests: the same
+  /// bits either way).
+  bool avx = true;
   /// Every piece of a step that can go to the worker threads goes there, not only where the
   /// clock says it pays (tests: core/pace.h; the bits are the same either way).
   bool alwaysThreads = false;

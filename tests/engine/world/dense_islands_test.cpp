@@ -95,3 +95,30 @@ TEST_CASE("exact solver: a small island's contacts on their own operator, the sa
   const Run swept = run(15, false, 1, 1.0);
   CHECK(largestMove(one, swept) > 1e-4);
 }
+
+TEST_CASE(
+    "exact solver: the tree solve's and the dense operator's SSE2 and AVX variants give the same bits") {
+  auto runWith = [](bool avx) {
+    RunOptions o = rm3d::test::options();
+    o.avx = avx;
+    auto w = rm3d::test::makeWorld(world(15), o);
+    rm3d::test::stepFor(*w, 1.0);
+    CHECK(w->faultCount() == 0);
+    Run r;
+    rm3d::test::collectPoses(*w, r.links, r.angles);
+    r.dense = w->physicsConst().denseIslands();
+    r.steps = long(w->steps());
+    return r;
+  };
+  if (!__builtin_cpu_supports("avx")) MESSAGE("this CPU has no AVX: both runs take the SSE2 variants");
+  const Run sse2 = runWith(false), avx = runWith(true);
+  CHECK(sse2.dense == 4 * sse2.steps);
+  REQUIRE(sse2.links.size() == avx.links.size());
+  for (size_t i = 0; i < sse2.links.size(); ++i) {
+    CHECK(avx.links[i].pos == sse2.links[i].pos);
+    CHECK(avx.links[i].rot.coeffs() == sse2.links[i].rot.coeffs());
+  }
+  for (size_t i = 0; i < sse2.angles.size(); ++i) CHECK(avx.angles[i] == sse2.angles[i]);
+  // (And the runs moved: a SuperBot crawled.)
+  CHECK(largestMove(sse2, run(15, true, 1, 0.0)) > 1e-3);
+}

@@ -36,9 +36,10 @@ struct Run {
   long dense = 0, steps = 0;
 };
 
-Run run(int iterations, bool dense, int threads, double seconds) {
+Run run(int iterations, bool dense, int threads, double seconds, bool avx = true) {
   RunOptions o = rm3d::test::options();
   o.denseIslands = dense;
+  o.avx = avx;
   o.threads = threads;
   o.alwaysThreads = threads > 1;
   auto w = rm3d::test::makeWorld(world(iterations), o);
@@ -58,6 +59,17 @@ double largestMove(const Run& a, const Run& b, size_t from = 0, size_t to = 0) {
   double d = 0;
   for (size_t i = from; i < to; ++i) d = std::max(d, (a.links[i].pos - b.links[i].pos).norm());
   return d;
+}
+
+/// Every link's pose and every joint's angle the same bits in both runs.
+void checkSameBits(const Run& a, const Run& b) {
+  REQUIRE(a.links.size() == b.links.size());
+  for (size_t i = 0; i < a.links.size(); ++i) {
+    CHECK(b.links[i].pos == a.links[i].pos);
+    CHECK(b.links[i].rot.coeffs() == a.links[i].rot.coeffs());
+  }
+  REQUIRE(a.angles.size() == b.angles.size());
+  for (size_t i = 0; i < a.angles.size(); ++i) CHECK(b.angles[i] == a.angles[i]);
 }
 
 }  // namespace
@@ -85,12 +97,7 @@ TEST_CASE("exact solver: a small island's contacts on their own operator, the sa
   const Run one = run(15, true, 1, 1.0), two = run(15, true, 2, 1.0);
   CHECK(one.dense == 4 * one.steps);
   CHECK(two.dense == one.dense);
-  REQUIRE(one.links.size() == two.links.size());
-  for (size_t i = 0; i < one.links.size(); ++i) {
-    CHECK(two.links[i].pos == one.links[i].pos);
-    CHECK(two.links[i].rot.coeffs() == one.links[i].rot.coeffs());
-  }
-  for (size_t i = 0; i < one.angles.size(); ++i) CHECK(two.angles[i] == one.angles[i]);
+  checkSameBits(one, two);
   // And at the defaults the operator's result differs from the sweeps' (it is in use).
   const Run swept = run(15, false, 1, 1.0);
   CHECK(largestMove(one, swept) > 1e-4);
@@ -98,27 +105,10 @@ TEST_CASE("exact solver: a small island's contacts on their own operator, the sa
 
 TEST_CASE(
     "exact solver: the tree solve's and the dense operator's SSE2 and AVX variants give the same bits") {
-  auto runWith = [](bool avx) {
-    RunOptions o = rm3d::test::options();
-    o.avx = avx;
-    auto w = rm3d::test::makeWorld(world(15), o);
-    rm3d::test::stepFor(*w, 1.0);
-    CHECK(w->faultCount() == 0);
-    Run r;
-    rm3d::test::collectPoses(*w, r.links, r.angles);
-    r.dense = w->physicsConst().denseIslands();
-    r.steps = long(w->steps());
-    return r;
-  };
   if (!__builtin_cpu_supports("avx")) MESSAGE("this CPU has no AVX: both runs take the SSE2 variants");
-  const Run sse2 = runWith(false), avx = runWith(true);
+  const Run sse2 = run(15, true, 1, 1.0, false), avx = run(15, true, 1, 1.0);
   CHECK(sse2.dense == 4 * sse2.steps);
-  REQUIRE(sse2.links.size() == avx.links.size());
-  for (size_t i = 0; i < sse2.links.size(); ++i) {
-    CHECK(avx.links[i].pos == sse2.links[i].pos);
-    CHECK(avx.links[i].rot.coeffs() == sse2.links[i].rot.coeffs());
-  }
-  for (size_t i = 0; i < sse2.angles.size(); ++i) CHECK(avx.angles[i] == sse2.angles[i]);
+  checkSameBits(sse2, avx);
   // (And the runs moved: a SuperBot crawled.)
   CHECK(largestMove(sse2, run(15, true, 1, 0.0)) > 1e-3);
 }

@@ -422,7 +422,7 @@ void ExactSolver::denseSweeps(int n, int sweeps) {
       const auto [normalSum, twistArm] = load;
       // A pair, each row then the other, then both scaled back to their circle, and after the
       // tangent pair the patch's twist, clamped. The velocities are changed in one pass for the
-      // unit's rows, each taking the rows' changes in the order a pass a change would (the same
+      // unit's rows, each taking the rows' changes in the order one pass a change would (the same
       // sums); a row's target reads its own velocity with the changes before it added.
       const double bound = (u.kind == DenseUnit::Tangent ? pr.mu : pr.rolling) * normalSum;
       const double before1 = lam[r + 1];
@@ -449,7 +449,7 @@ void ExactSolver::denseSweeps(int n, int sweeps) {
       m_denseRows[size_t(r)].c->m_appliedImpulse = btScalar(a);
       m_denseRows[size_t(r + 1)].c->m_appliedImpulse = btScalar(b);
       largest = std::max(largest, e0 * e0 + e1 * e1);
-      auto pairChange = [&](int j) {
+      auto afterPair = [&](int j) {  // (row j's velocity with the pair's changes)
         const double v = vel[j] + col0[j] * d0 + col1[j] * d1;
         return scaled ? v + col0[j] * d2 + col1[j] * d3 : v;
       };
@@ -465,8 +465,8 @@ void ExactSolver::denseSweeps(int n, int sweeps) {
       const double before2 = lam[r + 2];
       const double* col2 = A + size_t((r + 2) * n);
       const double* x2 = rx + 3 * (r + 2);
-      const double t = std::clamp(before2 + (x2[0] - x2[1] * before2 - pairChange(r + 2)) * x2[2],
-                                  -twistBound, twistBound);
+      const double t =
+          std::clamp(before2 + (x2[0] - x2[1] * before2 - afterPair(r + 2)) * x2[2], -twistBound, twistBound);
       const double e2 = t - before2;
       lam[r + 2] = t;
       m_denseRows[size_t(r + 2)].c->m_appliedImpulse = btScalar(t);

@@ -453,6 +453,8 @@ void ExactSolver::denseSweeps(int n, int sweeps) {
         const double v = vel[j] + col0[j] * d0 + col1[j] * d1;
         return scaled ? v + col0[j] * d2 + col1[j] * d3 : v;
       };
+      // (The passes below written out for each case: one loop over afterPair, the scaling's test
+      // inside it, made the sweeps 4 to 9% slower.)
       if (u.kind == DenseUnit::Rolling) {
         if (scaled)
           for (int j = 0; j < n; ++j)

@@ -35,6 +35,8 @@ std::string mismatch() {
     check(readAt<int>(&a, kActivation) == state, "kActivation: the activation state",
           readAt<int>(&a, kActivation));
   }
+  a.setUserIndex(2468);
+  check(readAt<int>(&a, kUserIndex) == 2468, "kUserIndex: the user index", readAt<int>(&a, kUserIndex));
   a.setCompanionId(4321);
   check(readAt<int>(&a, kCompanionId) == 4321, "kCompanionId: the companion id",
         readAt<int>(&a, kCompanionId));

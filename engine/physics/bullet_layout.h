@@ -17,6 +17,7 @@ constexpr int kIslandTag = 228;     ///< m_islandTag1
 constexpr int kCompanionId = 232;   ///< m_companionId (a body's solver body, in a solver group)
 constexpr int kActivation = 240;    ///< m_activationState1
 constexpr int kInternalType = 272;  ///< m_internalType
+constexpr int kUserIndex = 292;     ///< m_userIndex
 constexpr int kCollideWith = 312;   ///< m_checkCollideWith
 // btRigidBody.
 constexpr int kVelocities = 420;      ///< m_linearVelocity, then m_angularVelocity

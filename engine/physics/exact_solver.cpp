@@ -328,16 +328,24 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     return m_sidToBody[size_t(sid)];
   };
   const int firstBody = int(m_bodies.size());
-  // The joints and their bodies lie all over memory (made module by module): what bodyOf reads
-  // of a joint's bodies is fetched a few joints ahead, and the joint itself twice as far ahead.
+  // The joints and their bodies lie all over memory (made module by module), and Bullet lists an
+  // island's constraints in no particular order: each is fetched three steps ahead (the link
+  // three times kFetchAhead constraints ahead, its joint and row twice, what bodyOf reads of
+  // the joint's bodies once), each step reading only what the one before fetched.
   auto exact = [](const btTypedConstraint* c) {
     return c->getUserConstraintType() == ExactLink::kType && c->isEnabled();
   };
   for (int i = 0; i < numConstraints; ++i) {
-    if (i + 2 * kFetchAhead < numConstraints) {
-      const btTypedConstraint* ahead = constraints[i + 2 * kFetchAhead];
+    if (i + 3 * kFetchAhead < numConstraints) {
+      const btTypedConstraint* ahead = constraints[i + 3 * kFetchAhead];
       __builtin_prefetch(ahead);
       __builtin_prefetch(reinterpret_cast<const char*>(ahead) + sizeof(ExactLink) - 1);
+    }
+    if (i + 2 * kFetchAhead < numConstraints && exact(constraints[i + 2 * kFetchAhead])) {
+      const int ahead = static_cast<ExactLink*>(constraints[i + 2 * kFetchAhead])->index();
+      __builtin_prefetch(&m_shared->joints[size_t(ahead)].a);
+      __builtin_prefetch(&m_shared->joints[size_t(ahead)].b);
+      __builtin_prefetch(&m_rows[size_t(ahead)].na, 1);
     }
     if (i + kFetchAhead < numConstraints && exact(constraints[i + kFetchAhead])) {
       const ExactJoint& e =
@@ -559,7 +567,16 @@ void ExactSolver::buildGroups(int firstBody, bool planned) {
       i = m_groupParent[size_t(i)] = m_groupParent[size_t(m_groupParent[size_t(i)])];
     return i;
   };
-  for (int j : m_groupJoints) {
+  // (Each joint's row and state fetched a few joints ahead: a long chain's lie outside the caches.)
+  const int joints = int(m_groupJoints.size());
+  for (int q = 0; q < joints; ++q) {
+    if (q + kFetchAhead < joints) {
+      const int ahead = m_groupJoints[size_t(q + kFetchAhead)];
+      __builtin_prefetch(&m_rows[size_t(ahead)].na);
+      __builtin_prefetch(&m_shared->joints[size_t(ahead)].motorOn);
+      __builtin_prefetch(&m_shared->joints[size_t(ahead)].state);
+    }
+    const int j = m_groupJoints[size_t(q)];
     const ExactJoint& e = m_shared->joints[size_t(j)];
     const Row& r = m_rows[size_t(j)];
     if (r.na < 0 || r.nb < 0 || !e.motorOn || e.state == A::Fixed) continue;
@@ -1734,6 +1751,16 @@ void ExactSolver::convertContacts(btPersistentManifold** manifolds, int numManif
   // spinning rows (addTorsionalFrictionConstraint: never swept here).
   const bool twoDirections = info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS;
   for (int i = 0; i < numManifolds; ++i) {
+    // With many modules the manifolds have left the caches since the narrowphase: the bodies and
+    // count of the one 4 ahead, the points and bodies of the one 2 ahead, fetched now.
+    if (i + 4 < numManifolds) bullet_layout::fetch(manifolds[i + 4], bullet_layout::kManifoldBodies);
+    if (i + 2 < numManifolds) {
+      const btPersistentManifold* ahead = manifolds[i + 2];
+      bullet_layout::fetch(ahead->getBody0(), bullet_layout::kCompanionId);
+      bullet_layout::fetch(ahead->getBody1(), bullet_layout::kCompanionId);
+      for (int k = 0; k < ahead->getNumContacts(); ++k)
+        bullet_layout::fetchRange(&ahead->getContactPoint(k), 0, int(sizeof(btManifoldPoint)));
+    }
     btPersistentManifold* manifold = manifolds[i];
     auto* colObj0 = const_cast<btCollisionObject*>(manifold->getBody0());
     auto* colObj1 = const_cast<btCollisionObject*>(manifold->getBody1());
@@ -1851,12 +1878,19 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
     });
   } else {
     // (Each joint's row, about 13 lines that have left the caches since the last substep with
-    // many modules, fetched a few joints ahead: setupJoint writes every one.)
+    // many modules, fetched a few joints ahead: setupJoint writes every one. Its joint (6 lines)
+    // twice as far ahead, and the poses of the joint's bodies as far as the row.)
     const int n = int(m_groupJoints.size());
     for (int i = 0; i < n; ++i) {
-      if (i + kFetchAhead < n)
-        bullet_layout::fetchRange(&m_rows[size_t(m_groupJoints[size_t(i + kFetchAhead)])], 0,
-                                  int(sizeof(Row)));
+      if (i + 2 * kFetchAhead < n)
+        bullet_layout::fetchRange(&m_shared->joints[size_t(m_groupJoints[size_t(i + 2 * kFetchAhead)])], 0,
+                                  int(sizeof(ExactJoint)));
+      if (i + kFetchAhead < n) {
+        const int j = m_groupJoints[size_t(i + kFetchAhead)];
+        bullet_layout::fetchRange(&m_rows[size_t(j)], 0, int(sizeof(Row)));
+        bullet_layout::fetchPose(m_shared->joints[size_t(j)].a);
+        bullet_layout::fetchPose(m_shared->joints[size_t(j)].b);
+      }
       setupJoint(m_groupJoints[size_t(i)], m_h);
     }
   }

@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <array>
 
+#include "physics/bullet_layout.h"
+
 namespace rm3d {
 
 namespace {
@@ -100,6 +102,9 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
   void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                         const btDispatcherInfo& info, btManifoldResult* result) override {
     if (!m_manifold) return;
+    // The manifold's points, which its refresh below reads and writes, fetched while the hull's
+    // vertices are measured (with many modules they have left the caches since the last step).
+    bullet_layout::fetchRange(m_manifold, 0, bullet_layout::kManifoldCount + 4);
     const btCollisionObjectWrapper* hullWrap = m_swapped ? body1 : body0;
     const btCollisionObjectWrapper* planeWrap = m_swapped ? body0 : body1;
     const auto* shape = static_cast<const btPolyhedralConvexShape*>(hullWrap->getCollisionShape());

@@ -406,7 +406,8 @@ void SolverWorld::updateAabbs() {
     if (i + 16 < n) fetchRange(m_collisionObjects[i + 16], 0, kActivation + 4);
     if (i + 8 < n) {
       const btCollisionObject* ahead = m_collisionObjects[i + 8];
-      fetch(ahead->getBroadphaseHandle(), 0);
+      // (A tree's proxy: its box, then its leaf and stage links on the next line.)
+      fetchRange(ahead->getBroadphaseHandle(), 0, dbvt ? int(sizeof(btDbvtProxy)) : 1);
       fetch(ahead->getCollisionShape(), 0);
       fetch(ahead->getCollisionShape(), 64);
     }

@@ -354,11 +354,16 @@ bool Behaviour::act(const double* a, int n, std::string& err) {
   return m_vm.protect(callAct, &c, 0, err, "act()");
 }
 
-void Behaviour::fetchState(bool deep) const {
-  if (!deep) {  // the step function's reference, and the Lua state's address; what step() reads
+void Behaviour::fetchState(int stage) const {
+  if (stage == 2) {  // the list of what step() reads, the step function's reference, the state's address
+    const char* hot = reinterpret_cast<const char*>(m_hot.data());
+    for (size_t at = 0; at < m_hot.size() * sizeof(const void*); at += 64) __builtin_prefetch(hot + at);
     __builtin_prefetch(&m_ctx.stepRef);
     __builtin_prefetch(m_vm.stateSlot());
-    for (const void* p : m_hot) __builtin_prefetch(p);
+    return;
+  }
+  if (stage == 1) {  // what step() reads (into the second-level cache: tens of lines at once)
+    for (const void* p : m_hot) __builtin_prefetch(p, 0, 2);
     return;
   }
   // The Lua state's first lines (its stack top, global state and call info).

@@ -42,7 +42,7 @@ class Behaviour : public ModuleProgram {
   /// succeeds, makes its definitions current (globals such as `state` survive) and calls
   /// on_reload(). On failure (syntax or run-time error) nothing changes; err has file:line.
   bool reload(const std::string& path, const std::string& source, std::string& err) override;
-  void fetchState(bool deep) const override;
+  void fetchState(int stage) const override;
   void noteHotLines() override;
   LuaVm& vm() { return m_vm; }
   /// module.__describe() (what the percept machinery declares), or "" / "(error)".
@@ -53,6 +53,9 @@ class Behaviour : public ModuleProgram {
   bool act(const double* a, int n, std::string& err) override;
 
  private:
+  /// The lines step() read when last noted (script/lua_layout.h), fetched two modules ahead.
+  /// (First of the fields: on the object's first line, with the table of virtual functions.)
+  std::vector<const void*> m_hot;
   bool refreshCallbacks(std::string& err);
   void installLazyPrelude();
   /// Loads the percept machinery and checks `percepts`/`actions` if the behaviour declares any.
@@ -61,8 +64,6 @@ class Behaviour : public ModuleProgram {
   LuaVm m_vm;
   BehaviourContext m_ctx;
   std::string m_file;  ///< the behaviour file as messages show it
-  /// The lines step() read when last noted (script/lua_layout.h), fetched two modules ahead.
-  std::vector<const void*> m_hot;
 };
 
 }  // namespace rm3d

@@ -51,9 +51,11 @@ class ModuleProgram {
   /// act(a) with the module's action row. False and err on an error.
   virtual bool act(const double* a, int n, std::string& err) { return true; }
   /// Starts fetching the state that step() will read into the caches, with thousands of modules
-  /// cold since the module's last step: the world calls it two modules ahead (the program's own
-  /// fields), then one ahead with `deep` (what those fields point to). No effect on any result.
-  virtual void fetchState(bool deep) const {}
+  /// cold since the module's last step: the world calls it three modules ahead (stage 2), two
+  /// ahead (stage 1) and one ahead (stage 0), each stage reading only what the one before fetched
+  /// (stage 2 only the program's first line, which the world fetched four ahead). No effect on
+  /// any result.
+  virtual void fetchState(int stage) const {}
   /// Notes what fetchState() fetches beyond the program's own fields (the world calls it between
   /// steps, on one thread, now and then: what a program reads moves as its state grows). No
   /// effect on any result.

@@ -497,16 +497,18 @@ bool World::finished() const {
 
 void World::runBehaviour(int i) {
   // With thousands of modules, each one's record and program have left the caches since its
-  // last step: the record and the program of the module 3 ahead, then what its program reads
-  // (ModuleProgram::fetchState), fetched now.
+  // last step: the program of the module 4 ahead, the record of the one 3 ahead, then in stages
+  // what their programs read (ModuleProgram::fetchState), fetched now.
   const size_t n = m_behaviours.size();
+  if (size_t(i + 4) < n)
+    if (const ModuleProgram* ahead = m_behaviours[size_t(i + 4)].get()) __builtin_prefetch(ahead);
   if (size_t(i + 3) < n) {
-    if (const ModuleProgram* ahead = m_behaviours[size_t(i + 3)].get()) __builtin_prefetch(ahead);
     const char* record = reinterpret_cast<const char*>(&m_modules[size_t(i + 3)]);
     for (size_t at = 0; at < sizeof(Module); at += 64) __builtin_prefetch(record + at);
   }
-  if (size_t(i + 2) < n && m_behaviours[size_t(i + 2)]) m_behaviours[size_t(i + 2)]->fetchState(false);
-  if (size_t(i + 1) < n && m_behaviours[size_t(i + 1)]) m_behaviours[size_t(i + 1)]->fetchState(true);
+  for (int stage = 2; stage >= 0; --stage)
+    if (size_t(i + 1 + stage) < n && m_behaviours[size_t(i + 1 + stage)])
+      m_behaviours[size_t(i + 1 + stage)]->fetchState(stage);
   ModuleProgram* b = m_behaviours[size_t(i)].get();
   if (!b) {
     m_modules[size_t(i)].dockEvents.clear();

@@ -1341,6 +1341,12 @@ void PhysicsWorld::step(double dt, int substeps) {
   for (int s = 0; s < n; ++s) {
     // Each hinge's motor (each writes only its own joint), the step's sums cleared first.
     m->world.forEachIndex(m->motorPace, hinges, 64, [&](int i) {
+      // (With many modules the hinge 4 ahead and its joint, which the motor writes, have left the
+      // caches since the last step.)
+      if (i + 4 < hinges) {
+        bullet_layout::fetchRange(&m->hinges[size_t(i + 4)], 0, int(sizeof(Impl::Hinge)));
+        if (exact) bullet_layout::fetchRange(&m->solver.joints[size_t(i + 4)], 0, int(sizeof(ExactJoint)));
+      }
       Impl::Hinge& hg = m->hinges[size_t(i)];
       if (s == 0) {
         hg.torque = 0;
@@ -1381,8 +1387,10 @@ void PhysicsWorld::step(double dt, int substeps) {
     }
     // Each hinge's load and angle (each hinge writes only its own).
     m->world.forEachIndex(m->anglePace, hinges, 64, [&](int i) {
-      // The bodies' poses of the hinge 4 ahead fetched now: with many modules they have left the
-      // caches since the integration.
+      // The bodies' poses of the hinge 4 ahead fetched now, and its joint 8 ahead: with many
+      // modules they have left the caches since the integration and the solve.
+      if (exact && i + 8 < hinges)
+        bullet_layout::fetchRange(&m->solver.joints[size_t(i + 8)], 0, int(sizeof(ExactJoint)));
       if (exact && i + 4 < hinges && m->hinges[size_t(i + 4)].link) {
         const ExactJoint& f = m->solver.joints[size_t(i + 4)];
         bullet_layout::fetchPose(f.a);

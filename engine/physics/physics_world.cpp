@@ -1343,10 +1343,11 @@ void PhysicsWorld::step(double dt, int substeps) {
     m->world.forEachIndex(m->motorPace, hinges, 64, [&](int i) {
       // (With many modules the hinge 4 ahead and its joint, which the motor writes, have left the
       // caches since the last step.)
-      if (i + 4 < hinges) {
-        bullet_layout::fetchRange(&m->hinges[size_t(i + 4)], 0, int(sizeof(Impl::Hinge)));
-        if (exact) bullet_layout::fetchRange(&m->solver.joints[size_t(i + 4)], 0, int(sizeof(ExactJoint)));
-      }
+      // (The joints are as many as the hinges up to the last one made a link: frozen hinges
+      // after it have none.)
+      if (i + 4 < hinges) bullet_layout::fetchRange(&m->hinges[size_t(i + 4)], 0, int(sizeof(Impl::Hinge)));
+      if (exact && size_t(i + 4) < m->solver.joints.size())
+        bullet_layout::fetchRange(&m->solver.joints[size_t(i + 4)], 0, int(sizeof(ExactJoint)));
       Impl::Hinge& hg = m->hinges[size_t(i)];
       if (s == 0) {
         hg.torque = 0;
@@ -1389,7 +1390,7 @@ void PhysicsWorld::step(double dt, int substeps) {
     m->world.forEachIndex(m->anglePace, hinges, 64, [&](int i) {
       // The bodies' poses of the hinge 4 ahead fetched now, and its joint 8 ahead: with many
       // modules they have left the caches since the integration and the solve.
-      if (exact && i + 8 < hinges)
+      if (exact && size_t(i + 8) < m->solver.joints.size())
         bullet_layout::fetchRange(&m->solver.joints[size_t(i + 8)], 0, int(sizeof(ExactJoint)));
       if (exact && i + 4 < hinges && m->hinges[size_t(i + 4)].link) {
         const ExactJoint& f = m->solver.joints[size_t(i + 4)];

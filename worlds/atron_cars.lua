@@ -27,11 +27,12 @@
 --   speeds   wheels at 1 rad/s, 0.039 m/s each (see worlds/atron_car.lua): the cars close at
 --            0.078 m/s, 1.3 mm a step, so the faces step into the 4 mm latch distance (4.3 mm,
 --            then 2.9 mm; the hulls would touch at about 2.8 mm) and latch in the next step, at
---            full speed. Coupled, each hitch connection carries up to about 43 N and 1.9 N m
---            (dock strength 100 N, 10 N m).
+--            full speed. Each hitch connection peaks as it latches, up to about 58 N and 6.2 N m
+--            (dock strength 100 N, 10 N m); at 10 substeps x 100 iterations the meeting's impact
+--            breaks the hitch (docs/benchmarks.md, "Larger trees on their own operator").
 --
--- Timeline with the defaults: coupled at t = 1.87 s, released at 4.92 s, and by t = 9 s the tug is
--- 0.157 m further from the car than at the release (the car has not moved).
+-- Timeline with the defaults: coupled at t = 2.00 s, released at 5.05 s, and by t = 9 s the tug is
+-- 0.154 m further from the car than at the release (the car has not moved).
 -- The checks: separate cars at the start; one component while coupled, joined through at least one
 -- connection made at run time between a tug module and a car module, and moving as one (both
 -- fronts +x by the same distance); two components again after the release, the same two cars; the

@@ -29,7 +29,9 @@
 --            then 2.9 mm; the hulls would touch at about 2.8 mm) and latch in the next step, at
 --            full speed. Each hitch connection peaks as it latches, up to about 58 N and 6.2 N m
 --            (dock strength 100 N, 10 N m); at 10 substeps x 100 iterations the meeting's impact
---            breaks the hitch (docs/benchmarks.md, "Larger trees on their own operator").
+--            breaks the hitch, and met slowly the joined vehicle's eight speed-driven wheels,
+--            fighting through its frame, break it 0.6 s after coupling (docs/benchmarks.md,
+--            "Larger trees on their own operator").
 --
 -- Timeline with the defaults: coupled at t = 2.00 s, released at 5.05 s, and by t = 9 s the tug is
 -- 0.154 m further from the car than at the release (the car has not moved).

@@ -149,7 +149,7 @@ int replayViewer(const Recording& rec, const SceneLayout::CameraDef& camera, int
   glfwMakeContextCurrent(window);
   glfwSwapInterval(1);
   SceneRenderer scene;
-  if (!scene.init(glfwProc, err)) {
+  if (!scene.init([](const char* name) { return glfwProc(name); }, err)) {
     std::fprintf(stderr, "rm3d replay: cannot draw in the window: %s\n", err.c_str());
     glfwDestroyWindow(window);
     glfwTerminate();

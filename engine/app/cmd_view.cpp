@@ -673,7 +673,7 @@ int Viewer::run(GLFWwindow* window) {
   glfwMakeContextCurrent(window);
   glfwSwapInterval(1);
   std::string err;
-  if (!m_scene.init(glfwProc, err)) {
+  if (!m_scene.init([](const char* name) { return glfwProc(name); }, err)) {
     std::fprintf(stderr, "rm3d view: cannot draw in the window: %s\n", err.c_str());
     return 2;
   }

@@ -1,8 +1,16 @@
 // OSMesa implementation of OffscreenRenderer: an OSMesa context whose default framebuffer is a
 // memory buffer, drawn into by the shared SceneRenderer and read back top row first.
+//
+// libOSMesa is opened when a renderer is first made, not linked: it brings in LLVM (llvmpipe),
+// whose loading and relocation cost every process about 55 ms before main on the development
+// machine, a headless `rm3d run` (most of a sweep's runs) or `import rm3d` included. Only the
+// four OSMesa entry points are looked up here; the GL ones come through OSMesaGetProcAddress as
+// before. Opened RTLD_LOCAL (its gl* symbols stay out of the process's namespace) and never
+// closed (a Mesa with LLVM inside is not made to be unloaded).
 #include "render/offscreen_renderer.h"
 
 #include <GL/osmesa.h>
+#include <dlfcn.h>
 
 #include "render/scene_renderer.h"
 
@@ -10,13 +18,48 @@ namespace rm3d {
 
 namespace {
 
-void* osmesaProc(const char* name) {
-  return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
-}
+/// The OSMesa entry points the renderer calls, from the library opened at run time.
+struct OsMesa {
+  decltype(&::OSMesaCreateContextAttribs) createContextAttribs = nullptr;
+  decltype(&::OSMesaMakeCurrent) makeCurrent = nullptr;
+  decltype(&::OSMesaDestroyContext) destroyContext = nullptr;
+  decltype(&::OSMesaGetProcAddress) getProcAddress = nullptr;
+
+  /// Opens the library (Debian's soname first) and looks the entry points up; false and why.
+  bool open(std::string& err) {
+    void* lib = nullptr;
+    std::string why;
+    for (const char* name : {"libOSMesa.so.8", "libOSMesa.so"}) {
+      lib = dlopen(name, RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+      if (lib) break;
+      const char* e = dlerror();
+      if (why.empty() && e) why = e;
+    }
+    if (!lib) {
+      err = "offscreen renderer: cannot load libOSMesa.so.8 (" + why +
+            "); it comes with Debian's libosmesa6 package";
+      return false;
+    }
+    bool found = true;
+    auto fetch = [&](auto& fn, const char* name) {
+      fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(dlsym(lib, name));
+      if (!fn && found) {
+        found = false;
+        err = std::string("offscreen renderer: libOSMesa has no ") + name;
+      }
+    };
+    fetch(createContextAttribs, "OSMesaCreateContextAttribs");
+    fetch(makeCurrent, "OSMesaMakeCurrent");
+    fetch(destroyContext, "OSMesaDestroyContext");
+    fetch(getProcAddress, "OSMesaGetProcAddress");
+    return found;
+  }
+};
 
 }  // namespace
 
 struct OffscreenRenderer::Impl {
+  OsMesa os;
   OSMesaContext ctx = nullptr;
   int width = 0, height = 0;
   std::vector<uint8_t> osBuffer;  // OSMesa's default framebuffer (bottom row first)
@@ -26,12 +69,12 @@ struct OffscreenRenderer::Impl {
   ~Impl() {
     if (!ctx) return;
     if (scene.ready() && makeCurrent()) scene.release();
-    OSMesaMakeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0);
-    OSMesaDestroyContext(ctx);
+    os.makeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0);
+    os.destroyContext(ctx);
   }
 
   // Contexts are per thread-current, and several renderers may take turns.
-  bool makeCurrent() { return OSMesaMakeCurrent(ctx, osBuffer.data(), GL_UNSIGNED_BYTE, width, height); }
+  bool makeCurrent() { return os.makeCurrent(ctx, osBuffer.data(), GL_UNSIGNED_BYTE, width, height); }
 };
 
 OffscreenRenderer::OffscreenRenderer() : m_impl(std::make_unique<Impl>()) {}
@@ -44,6 +87,7 @@ bool OffscreenRenderer::init(int width, int height, std::string& err) {
     err = "offscreen renderer: invalid size " + std::to_string(width) + "x" + std::to_string(height);
     return false;
   }
+  if (!r.os.open(err)) return false;
   // clang-format off
   const int core[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_STENCIL_BITS, 0,
                       OSMESA_PROFILE, OSMESA_CORE_PROFILE,
@@ -51,8 +95,8 @@ bool OffscreenRenderer::init(int width, int height, std::string& err) {
   const int compat[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
                         OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0};
   // clang-format on
-  r.ctx = OSMesaCreateContextAttribs(core, nullptr);
-  if (!r.ctx) r.ctx = OSMesaCreateContextAttribs(compat, nullptr);
+  r.ctx = r.os.createContextAttribs(core, nullptr);
+  if (!r.ctx) r.ctx = r.os.createContextAttribs(compat, nullptr);
   if (!r.ctx) {
     err = "offscreen renderer: OSMesa refused both core 3.3 and compatibility contexts";
     return false;
@@ -65,7 +109,8 @@ bool OffscreenRenderer::init(int width, int height, std::string& err) {
     err = "offscreen renderer: OSMesaMakeCurrent failed";
     return false;
   }
-  if (!r.scene.init(osmesaProc, err)) {
+  auto proc = [&r](const char* name) { return reinterpret_cast<void*>(r.os.getProcAddress(name)); };
+  if (!r.scene.init(proc, err)) {
     err = "offscreen renderer: " + err;
     return false;
   }

@@ -10,12 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "core/function_ref.h"
 #include "io/snapshot.h"
 
 namespace rm3d {
 
 /// Returns the address of an OpenGL function by name ("glClear"), or null.
-using GlGetProc = void* (*)(const char* name);
+using GlGetProc = FunctionRef<void*(const char* name)>;
 
 class SceneRenderer {
  public:

@@ -1,13 +1,19 @@
 // assimp-backed mesh loading: triangulate, join identical vertices, flatten the node tree
-// (applying node transforms) and merge all meshes into one MeshData.
+// (applying node transforms) and merge all meshes into one MeshData. Plain OBJ files (the
+// project's own meshes) are read here instead, to the same bits (readPlainObj).
 #include "assets/mesh_loader.h"
 
+#include <assimp/fast_atof.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <string_view>
 
 #include "core/text_file.h"
 
@@ -48,10 +54,20 @@ void collectNode(const aiScene* scene, const aiNode* node, const aiMatrix4x4& pa
   for (unsigned c = 0; c < node->mNumChildren; ++c) collectNode(scene, node->mChildren[c], world, scale, out);
 }
 
-}  // namespace
+/// What assimp's number reader throws here (its own exception type's constructor is not exported
+/// by Debian's libassimp): not a number, to be left to assimp.
+struct NotANumber {
+  template <class... Args>
+  explicit NotANumber(Args&&...) {}
+};
 
-bool loadMesh(const std::string& path, double scale, MeshData& out, std::string& err) {
-  out = MeshData{};
+bool isObjPath(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".obj";
+}
+
+bool checkPath(const std::string& path, double scale, std::string& err) {
   if (!std::isfinite(scale) || scale <= 0) {
     err = path + ": bad scale " + std::to_string(scale) + " (expected a positive number)";
     return false;
@@ -65,6 +81,126 @@ bool loadMesh(const std::string& path, double scale, MeshData& out, std::string&
     err = path + ": not a regular file";
     return false;
   }
+  return true;
+}
+
+}  // namespace
+
+bool readPlainObj(const std::string& text, double scale, MeshData& out) {
+  out = MeshData{};
+  // What assimp's OBJ reader with Triangulate and JoinIdenticalVertices, then collectNode above,
+  // make of such a file: one mesh under identity nodes, its face corners' positions joined, each
+  // point kept where a face first uses it. Numbers are read by assimp's own reader
+  // (fast_atoreal_move into ai_real, commas as decimal points), so they are the same bits.
+  std::vector<aiVector3D> vertices;
+  std::vector<uint32_t> corners;  // file vertex indices from 0, three a face
+  bool named = false;
+  char word[64];
+  const char* p = text.data();
+  const char* const end = p + text.size();
+  while (p < end) {
+    const char* eol = static_cast<const char*>(std::memchr(p, '\n', size_t(end - p)));
+    if (!eol) eol = end;
+    const char* lineEnd = eol;
+    if (lineEnd > p && lineEnd[-1] == '\r') --lineEnd;
+    // The line's words (at most 4 matter: a keyword and three values).
+    const char* words[5];
+    size_t lengths[5];
+    int count = 0;
+    for (const char* c = p; c < lineEnd;) {
+      while (c < lineEnd && (*c == ' ' || *c == '\t')) ++c;
+      if (c == lineEnd) break;
+      const char* w = c;
+      while (c < lineEnd && *c != ' ' && *c != '\t') ++c;
+      if (count == 0 && *w == '#') break;  // a comment line
+      if (count == 5) return false;
+      words[count] = w;
+      lengths[count++] = size_t(c - w);
+    }
+    p = eol + 1;
+    if (count == 0) continue;
+    const std::string_view key(words[0], lengths[0]);
+    if (key == "v" && count == 4) {
+      ai_real xyz[3];
+      for (int k = 0; k < 3; ++k) {
+        if (lengths[k + 1] >= sizeof(word)) return false;
+        std::memcpy(word, words[k + 1], lengths[k + 1]);
+        word[lengths[k + 1]] = 0;
+        try {
+          const char* rest = Assimp::fast_atoreal_move<ai_real, NotANumber>(word, xyz[k]);
+          if (*rest != 0 || !std::isfinite(xyz[k])) return false;
+        } catch (const NotANumber&) {
+          return false;
+        }
+      }
+      vertices.emplace_back(xyz[0], xyz[1], xyz[2]);
+    } else if (key == "f" && count == 4) {
+      for (int k = 1; k < 4; ++k) {
+        if (lengths[k] > 9) return false;
+        uint32_t index = 0;
+        for (size_t i = 0; i < lengths[k]; ++i) {
+          if (words[k][i] < '0' || words[k][i] > '9') return false;  // negative, or v/vt/vn
+          index = index * 10 + uint32_t(words[k][i] - '0');
+        }
+        if (index == 0) return false;
+        corners.push_back(index - 1);
+      }
+      const size_t f = corners.size() - 3;
+      if (corners[f] == corners[f + 1] || corners[f] == corners[f + 2] || corners[f + 1] == corners[f + 2])
+        return false;  // a degenerate face
+    } else if (key == "o" && !named && corners.empty()) {
+      named = true;  // one object, named before its faces
+    } else {
+      return false;  // anything else: assimp's
+    }
+  }
+  if (corners.empty()) return false;
+  // Each used vertex's point, in the order faces first use them.
+  std::vector<int64_t> remap(vertices.size(), -1);
+  std::vector<uint32_t> used;
+  for (const uint32_t v : corners) {
+    if (v >= vertices.size()) return false;
+    if (remap[v] < 0) {
+      remap[v] = int64_t(used.size());
+      used.push_back(v);
+    }
+  }
+  // Two used vertices at (nearly) the same place would be joined by assimp, by its own measure of
+  // near: such a file is left to it.
+  std::vector<uint32_t> byX = used;
+  std::sort(byX.begin(), byX.end(), [&](uint32_t a, uint32_t b) { return vertices[a].x < vertices[b].x; });
+  constexpr ai_real kNear = ai_real(1e-4);
+  for (size_t i = 0; i < byX.size(); ++i)
+    for (size_t j = i + 1; j < byX.size() && vertices[byX[j]].x - vertices[byX[i]].x <= kNear; ++j) {
+      const aiVector3D d = vertices[byX[j]] - vertices[byX[i]];
+      if (std::abs(d.y) <= kNear && std::abs(d.z) <= kNear) return false;
+    }
+  // As collectNode: each point through the (identity) node transform, in ai_real, then scaled.
+  const aiMatrix4x4 world;
+  out.points.reserve(used.size());
+  for (const uint32_t v : used) {
+    const aiVector3D q = world * vertices[v];
+    out.points.emplace_back(double(q.x) * scale, double(q.y) * scale, double(q.z) * scale);
+  }
+  out.triangles.reserve(corners.size());
+  for (const uint32_t v : corners) out.triangles.push_back(uint32_t(remap[v]));
+  return true;
+}
+
+bool loadMesh(const std::string& path, double scale, MeshData& out, std::string& err) {
+  out = MeshData{};
+  if (!checkPath(path, scale, err)) return false;
+  // assimp's OBJ reader fills a 16 MiB line buffer for every file it reads: in a fresh process
+  // its pages cost about 50 ms a file on the development machine, most of a short run's time.
+  // A plain OBJ is read here, to the same bits; any other is assimp's.
+  std::string text;
+  if (isObjPath(path) && readTextFile(path, text) && readPlainObj(text, scale, out)) return true;
+  return loadMeshWithAssimp(path, scale, out, err);
+}
+
+bool loadMeshWithAssimp(const std::string& path, double scale, MeshData& out, std::string& err) {
+  out = MeshData{};
+  if (!checkPath(path, scale, err)) return false;
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
   if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || scene->mRootNode == nullptr) {

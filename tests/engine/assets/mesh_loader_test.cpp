@@ -8,11 +8,14 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "physics/shape_def.h"
 
@@ -213,5 +216,86 @@ TEST_CASE("loadMesh errors name the file and the reason") {
   SUBCASE("bad scale") {
     CHECK_FALSE(rm3d::loadMesh(kRoot + "/assets/meshes/superbot_end_plate.obj", 0.0, m, err));
     CHECK_MESSAGE(contains(err, "superbot_end_plate.obj"), err);
+  }
+}
+
+namespace {
+
+/// The same points and triangles, bit for bit.
+bool sameBits(const rm3d::MeshData& a, const rm3d::MeshData& b) {
+  if (a.points.size() != b.points.size() || a.triangles != b.triangles) return false;
+  for (size_t i = 0; i < a.points.size(); ++i)
+    if (std::memcmp(a.points[i].data(), b.points[i].data(), 3 * sizeof(double)) != 0) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("plain OBJ files are read without assimp, to the bits assimp gives") {
+  // Every mesh the project ships, at two scales: the plain reader takes each (they are plain) and
+  // gives assimp's points and triangles exactly.
+  int plain = 0;
+  for (const auto& entry : fs::directory_iterator(kRoot + "/assets/meshes")) {
+    if (entry.path().extension() != ".obj") continue;
+    const std::string path = entry.path().string();
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (double scale : {1.0, 0.37}) {
+      CAPTURE(path);
+      CAPTURE(scale);
+      rm3d::MeshData fast, slow, loaded;
+      std::string err;
+      REQUIRE(rm3d::readPlainObj(text, scale, fast));
+      REQUIRE_MESSAGE(rm3d::loadMeshWithAssimp(path, scale, slow, err), err);
+      REQUIRE_MESSAGE(rm3d::loadMesh(path, scale, loaded, err), err);
+      CHECK(!fast.points.empty());
+      CHECK(sameBits(fast, slow));
+      CHECK(sameBits(loaded, slow));
+    }
+    ++plain;
+  }
+  CHECK(plain >= 7);
+  TempDir dir;
+  // Plain too: CRLF line ends, tabs, comments, vertices after the faces that use them, a comma as
+  // the decimal point (assimp's reader takes it), exponents, unused vertices, numbers at the
+  // edge of float's precision.
+  const std::string plainText =
+      "# a tetrahedron\r\no t\r\nv -0 0 -0.0\r\nv\t1.0e0 0 0\r\n\r\nf 1 3 2\r\nf 1 2 4\r\nf 1 4 3\r\nf 2 3 "
+      "4\r\n"
+      "v 0,0 1.00000011920928955 -0\r\nv 0.1 0.2 0.3\r\nv 1e-3 2E-2 0.333333333333333333333\r\n";
+  // Left to assimp: a second object, groups, materials, texture and normal indices, quads,
+  // negative indices, a point and a line, a degenerate face, two vertices within 1e-4 of each
+  // other (assimp joins those by its own measure), an index past the vertices, a non-number.
+  const std::vector<std::string> others = {
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no second\nv 0 0 1\nf 1 2 4\n",
+      "g part\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+      "usemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n",
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n",
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nl 1 2\n",
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\nf 1 2 3\n",
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0.00005 0 0\nf 1 2 3\nf 4 3 2\n",
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 5\n",
+      "v 0 0 0\nv 1 x 0\nv 0 1 0\nf 1 2 3\n",
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # a comment after a face\n",
+  };
+  rm3d::MeshData fast, slow, loaded;
+  std::string err;
+  const std::string path = dir.write("plain.obj", plainText);
+  REQUIRE(rm3d::readPlainObj(plainText, 2.0, fast));
+  REQUIRE_MESSAGE(rm3d::loadMeshWithAssimp(path, 2.0, slow, err), err);
+  CHECK(fast.points.size() == 4);
+  CHECK(fast.triangles.size() == 12);
+  CHECK(sameBits(fast, slow));
+  for (size_t i = 0; i < others.size(); ++i) {
+    CAPTURE(others[i]);
+    CHECK_FALSE(rm3d::readPlainObj(others[i], 1.0, fast));
+    CHECK(fast.points.empty());
+    // loadMesh still reads what assimp reads, as assimp reads it.
+    const std::string other = dir.write("other" + std::to_string(i) + ".obj", others[i]);
+    const bool viaAssimp = rm3d::loadMeshWithAssimp(other, 1.0, slow, err);
+    CHECK(rm3d::loadMesh(other, 1.0, loaded, err) == viaAssimp);
+    if (viaAssimp) CHECK(sameBits(loaded, slow));
   }
 }

@@ -2,6 +2,9 @@
 // each stepped for a fixed number of steps at the world's default settings unless given; reports
 // speed and real-time factor beside the paper's, the split between behaviours, physics and the
 // rest, and joint/dock fidelity.
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -332,6 +335,49 @@ double sharedCoreFactor() {
   return alone > 0 ? both / alone : 1;
 }
 
+/// Each CPU this process may run on (its affinity mask, at most 64) and the time of one load in
+/// a chain of dependent loads over 1 MiB, ns, on a thread pinned there: how fast that core's
+/// caches answer now. On a shared machine two cores can differ by half (one shares its caches
+/// with a busy neighbour) while sharedCoreFactor sees nothing, and a scene's figure then depends on
+/// where its threads land. Empty where the mask cannot be read or a thread cannot be pinned.
+std::vector<std::pair<int, double>> coreLoadTimes() {
+  std::vector<std::pair<int, double>> out;
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  if (sched_getaffinity(0, sizeof(mask), &mask) != 0) return out;
+  // One random cycle through 1 MiB of indices (a fixed seed: the same chain every run).
+  constexpr uint32_t kSlots = (1u << 20) / sizeof(uint32_t);
+  std::vector<uint32_t> order(kSlots), next(kSlots);
+  for (uint32_t i = 0; i < kSlots; ++i) order[i] = i;
+  uint64_t state = 0x9E3779B97F4A7C15ull;
+  for (uint32_t i = kSlots - 1; i > 0; --i) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    std::swap(order[i], order[uint32_t((state >> 33) % (i + 1))]);
+  }
+  for (uint32_t i = 0; i < kSlots; ++i) next[order[i]] = order[(i + 1) % kSlots];
+  constexpr long kLoads = 2'000'000;
+  for (int cpu = 0; cpu < CPU_SETSIZE && out.size() < 64; ++cpu) {
+    if (!CPU_ISSET(cpu, &mask)) continue;
+    double ns = -1;
+    std::thread t([&] {
+      cpu_set_t one;
+      CPU_ZERO(&one);
+      CPU_SET(cpu, &one);
+      if (pthread_setaffinity_np(pthread_self(), sizeof(one), &one) != 0) return;
+      uint32_t k = 0;
+      for (uint32_t i = 0; i < kSlots; ++i) k = next[k];  // (the chain into this core's caches)
+      const auto t0 = std::chrono::steady_clock::now();
+      for (long i = 0; i < kLoads; ++i) k = next[k];
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      ns = k == kSlots ? 0 : s * 1e9 / double(kLoads);  // (k read: the loop is not dropped)
+    });
+    t.join();
+    if (ns < 0) return {};
+    out.emplace_back(cpu, ns);
+  }
+  return out;
+}
+
 /// "1,2,4".
 std::string joined(const std::vector<int>& v) {
   std::string out;
@@ -517,6 +563,26 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
         "shared)\n",
         coresBefore);
     out["cores_before"] = coresBefore;
+  }
+  // Whether the cores are alike now (a 1-thread figure is the core it ran on too).
+  const auto loads = coreLoadTimes();
+  if (loads.size() > 1) {
+    std::string line;
+    double fastest = loads[0].second, slowest = loads[0].second;
+    for (const auto& [cpu, ns] : loads) {
+      char buf[48];
+      std::snprintf(buf, sizeof(buf), "%s%d: %.1f", line.empty() ? "" : ", ", cpu, ns);
+      line += buf;
+      fastest = std::min(fastest, ns);
+      slowest = std::max(slowest, ns);
+    }
+    std::printf(
+        "cores' caches: ns a dependent load over 1 MiB, by CPU: %s (the slowest %.2f times the fastest; "
+        "pin a run with taskset -c to compare builds on one)\n",
+        line.c_str(), fastest > 0 ? slowest / fastest : 1.0);
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& [cpu, ns] : loads) j.push_back({{"cpu", cpu}, {"load_ns", ns}});
+    out["core_load_ns"] = j;
   }
   if (counts.size() > 1 || rounds > 1)
     std::printf(

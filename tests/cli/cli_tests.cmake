@@ -93,6 +93,22 @@ if(NOT bench_substeps EQUAL 1 OR NOT bench_given STREQUAL "OFF" OR NOT bench_n E
                      "first ${bench_name} with ${bench_mods} modules at dt ${bench_dt}, ${bench_iters} "
                      "iterations, paper ${bench_paper_fps} fps RTF ${bench_paper_rtf}; docking paper ${bench_paper_none}")
 endif()
+# The cores' caches: on a machine with two CPUs or more, one entry per CPU the run may use, each a
+# CPU number and a positive time.
+cmake_host_system_information(RESULT bench_cpus QUERY NUMBER_OF_LOGICAL_CORES)
+string(JSON bench_loads ERROR_VARIABLE bench_loads_err LENGTH "${bench}" core_load_ns)
+if(bench_cpus GREATER 1 AND (bench_loads_err OR bench_loads LESS 2))
+  message(SEND_ERROR "bench JSON: no core_load_ns for ${bench_cpus} CPUs (${bench_loads_err})")
+elseif(NOT bench_loads_err)
+  math(EXPR bench_last "${bench_loads} - 1")
+  foreach(k RANGE ${bench_last})
+    string(JSON bench_cpu GET "${bench}" core_load_ns ${k} cpu)
+    string(JSON bench_ns GET "${bench}" core_load_ns ${k} load_ns)
+    if(NOT bench_cpu MATCHES "^[0-9]+$" OR NOT bench_ns MATCHES "^[0-9]*\\.?[0-9]+(e[-+]?[0-9]+)?$" OR bench_ns EQUAL 0)
+      message(SEND_ERROR "bench JSON: core_load_ns entry ${k}: cpu '${bench_cpu}', load_ns '${bench_ns}'")
+    endif()
+  endforeach()
+endif()
 expect_run("bench with given settings" 0 "settings: solver exact \\(world default\\), dt 0.03333 s \\(given\\), substeps 1 \\(given\\), solver iterations 10 \\(given\\)"
            bench superbots_200 --modules 2 --steps 2 --dt 0.0333333 --substeps 1 --iterations 10 --json ${OUT}/bench2.json)
 file(READ ${OUT}/bench2.json bench2)

@@ -166,12 +166,16 @@ bool readPlainObj(const std::string& text, double scale, MeshData& out) {
     }
   }
   // Two used vertices at (nearly) the same place would be joined by assimp, by its own measure of
-  // near: such a file is left to it.
+  // near: such a file is left to it. (Sorted by x, each compared with those within kNear in x; a
+  // file where that makes too many comparisons, many vertices in one plane of x, is left to
+  // assimp too, so the check stays linear in the vertices.)
   std::vector<uint32_t> byX = used;
   std::sort(byX.begin(), byX.end(), [&](uint32_t a, uint32_t b) { return vertices[a].x < vertices[b].x; });
   constexpr ai_real kNear = ai_real(1e-4);
+  size_t budget = 32 * byX.size() + 1024;
   for (size_t i = 0; i < byX.size(); ++i)
     for (size_t j = i + 1; j < byX.size() && vertices[byX[j]].x - vertices[byX[i]].x <= kNear; ++j) {
+      if (budget-- == 0) return false;
       const aiVector3D d = vertices[byX[j]] - vertices[byX[i]];
       if (std::abs(d.y) <= kNear && std::abs(d.z) <= kNear) return false;
     }

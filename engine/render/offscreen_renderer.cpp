@@ -12,6 +12,9 @@
 #include <GL/osmesa.h>
 #include <dlfcn.h>
 
+#include <string>
+#include <type_traits>
+
 #include "render/scene_renderer.h"
 
 namespace rm3d {

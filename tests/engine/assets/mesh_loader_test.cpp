@@ -288,6 +288,23 @@ TEST_CASE("plain OBJ files are read without assimp, to the bits assimp gives") {
   CHECK(fast.points.size() == 4);
   CHECK(fast.triangles.size() == 12);
   CHECK(sameBits(fast, slow));
+  {
+    // A flat mesh of 300 x 300 points in the plane x = 0 (every vertex within 1e-4 of the others
+    // in x): the plain reader gives up at once rather than compare every pair, and assimp reads it.
+    std::string flat;
+    const int n = 300;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) flat += "v 0 " + std::to_string(i) + " " + std::to_string(j) + "\n";
+    for (int i = 0; i + 1 < n; ++i)
+      for (int j = 0; j + 1 < n; ++j) {
+        const int a = i * n + j + 1;
+        flat += "f " + std::to_string(a) + " " + std::to_string(a + n) + " " + std::to_string(a + 1) + "\n";
+      }
+    CHECK_FALSE(rm3d::readPlainObj(flat, 1.0, fast));
+    const std::string flatPath = dir.write("flat.obj", flat);
+    REQUIRE_MESSAGE(rm3d::loadMesh(flatPath, 1.0, loaded, err), err);
+    CHECK(loaded.triangles.size() == size_t(3 * (n - 1) * (n - 1)));
+  }
   for (size_t i = 0; i < others.size(); ++i) {
     CAPTURE(others[i]);
     CHECK_FALSE(rm3d::readPlainObj(others[i], 1.0, fast));

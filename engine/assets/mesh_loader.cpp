@@ -191,20 +191,41 @@ bool readPlainObj(const std::string& text, double scale, MeshData& out) {
   return true;
 }
 
-bool loadMesh(const std::string& path, double scale, MeshData& out, std::string& err) {
+namespace {
+
+/// loadMeshWithAssimp once the path and scale are checked.
+bool readWithAssimp(const std::string& path, double scale, MeshData& out, std::string& err);
+
+/// loadMesh, with the file's bytes where the caller has read them already (MeshCache).
+bool loadMeshRead(const std::string& path, double scale, const std::string* bytes, MeshData& out,
+                  std::string& err) {
   out = MeshData{};
   if (!checkPath(path, scale, err)) return false;
   // assimp's OBJ reader fills a 16 MiB line buffer for every file it reads: in a fresh process
   // its pages cost about 50 ms a file on the development machine, most of a short run's time.
   // A plain OBJ is read here, to the same bits; any other is assimp's.
-  std::string text;
-  if (isObjPath(path) && readTextFile(path, text) && readPlainObj(text, scale, out)) return true;
-  return loadMeshWithAssimp(path, scale, out, err);
+  if (isObjPath(path)) {
+    std::string text;
+    if (!bytes && readTextFile(path, text)) bytes = &text;
+    if (bytes && readPlainObj(*bytes, scale, out)) return true;
+  }
+  return readWithAssimp(path, scale, out, err);
+}
+
+}  // namespace
+
+bool loadMesh(const std::string& path, double scale, MeshData& out, std::string& err) {
+  return loadMeshRead(path, scale, nullptr, out, err);
 }
 
 bool loadMeshWithAssimp(const std::string& path, double scale, MeshData& out, std::string& err) {
   out = MeshData{};
-  if (!checkPath(path, scale, err)) return false;
+  return checkPath(path, scale, err) && readWithAssimp(path, scale, out, err);
+}
+
+namespace {
+
+bool readWithAssimp(const std::string& path, double scale, MeshData& out, std::string& err) {
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
   if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || scene->mRootNode == nullptr) {
@@ -222,6 +243,8 @@ bool loadMeshWithAssimp(const std::string& path, double scale, MeshData& out, st
   return true;
 }
 
+}  // namespace
+
 bool MeshCache::load(const std::string& path, double scale, MeshData& out, std::string& err) {
   std::string bytes;
   // What cannot be read whole here (a missing file, over 64 MiB) goes to loadMesh, which says why.
@@ -235,7 +258,7 @@ bool MeshCache::load(const std::string& path, double scale, MeshData& out, std::
       return true;
     }
   }
-  if (!loadMesh(path, scale, out, err)) return false;
+  if (!loadMeshRead(path, scale, &bytes, out, err)) return false;
   std::lock_guard<std::mutex> lock(m_mutex);
   m_entries[key] = Entry{std::move(bytes), out};
   return true;

@@ -58,13 +58,18 @@ bool checkDivergence(const World& w, std::string& message) {
   if (!message.empty()) return true;
   const DivergenceLimits& lim = w.settings().limits;
   const BodyDivergence d = w.physicsConst().divergenceScan(lim.maxSpeed, lim.maxAngularSpeed, lim.bounds);
-  char when[96];
-  std::snprintf(when, sizeof when, "physics diverged at t=%.4g s (step %lld): ", w.time(),
-                (long long)w.steps());
+  // (The time and step formatted only for a message: every step runs this check, and the
+  // formatting alone was 0.3% of a 10-module snake's step.)
+  auto when = [&] {
+    char text[96];
+    std::snprintf(text, sizeof text, "physics diverged at t=%.4g s (step %lld): ", w.time(),
+                  (long long)w.steps());
+    return std::string(text);
+  };
   if (d.kind == BodyDivergence::Kind::None) {
     for (size_t c = 0; c < w.cloths().size(); ++c)
       if (!w.physicsConst().clothFinite(int(c))) {
-        message = std::string(when) + "cloth " + std::to_string(c + 1) +
+        message = when() + "cloth " + std::to_string(c + 1) +
                   " (cloths count from 1 in the order the world script made them): NaN or infinite node "
                   "position or velocity (smaller dt or more substeps, a lower stiffness, more nodes)";
         return true;
@@ -95,7 +100,7 @@ bool checkDivergence(const World& w, std::string& message) {
       break;
   }
   message =
-      std::string(when) + whereIs(w, d.part, d.partsInBody) + ": " + what +
+      when() + whereIs(w, d.part, d.partsInBody) + ": " + what +
       " (smaller dt or more substeps, smaller forces, or world.set{max_speed=, max_angular_speed=, bounds=})";
   return true;
 }

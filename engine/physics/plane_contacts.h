@@ -17,7 +17,8 @@
 
 namespace rm3d {
 
-/// Registers the algorithm for boxes and convex hulls against static planes (both orders).
+/// Registers the algorithm for boxes and convex hulls against static planes (both orders), and
+/// compounds of them against static planes.
 /// `funcs` must outlive the dispatcher's use of them.
 struct PlaneContactFuncs {
   struct Func : btCollisionAlgorithmCreateFunc {
@@ -25,7 +26,23 @@ struct PlaneContactFuncs {
                                                    const btCollisionObjectWrapper* body0,
                                                    const btCollisionObjectWrapper* body1) override;
   };
+  /// Compounds against static planes: Bullet's compound algorithm without its box tests
+  /// (plane_contacts.cpp, CompoundPlaneAlgorithm).
+  struct CompoundFunc : btCollisionAlgorithmCreateFunc {
+    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
+                                                   const btCollisionObjectWrapper* body0,
+                                                   const btCollisionObjectWrapper* body1) override;
+  };
+  /// Compounds against boxes, hulls, spheres, cylinders, capsules and compounds: Bullet's
+  /// compound algorithm with a test of the whole compound's box first (CompoundNearAlgorithm).
+  struct NearFunc : btCollisionAlgorithmCreateFunc {
+    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
+                                                   const btCollisionObjectWrapper* body0,
+                                                   const btCollisionObjectWrapper* body1) override;
+  };
   Func plain, swapped;
+  CompoundFunc compoundPlain, compoundSwapped;
+  NearFunc nearPlain, nearSwapped;
   void registerWith(btCollisionDispatcher& dispatcher);
 };
 

@@ -4,6 +4,7 @@
 #include <BulletCollision/BroadphaseCollision/btBroadphaseProxy.h>
 #include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btBoxBoxCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btCompoundCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
@@ -274,6 +275,51 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
   bool m_swapped;
 };
 
+/// Two boxes lie apart on some axis by more than a margin (1e-4 m and 1e-5 of the coordinates'
+/// size: a child's box, taken through its own transform, may stick out of its compound's by a
+/// float's rounding). False for anything not finite.
+bool boxesApart(const btVector3& min0, const btVector3& max0, const btVector3& min1, const btVector3& max1) {
+  btScalar size[3];
+  for (int a = 0; a < 3; ++a)
+    size[a] = std::abs(min0[a]) + std::abs(max0[a]) + std::abs(min1[a]) + std::abs(max1[a]);
+  if (!std::isfinite(size[0] + size[1] + size[2])) return false;
+  for (int a = 0; a < 3; ++a) {
+    const btScalar slack = btScalar(1e-4) + btScalar(1e-5) * size[a];
+    if (min0[a] > max1[a] + slack || min1[a] > max0[a] + slack) return true;
+  }
+  return false;
+}
+
+/// Bullet 3.24's box-box algorithm, which runs its separating-axis test on every pair each
+/// substep, first comparing the two boxes' boxes where its manifold holds no point: apart, the
+/// test would find no contact and the refresh that follows would have nothing to refresh, so
+/// nothing happens either way. (In a snake, each module's inner halves and the next module's lie
+/// within the broadphase's margin of each other, and never touch.)
+class BoxBoxNearAlgorithm : public btBoxBoxCollisionAlgorithm {
+ public:
+  BoxBoxNearAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
+                      const btCollisionObjectWrapper* body1)
+      : btBoxBoxCollisionAlgorithm(nullptr, ci, body0, body1) {
+    btManifoldArray own;
+    getAllContactManifolds(own);
+    m_manifold = own.size() > 0 ? own[0] : nullptr;
+  }
+
+  void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
+                        const btDispatcherInfo& info, btManifoldResult* result) override {
+    if (m_manifold && m_manifold->getNumContacts() == 0) {
+      btVector3 min0, max0, min1, max1;
+      body0->getCollisionShape()->getAabb(body0->getWorldTransform(), min0, max0);
+      body1->getCollisionShape()->getAabb(body1->getWorldTransform(), min1, max1);
+      if (boxesApart(min0, max0, min1, max1)) return;
+    }
+    btBoxBoxCollisionAlgorithm::processCollision(body0, body1, info, result);
+  }
+
+ private:
+  btPersistentManifold* m_manifold;  // the one the base made (if any), as getAllContactManifolds gives it
+};
+
 /// Bullet 3.24's compound algorithm, with the step both of the algorithms below take first as it
 /// does: every child's manifolds refreshed (points that moved apart dropped), in child order.
 class CompoundSteps : public btCompoundCollisionAlgorithm {
@@ -328,7 +374,7 @@ class CompoundNearAlgorithm : public CompoundSteps {
     btVector3 min0, max0, min1, max1;
     compound->getAabb(compoundWrap->getWorldTransform(), min0, max0);
     otherWrap->getCollisionShape()->getAabb(otherWrap->getWorldTransform(), min1, max1);
-    if (!apart(min0, max0, min1, max1))
+    if (!boxesApart(min0, max0, min1, max1))
       return btCompoundCollisionAlgorithm::processCollision(body0, body1, info, result);
     refreshChildren(result);
     const int children = m_childCollisionAlgorithms.size();
@@ -338,23 +384,6 @@ class CompoundNearAlgorithm : public CompoundSteps {
       m_dispatcher->freeCollisionAlgorithm(m_childCollisionAlgorithms[i]);
       m_childCollisionAlgorithms[i] = nullptr;
     }
-  }
-
- private:
-  /// The boxes lie apart on some axis by more than a margin (1e-4 m and 1e-5 of the coordinates'
-  /// size: a child's box, taken through its own transform, may stick out of the compound's by a
-  /// float's rounding). False for anything not finite.
-  static bool apart(const btVector3& min0, const btVector3& max0, const btVector3& min1,
-                    const btVector3& max1) {
-    btScalar size[3];
-    for (int a = 0; a < 3; ++a)
-      size[a] = std::abs(min0[a]) + std::abs(max0[a]) + std::abs(min1[a]) + std::abs(max1[a]);
-    if (!std::isfinite(size[0] + size[1] + size[2])) return false;
-    for (int a = 0; a < 3; ++a) {
-      const btScalar slack = btScalar(1e-4) + btScalar(1e-5) * size[a];
-      if (min0[a] > max1[a] + slack || min1[a] > max0[a] + slack) return true;
-    }
-    return false;
   }
 };
 
@@ -444,6 +473,13 @@ btCollisionAlgorithm* PlaneContactFuncs::NearFunc::CreateCollisionAlgorithm(
   return new (mem) CompoundNearAlgorithm(ci, body0, body1, m_swapped);
 }
 
+btCollisionAlgorithm* PlaneContactFuncs::BoxBoxFunc::CreateCollisionAlgorithm(
+    btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
+    const btCollisionObjectWrapper* body1) {
+  void* mem = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(BoxBoxNearAlgorithm));
+  return new (mem) BoxBoxNearAlgorithm(ci, body0, body1);
+}
+
 void PlaneContactFuncs::registerWith(btCollisionDispatcher& dispatcher) {
   swapped.m_swapped = true;
   for (int type : {BOX_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE}) {
@@ -462,6 +498,7 @@ void PlaneContactFuncs::registerWith(btCollisionDispatcher& dispatcher) {
   // Two compounds without box trees (every body made here): Bullet's compound-compound algorithm
   // hands such a pair to the compound algorithm (after making a pair cache it then leaves empty).
   dispatcher.registerCollisionCreateFunc(COMPOUND_SHAPE_PROXYTYPE, COMPOUND_SHAPE_PROXYTYPE, &nearPlain);
+  dispatcher.registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, &boxBox);
 }
 
 namespace {
@@ -480,13 +517,16 @@ struct CheckScene {
 
   explicit CheckScene(bool ours) {
     funcs.registerWith(dispatcher);
-    if (!ours) {  // Bullet's own for every pair with a compound
+    if (!ours) {  // Bullet's own for every pair with a compound, and for box against box
       for (int t = 0; t < MAX_BROADPHASE_COLLISION_TYPES; ++t) {
         dispatcher.registerCollisionCreateFunc(
             COMPOUND_SHAPE_PROXYTYPE, t, config.getCollisionAlgorithmCreateFunc(COMPOUND_SHAPE_PROXYTYPE, t));
         dispatcher.registerCollisionCreateFunc(
             t, COMPOUND_SHAPE_PROXYTYPE, config.getCollisionAlgorithmCreateFunc(t, COMPOUND_SHAPE_PROXYTYPE));
       }
+      dispatcher.registerCollisionCreateFunc(
+          BOX_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE,
+          config.getCollisionAlgorithmCreateFunc(BOX_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE));
     }
     world.setGravity(btVector3(0, 0, btScalar(-9.81)));
     add(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0), 0, btTransform::getIdentity(), {});
@@ -499,6 +539,10 @@ struct CheckScene {
     add(compound(), 1.0, at(-0.45, 0.02, 0.07, 0.2), btVector3(btScalar(2.5), 0, 0));
     add(compound(), 1.0, at(0, 0.8, 0.3, 1.1), btVector3(0, btScalar(-0.6), 0));
     add(std::make_unique<btBoxShape>(btVector3(0.04f, 0.04f, 0.04f)), 0.3, at(0, 0.45, 0.05, 0.3), {});
+    // Two boxes: one resting, one sliding up to it (apart, then touching).
+    add(std::make_unique<btBoxShape>(btVector3(0.03f, 0.02f, 0.02f)), 0.2, at(-0.5, 0.5, 0.021, 0), {});
+    add(std::make_unique<btBoxShape>(btVector3(0.03f, 0.02f, 0.02f)), 0.2, at(-0.7, 0.51, 0.021, 0.3),
+        btVector3(btScalar(1.6), 0, 0));
     auto hull = std::make_unique<btConvexHullShape>();
     for (float x : {-0.05f, 0.05f})
       for (float y : {-0.03f, 0.03f})
@@ -596,23 +640,28 @@ CompoundContactsCheck checkCompoundContacts(int steps) {
           fail(step, "manifold " + std::to_string(m) + " point " + std::to_string(k));
       }
       out.contacts += a->getNumContacts();
-      out.compoundTouches += a->getNumContacts() > 0 && a->getBody0()->getCollisionShape()->isCompound() &&
-                             a->getBody1()->getCollisionShape()->isCompound();
+      const int type0 = a->getBody0()->getCollisionShape()->getShapeType();
+      const int type1 = a->getBody1()->getCollisionShape()->getShapeType();
+      out.compoundTouches +=
+          a->getNumContacts() > 0 && type0 == COMPOUND_SHAPE_PROXYTYPE && type1 == COMPOUND_SHAPE_PROXYTYPE;
+      out.boxTouches +=
+          a->getNumContacts() > 0 && type0 == BOX_SHAPE_PROXYTYPE && type1 == BOX_SHAPE_PROXYTYPE;
     }
-    // Compound pairs in the broadphase whose boxes lie apart (the way CompoundNearAlgorithm skips
-    // Bullet's child boxes).
+    // Pairs in the broadphase whose boxes lie apart: with a compound (the way CompoundNearAlgorithm
+    // skips Bullet's child boxes), or two boxes (BoxBoxNearAlgorithm's).
     const btBroadphasePairArray& pairs = ours.broadphase.getOverlappingPairCache()->getOverlappingPairArray();
     for (int p = 0; p < pairs.size(); ++p) {
       const auto* o0 = static_cast<const btCollisionObject*>(pairs[p].m_pProxy0->m_clientObject);
       const auto* o1 = static_cast<const btCollisionObject*>(pairs[p].m_pProxy1->m_clientObject);
-      if (!o0->getCollisionShape()->isCompound() ||
-          o1->getCollisionShape()->getShapeType() == STATIC_PLANE_PROXYTYPE ||
-          o0->getCollisionShape()->getShapeType() == STATIC_PLANE_PROXYTYPE)
-        continue;
+      const int type0 = o0->getCollisionShape()->getShapeType(),
+                type1 = o1->getCollisionShape()->getShapeType();
+      if (type0 == STATIC_PLANE_PROXYTYPE || type1 == STATIC_PLANE_PROXYTYPE) continue;
       btVector3 min0, max0, min1, max1;
       o0->getCollisionShape()->getAabb(o0->getWorldTransform(), min0, max0);
       o1->getCollisionShape()->getAabb(o1->getWorldTransform(), min1, max1);
-      out.nearSkips += !TestAabbAgainstAabb2(min0, max0, min1, max1);
+      const bool apart = !TestAabbAgainstAabb2(min0, max0, min1, max1);
+      if (type0 == COMPOUND_SHAPE_PROXYTYPE || type1 == COMPOUND_SHAPE_PROXYTYPE) out.nearSkips += apart;
+      if (type0 == BOX_SHAPE_PROXYTYPE && type1 == BOX_SHAPE_PROXYTYPE) out.boxSkips += apart;
     }
   }
   return out;

@@ -10,6 +10,12 @@
 // which keeps each matching point's impulse for warm starting. A vertex closing on the plane
 // faster than that also counts as far out as it closes in 1.5 steps (a speculative contact): a
 // body falling more than the threshold in a step otherwise went into the ground before it had one.
+//
+// Beside it, Bullet's algorithms for a module's compound bodies and boxes with the box tests they
+// repeat for nothing left out (the same contacts, bit for bit; plane_contacts_check.h): a compound
+// against a plane runs each child's plane step without testing the child's box against the
+// plane's; a compound (or two boxes) whose box lies apart from the other's skips its children (or
+// the separating-axis test).
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btCollisionCreateFunc.h>
@@ -40,9 +46,17 @@ struct PlaneContactFuncs {
                                                    const btCollisionObjectWrapper* body0,
                                                    const btCollisionObjectWrapper* body1) override;
   };
+  /// Box against box: Bullet's box-box algorithm, skipped where the boxes' boxes lie apart and
+  /// its manifold is empty (BoxBoxNearAlgorithm).
+  struct BoxBoxFunc : btCollisionAlgorithmCreateFunc {
+    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
+                                                   const btCollisionObjectWrapper* body0,
+                                                   const btCollisionObjectWrapper* body1) override;
+  };
   Func plain, swapped;
   CompoundFunc compoundPlain, compoundSwapped;
   NearFunc nearPlain, nearSwapped;
+  BoxBoxFunc boxBox;
   void registerWith(btCollisionDispatcher& dispatcher);
 };
 

@@ -1,4 +1,4 @@
-// The compound algorithms of physics/plane_contacts.cpp against Bullet's own (the comparison runs
+// The compound and box-box algorithms of physics/plane_contacts.cpp against Bullet's own (the comparison runs
 // in the physics library, physics/plane_contacts_check.h): every body's pose and velocity and every
 // contact point the same bits after every step.
 #include <doctest/doctest.h>
@@ -10,9 +10,11 @@ TEST_CASE(
   const rm3d::CompoundContactsCheck c = rm3d::checkCompoundContacts(240);
   CHECK(c.mismatch == "");
   CHECK(c.steps == 240);
-  // The scene did what it is for: contacts every step on average, compounds touching compounds,
-  // and compound pairs whose boxes lay apart.
+  // The scene did what it is for: contacts every step on average, compounds touching compounds
+  // and boxes touching boxes, and such pairs whose boxes lay apart.
   CHECK(c.contacts > 240);
   CHECK(c.compoundTouches > 0);
   CHECK(c.nearSkips > 0);
+  CHECK(c.boxTouches > 0);
+  CHECK(c.boxSkips > 0);
 }

@@ -25,6 +25,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "physics/bullet_layout.h"
@@ -452,35 +453,26 @@ class CompoundPlaneAlgorithm : public CompoundSteps {
 
 }  // namespace
 
-btCollisionAlgorithm* PlaneContactFuncs::Func::CreateCollisionAlgorithm(
-    btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
-    const btCollisionObjectWrapper* body1) {
-  void* mem = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(PlaneContactAlgorithm));
-  return new (mem) PlaneContactAlgorithm(ci, body0, body1, m_swapped);
+namespace {
+
+/// A PlaneContactFuncs::Func's make: algorithm A for the pair, in the dispatcher's pool.
+template <class A>
+btCollisionAlgorithm* make(btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
+                           const btCollisionObjectWrapper* body1, bool swapped) {
+  void* mem = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(A));
+  if constexpr (std::is_same_v<A, BoxBoxNearAlgorithm>)
+    return new (mem) A(ci, body0, body1);
+  else
+    return new (mem) A(ci, body0, body1, swapped);
 }
 
-btCollisionAlgorithm* PlaneContactFuncs::CompoundFunc::CreateCollisionAlgorithm(
-    btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
-    const btCollisionObjectWrapper* body1) {
-  void* mem = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(CompoundPlaneAlgorithm));
-  return new (mem) CompoundPlaneAlgorithm(ci, body0, body1, m_swapped);
-}
-
-btCollisionAlgorithm* PlaneContactFuncs::NearFunc::CreateCollisionAlgorithm(
-    btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
-    const btCollisionObjectWrapper* body1) {
-  void* mem = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(CompoundNearAlgorithm));
-  return new (mem) CompoundNearAlgorithm(ci, body0, body1, m_swapped);
-}
-
-btCollisionAlgorithm* PlaneContactFuncs::BoxBoxFunc::CreateCollisionAlgorithm(
-    btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
-    const btCollisionObjectWrapper* body1) {
-  void* mem = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(BoxBoxNearAlgorithm));
-  return new (mem) BoxBoxNearAlgorithm(ci, body0, body1);
-}
+}  // namespace
 
 void PlaneContactFuncs::registerWith(btCollisionDispatcher& dispatcher) {
+  plain.make = swapped.make = &make<PlaneContactAlgorithm>;
+  compoundPlain.make = compoundSwapped.make = &make<CompoundPlaneAlgorithm>;
+  nearPlain.make = nearSwapped.make = &make<CompoundNearAlgorithm>;
+  boxBox.make = &make<BoxBoxNearAlgorithm>;
   swapped.m_swapped = true;
   for (int type : {BOX_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE}) {
     dispatcher.registerCollisionCreateFunc(type, STATIC_PLANE_PROXYTYPE, &plain);
@@ -653,6 +645,11 @@ CompoundContactsCheck checkCompoundContacts(int steps) {
     for (int p = 0; p < pairs.size(); ++p) {
       const auto* o0 = static_cast<const btCollisionObject*>(pairs[p].m_pProxy0->m_clientObject);
       const auto* o1 = static_cast<const btCollisionObject*>(pairs[p].m_pProxy1->m_clientObject);
+      // Which pairs these algorithms took (in Bullet's world, none can be).
+      btCollisionAlgorithm* algorithm = pairs[p].m_algorithm;
+      out.planeTaken += dynamic_cast<CompoundPlaneAlgorithm*>(algorithm) != nullptr;
+      out.nearTaken += dynamic_cast<CompoundNearAlgorithm*>(algorithm) != nullptr;
+      out.boxTaken += dynamic_cast<BoxBoxNearAlgorithm*>(algorithm) != nullptr;
       const int type0 = o0->getCollisionShape()->getShapeType(),
                 type1 = o1->getCollisionShape()->getShapeType();
       if (type0 == STATIC_PLANE_PROXYTYPE || type1 == STATIC_PLANE_PROXYTYPE) continue;

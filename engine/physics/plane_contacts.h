@@ -24,39 +24,24 @@
 namespace rm3d {
 
 /// Registers the algorithm for boxes and convex hulls against static planes (both orders), and
-/// compounds of them against static planes.
+/// Bullet's compound and box-box algorithms with their needless box tests left out
+/// (plane_contacts.cpp: CompoundPlaneAlgorithm, CompoundNearAlgorithm, BoxBoxNearAlgorithm).
 /// `funcs` must outlive the dispatcher's use of them.
 struct PlaneContactFuncs {
+  /// Makes one of those algorithms (`make`, set by registerWith) for a pair, in either order.
   struct Func : btCollisionAlgorithmCreateFunc {
+    btCollisionAlgorithm* (*make)(btCollisionAlgorithmConstructionInfo&, const btCollisionObjectWrapper*,
+                                  const btCollisionObjectWrapper*, bool swapped) = nullptr;
     btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
                                                    const btCollisionObjectWrapper* body0,
-                                                   const btCollisionObjectWrapper* body1) override;
+                                                   const btCollisionObjectWrapper* body1) override {
+      return make(ci, body0, body1, m_swapped);
+    }
   };
-  /// Compounds against static planes: Bullet's compound algorithm without its box tests
-  /// (plane_contacts.cpp, CompoundPlaneAlgorithm).
-  struct CompoundFunc : btCollisionAlgorithmCreateFunc {
-    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
-                                                   const btCollisionObjectWrapper* body0,
-                                                   const btCollisionObjectWrapper* body1) override;
-  };
-  /// Compounds against boxes, hulls, spheres, cylinders, capsules and compounds: Bullet's
-  /// compound algorithm with a test of the whole compound's box first (CompoundNearAlgorithm).
-  struct NearFunc : btCollisionAlgorithmCreateFunc {
-    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
-                                                   const btCollisionObjectWrapper* body0,
-                                                   const btCollisionObjectWrapper* body1) override;
-  };
-  /// Box against box: Bullet's box-box algorithm, skipped where the boxes' boxes lie apart and
-  /// its manifold is empty (BoxBoxNearAlgorithm).
-  struct BoxBoxFunc : btCollisionAlgorithmCreateFunc {
-    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
-                                                   const btCollisionObjectWrapper* body0,
-                                                   const btCollisionObjectWrapper* body1) override;
-  };
-  Func plain, swapped;
-  CompoundFunc compoundPlain, compoundSwapped;
-  NearFunc nearPlain, nearSwapped;
-  BoxBoxFunc boxBox;
+  Func plain, swapped;                  ///< box or hull against a plane
+  Func compoundPlain, compoundSwapped;  ///< compound against a plane
+  Func nearPlain, nearSwapped;          ///< compound against a convex shape or a compound
+  Func boxBox;                          ///< box against box
   void registerWith(btCollisionDispatcher& dispatcher);
 };
 

@@ -20,6 +20,9 @@ struct CompoundContactsCheck {
   int nearSkips = 0;        ///< steps' compound pairs whose boxes lay apart (CompoundNearAlgorithm's way)
   int boxTouches = 0;       ///< manifolds with points between two boxes, summed over the steps
   int boxSkips = 0;         ///< steps' box pairs whose boxes lay apart (BoxBoxNearAlgorithm's way)
+  /// Pairs of the broadphase (summed over the steps) whose algorithm was one of these: a compound
+  /// against the plane, a compound near a shape or compound, a box near a box.
+  int planeTaken = 0, nearTaken = 0, boxTaken = 0;
   std::string mismatch;
 };
 CompoundContactsCheck checkCompoundContacts(int steps);

@@ -17,4 +17,8 @@ TEST_CASE(
   CHECK(c.nearSkips > 0);
   CHECK(c.boxTouches > 0);
   CHECK(c.boxSkips > 0);
+  // And the pairs went through these algorithms, not Bullet's: 5 compounds on the plane every step.
+  CHECK(c.planeTaken == 5 * 240);
+  CHECK(c.nearTaken > 0);
+  CHECK(c.boxTaken > 0);
 }

@@ -14,8 +14,8 @@ btBroadphasePair* PairCache::addOverlappingPair(btBroadphaseProxy* a, btBroadpha
   const int before = getNumOverlappingPairs();
   btBroadphasePair* pair = btHashedOverlappingPairCache::addOverlappingPair(a, b);
   if (getNumOverlappingPairs() != before) {  // a new pair (not one already there, nor one filtered out)
-    m_partners[a].push_back(b);
-    m_partners[b].push_back(a);
+    listOf(a).push_back(b);                  // (one at a time: making b's list may move a's)
+    listOf(b).push_back(a);
   }
   return pair;
 }
@@ -25,7 +25,7 @@ void* PairCache::removeOverlappingPair(btBroadphaseProxy* a, btBroadphaseProxy* 
   void* user = btHashedOverlappingPairCache::removeOverlappingPair(a, b, dispatcher);
   if (getNumOverlappingPairs() != before)
     for (auto [p, q] : {std::pair{a, b}, std::pair{b, a}}) {
-      std::vector<btBroadphaseProxy*>& list = m_partners[p];
+      std::vector<btBroadphaseProxy*>& list = listOf(p);
       const auto at = std::find(list.begin(), list.end(), q);
       *at = list.back();
       list.pop_back();
@@ -33,17 +33,67 @@ void* PairCache::removeOverlappingPair(btBroadphaseProxy* a, btBroadphaseProxy* 
   return user;
 }
 
+size_t PairCache::probe(const btBroadphaseProxy* proxy) const {
+  const size_t mask = m_table.size() - 1;
+  size_t i = home(proxy);
+  while (m_table[i].proxy && m_table[i].proxy != proxy) i = (i + 1) & mask;
+  return i;
+}
+
+std::vector<btBroadphaseProxy*>& PairCache::listOf(btBroadphaseProxy* proxy) {
+  if (2 * (m_entries + 1) > int(m_table.size())) {  // at most half full: twice the size
+    std::vector<Entry> old(std::max<size_t>(64, 2 * m_table.size()));
+    old.swap(m_table);
+    m_shift = 64 - __builtin_ctzll(m_table.size());
+    for (const Entry& e : old)
+      if (e.proxy) m_table[probe(e.proxy)] = e;
+  }
+  Entry& e = m_table[probe(proxy)];
+  if (!e.proxy) {
+    e.proxy = proxy;
+    if (m_freeLists.empty()) {
+      e.list = int(m_lists.size());
+      m_lists.emplace_back();
+    } else {
+      e.list = m_freeLists.back();
+      m_freeLists.pop_back();
+    }
+    ++m_entries;
+  }
+  return m_lists[size_t(e.list)];
+}
+
+void PairCache::forget(btBroadphaseProxy* proxy) {
+  if (m_table.empty()) return;
+  size_t i = probe(proxy);
+  if (!m_table[i].proxy) return;
+  m_lists[size_t(m_table[i].list)].clear();
+  m_freeLists.push_back(m_table[i].list);
+  --m_entries;
+  // The entries after it in its run that would no longer be found move back into the gap.
+  const size_t mask = m_table.size() - 1;
+  for (size_t j = (i + 1) & mask; m_table[j].proxy; j = (j + 1) & mask) {
+    const size_t k = home(m_table[j].proxy);
+    // k lies cyclically in (i, j]: the entry is found from its home without passing i.
+    if (((j - k) & mask) < ((j - i) & mask)) continue;
+    m_table[i] = m_table[j];
+    i = j;
+  }
+  m_table[i] = Entry{};
+}
+
 const std::vector<btBroadphaseProxy*>* PairCache::partners(btBroadphaseProxy* proxy) const {
-  const auto it = m_partners.find(proxy);
-  return it == m_partners.end() ? nullptr : &it->second;
+  if (m_table.empty()) return nullptr;
+  const Entry& e = m_table[probe(proxy)];
+  return e.proxy ? &m_lists[size_t(e.list)] : nullptr;
 }
 
 void PairCache::placesOf(btBroadphaseProxy* proxy) {
   m_places.clear();
-  const auto it = m_partners.find(proxy);
-  if (it == m_partners.end()) return;
+  const std::vector<btBroadphaseProxy*>* list = partners(proxy);
+  if (!list) return;
   const btBroadphasePair* first = getOverlappingPairArrayPtr();
-  for (btBroadphaseProxy* q : it->second) m_places.push_back(int(findPair(proxy, q) - first));
+  for (btBroadphaseProxy* q : *list) m_places.push_back(int(findPair(proxy, q) - first));
   std::sort(m_places.begin(), m_places.end());
 }
 
@@ -70,7 +120,7 @@ void PairCache::removeOverlappingPairsContainingProxy(btBroadphaseProxy* proxy, 
       ++k;
     }
   }
-  m_partners.erase(proxy);  // (it is going away; its address may serve a new proxy)
+  forget(proxy);  // (it is going away; its address may serve a new proxy)
 }
 
 }  // namespace rm3d

@@ -322,8 +322,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     if (sid < 0 || sid >= pool) return -1;
     if (m_sidToBody[size_t(sid)] < 0) {
       m_sidToBody[size_t(sid)] = int(m_bodies.size());
-      const Mat3d invInertia = toEigen(rb->getInvInertiaTensorWorld());
-      m_bodies.push_back({rb, sid, double(rb->getInvMass()), invInertia, invInertia.inverse()});
+      m_bodies.push_back({rb, sid, 0, Mat3d(), Mat3d()});  // (its mass properties below)
     }
     return m_sidToBody[size_t(sid)];
   };
@@ -353,7 +352,6 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
       for (const btRigidBody* rb : {e.a, e.b}) {
         bullet_layout::fetch(rb, bullet_layout::kCompanionId);
         bullet_layout::fetch(rb, bullet_layout::kInverseMass);
-        bullet_layout::fetchRange(&rb->getInvInertiaTensorWorld(), 0, sizeof(btMatrix3x3));
       }
     }
     btTypedConstraint* c = constraints[i];
@@ -365,6 +363,19 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     if (r.na < 0 && r.nb < 0) continue;
     m_groupJoints.push_back(j);
   }
+  // The new bodies' mass properties (each body its own entry: on the halves' threads where a long
+  // tree's solve has them; a 3 x 3 inverse each, 4000 of them in a 1000-module snake).
+  forListHalves(int(m_bodies.size()) - firstBody, [&](int, int begin, int end) {
+    for (int i = firstBody + begin; i < firstBody + end; ++i) {
+      if (i + 4 < firstBody + end)
+        bullet_layout::fetchRange(&m_bodies[size_t(i + 4)].rb->getInvInertiaTensorWorld(), 0,
+                                  sizeof(btMatrix3x3));
+      Body& b = m_bodies[size_t(i)];
+      b.invMass = double(b.rb->getInvMass());
+      b.invInertia = toEigen(b.rb->getInvInertiaTensorWorld());
+      b.inertia = b.invInertia.inverse();
+    }
+  });
   // The substep's first group (the only one where a world is one structure) on the same joints
   // and bodies as the last substep's: its trees again (unless asked for fresh ones).
   const bool first = firstBody == 0 && m_nodes.empty() && m_clusters.empty() && m_loopJoints.empty() &&
@@ -516,23 +527,33 @@ bool ExactSolver::reuseTrees() {
   m_nodeOfBody.resize(m_bodies.size(), -1);
   m_bodyCluster.resize(m_bodies.size(), -1);
   for (int j : m_groupJoints) m_rows[size_t(j)].node = -1;
-  for (const Cluster& kept : m_trees.clusters) {
-    Cluster& c = m_clusters.emplace_back(kept);
-    for (int k = c.begin; k < c.end; ++k) {
+  m_clusters = m_trees.clusters;
+  m_nodes.resize(m_trees.nodes.size());
+  // Each node writes its own entries, and its body's and joint's (on the halves' threads where a
+  // long tree's solve has them).
+  forListHalves(int(m_nodes.size()), [&](int, int begin, int end) {
+    int ci = int(std::upper_bound(m_clusters.begin(), m_clusters.end(), begin,
+                                  [](int k, const Cluster& c) { return k < c.begin; }) -
+                 m_clusters.begin()) -
+             1;
+    for (int k = begin; k < end; ++k) {
+      while (k >= m_clusters[size_t(ci)].end) ++ci;
       const NodeHead& head = m_trees.nodes[size_t(k)];
-      Node& n = m_nodes.emplace_back();
+      Node& n = m_nodes[size_t(k)];
       n.body = head.body;
       n.joint = head.joint;
       n.parent = head.parent;
       n.parentIsA = head.parentIsA;
       if (n.body >= 0) {
         m_nodeOfBody[size_t(n.body)] = k;
-        m_bodyCluster[size_t(n.body)] = int(m_clusters.size()) - 1;
-        if (c.island < 0) c.island = m_bodies[size_t(n.body)].rb->getIslandTag();
+        m_bodyCluster[size_t(n.body)] = ci;
       }
       if (n.joint >= 0) m_rows[size_t(n.joint)].node = k;
     }
-  }
+  });
+  for (Cluster& c : m_clusters)  // (its first body's island)
+    for (int k = c.begin; k < c.end && c.island < 0; ++k)
+      if (const int b = m_nodes[size_t(k)].body; b >= 0) c.island = m_bodies[size_t(b)].rb->getIslandTag();
   m_laneNodes = m_trees.laneNodes;
   m_loopJoints = m_trees.loopJoints;
   ++m_reusedTrees;

@@ -26,6 +26,7 @@
 #include <memory>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "physics/bullet_layout.h"
@@ -334,6 +335,14 @@ class CompoundSteps : public btCompoundCollisionAlgorithm {
     return compound->getDynamicAabbTree() || result->m_closestPointDistanceThreshold > 0 ||
            gCompoundChildShapePairCallback || compound->getUpdateRevision() != m_compoundShapeRevision;
   }
+  /// The compound's wrapper and the other shape's, from the pair in the dispatcher's order.
+  std::pair<const btCollisionObjectWrapper*, const btCollisionObjectWrapper*> sides(
+      const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1) const {
+    return m_isSwapped ? std::pair{body1, body0} : std::pair{body0, body1};
+  }
+  static const btCompoundShape* compoundOf(const btCollisionObjectWrapper* wrap) {
+    return static_cast<const btCompoundShape*>(wrap->getCollisionShape());
+  }
   void refreshChildren(btManifoldResult* result) {
     for (int i = 0; i < m_childCollisionAlgorithms.size(); ++i) {
       if (!m_childCollisionAlgorithms[i]) continue;
@@ -367,9 +376,8 @@ class CompoundNearAlgorithm : public CompoundSteps {
 
   void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                         const btDispatcherInfo& info, btManifoldResult* result) override {
-    const btCollisionObjectWrapper* compoundWrap = m_isSwapped ? body1 : body0;
-    const btCollisionObjectWrapper* otherWrap = m_isSwapped ? body0 : body1;
-    const auto* compound = static_cast<const btCompoundShape*>(compoundWrap->getCollisionShape());
+    const auto [compoundWrap, otherWrap] = sides(body0, body1);
+    const btCompoundShape* compound = compoundOf(compoundWrap);
     if (bulletsOwn(compound, result))
       return btCompoundCollisionAlgorithm::processCollision(body0, body1, info, result);
     btVector3 min0, max0, min1, max1;
@@ -402,9 +410,8 @@ class CompoundPlaneAlgorithm : public CompoundSteps {
 
   void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                         const btDispatcherInfo& info, btManifoldResult* result) override {
-    const btCollisionObjectWrapper* compoundWrap = m_isSwapped ? body1 : body0;
-    const btCollisionObjectWrapper* planeWrap = m_isSwapped ? body0 : body1;
-    const auto* compound = static_cast<const btCompoundShape*>(compoundWrap->getCollisionShape());
+    const auto [compoundWrap, planeWrap] = sides(body0, body1);
+    const btCompoundShape* compound = compoundOf(compoundWrap);
     const btTransform& pose = compoundWrap->getWorldTransform();
     if (bulletsOwn(compound, result) || !finite(pose) ||
         planeWrap->getCollisionShape()->getShapeType() != STATIC_PLANE_PROXYTYPE)

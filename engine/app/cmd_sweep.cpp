@@ -160,7 +160,8 @@ struct Child {
   std::string jsonFile, logFile;
 };
 
-pid_t spawnRun(const std::vector<std::string>& argv, const std::string& logFile) {
+/// Starts a run; its pid, or -1 with `error` (posix_spawn's own code: it does not set errno).
+pid_t spawnRun(const std::vector<std::string>& argv, const std::string& logFile, int& error) {
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addopen(&fa, 1, logFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -172,6 +173,7 @@ pid_t spawnRun(const std::vector<std::string>& argv, const std::string& logFile)
   pid_t pid = -1;
   const int rc = posix_spawn(&pid, args[0], &fa, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
+  error = rc;
   return rc == 0 ? pid : -1;
 }
 
@@ -226,9 +228,18 @@ class Progress {
 /// Runs `runs` (indices into all) `jobs` at a time; appends a line per run. Returns the exit code.
 int runLocal(const SweepArgs& a, const std::string& root, const std::vector<SweepRun>& all,
              const std::vector<size_t>& todo, size_t skipped) {
-  const fs::path work = fs::path(a.out + ".runs");
+  // Each sweep process keeps its runs' files in a folder of its own under OUT.runs: the tasks of a
+  // Slurm array share OUT, and one task that finished and took away a shared (empty) folder left
+  // another's next run without a place for its log (the spawn failed: "cannot start").
+  const fs::path runs = fs::path(a.out + ".runs");
+  const fs::path work = runs / ("p" + std::to_string(::getpid()));
   std::error_code ec;
-  fs::create_directories(work, ec);
+  // (Another process may take away the empty OUT.runs between making it and making ours in it.)
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    ec.clear();
+    fs::create_directories(work, ec);
+    if (!ec) break;
+  }
   if (ec) {
     std::fprintf(stderr, "rm3d sweep: cannot make %s for the runs' files (%s)\n", work.c_str(),
                  ec.message().c_str());
@@ -246,9 +257,11 @@ int runLocal(const SweepArgs& a, const std::string& root, const std::vector<Swee
       c.jsonFile = (work / (stem + ".json")).string();
       c.logFile = (work / (stem + ".log")).string();
       fs::remove(c.jsonFile, ec);
-      const pid_t pid = spawnRun(runArgv(a, root, all[c.index], c.jsonFile), c.logFile);
+      int error = 0;
+      const pid_t pid = spawnRun(runArgv(a, root, all[c.index], c.jsonFile), c.logFile, error);
       if (pid < 0) {
-        std::fprintf(stderr, "\nrm3d sweep: cannot start %s (%s)\n", selfExe().c_str(), std::strerror(errno));
+        std::fprintf(stderr, "\nrm3d sweep: cannot start %s with its log %s (%s)\n", selfExe().c_str(),
+                     c.logFile.c_str(), std::strerror(error));
         return kExitBadInput;
       }
       running.emplace(pid, c);
@@ -283,6 +296,7 @@ int runLocal(const SweepArgs& a, const std::string& root, const std::vector<Swee
     progress.update(done, failed, running.size(), next >= todo.size() && running.empty());
   }
   fs::remove(work, ec);  // only when empty
+  fs::remove(runs, ec);  // the same: another process's folder may still be in it
   if (interruptSignal()) {
     std::fprintf(stderr,
                  "rm3d sweep: interrupted; %zu runs not done (run the same command again to resume)\n",

@@ -248,9 +248,10 @@ int runLocal(const SweepArgs& a, const std::string& root, const std::vector<Swee
   Progress progress(skipped + todo.size(), skipped);
   std::map<pid_t, Child> running;
   size_t next = 0, done = 0, failed = 0;
+  bool startFailed = false;  // a run could not start: no more are started; those running finish
   progress.update(0, 0, 0);
-  while (next < todo.size() || !running.empty()) {
-    while (!interruptSignal() && next < todo.size() && running.size() < size_t(a.jobs)) {
+  while ((!startFailed && next < todo.size()) || !running.empty()) {
+    while (!interruptSignal() && !startFailed && next < todo.size() && running.size() < size_t(a.jobs)) {
       Child c;
       c.index = todo[next++];
       const std::string stem = "run_" + std::to_string(c.index) + "_" + std::to_string(::getpid());
@@ -262,7 +263,8 @@ int runLocal(const SweepArgs& a, const std::string& root, const std::vector<Swee
       if (pid < 0) {
         std::fprintf(stderr, "\nrm3d sweep: cannot start %s with its log %s (%s)\n", selfExe().c_str(),
                      c.logFile.c_str(), std::strerror(error));
-        return kExitBadInput;
+        startFailed = true;
+        break;
       }
       running.emplace(pid, c);
     }
@@ -297,6 +299,11 @@ int runLocal(const SweepArgs& a, const std::string& root, const std::vector<Swee
   }
   fs::remove(work, ec);  // only when empty
   fs::remove(runs, ec);  // the same: another process's folder may still be in it
+  if (startFailed) {
+    std::fprintf(stderr, "rm3d sweep: %zu runs not started (run the same command again to resume)\n",
+                 todo.size() - done);
+    return kExitBadInput;
+  }
   if (interruptSignal()) {
     std::fprintf(stderr,
                  "rm3d sweep: interrupted; %zu runs not done (run the same command again to resume)\n",

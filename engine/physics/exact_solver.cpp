@@ -1699,8 +1699,17 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
     });
     clamped |= halves[0] || halves[1];
   }
+  c.resolve = false;
   if (clamped) c.clamped = c.dirty = true;
-  if (c.loopEnd > c.loopBegin) loopIteration(c, clamp);
+  if (c.loopEnd > c.loopBegin) {
+    // The loops' solve factors the tree again for the rows just fixed (their impulses were set
+    // at their bounds on their joints' bodies alone), and so clears `dirty`; the tree's other
+    // rows still want the solve that carries that change through them (finishJoints' settle).
+    // Without it a lattice kept those joints apart at up to 400 m/s of row velocity until the
+    // next substep (worlds/breakage_grid.lua).
+    loopIteration(c, clamp);
+    c.resolve = clamped && !c.dirty;
+  }
 }
 
 void ExactSolver::convertBodies(btCollisionObject** bodies, int numBodies, const btContactSolverInfo& info) {
@@ -2048,9 +2057,10 @@ void ExactSolver::finishJoints() {
   auto settle = [&] {
     for (int pass = 0; pass < 4; ++pass) {
       bool dirty = false;
-      for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci) dirty |= m_clusters[size_t(ci)].dirty;
+      for (int ci = m_groupBegin; ci < int(m_clusters.size()); ++ci)
+        dirty |= m_clusters[size_t(ci)].dirty || m_clusters[size_t(ci)].resolve;
       if (!dirty) return pass > 0;
-      exactIterationWhere(true, [](const Cluster& c) { return c.dirty; });
+      exactIterationWhere(true, [](const Cluster& c) { return c.dirty || c.resolve; });
     }
     return true;
   };

@@ -326,6 +326,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
     bool full = true;        // ... or more than rows of its nodes (m_rowChanged): factored whole
     bool clamped = false;    // a bounded row was fixed at its bound this substep (threads write their own)
     bool retry = false;      // a fixed row came back this round (finishJoints)
+    bool resolve = false;    // factored for rows fixed at their bounds, not yet solved with them
     // Its rows take a centripetal target (updateCentripetal): no loop, one anchor at most, and no
     // contact row joining one of its bodies to anything else this substep.
     bool centripetal = false;

@@ -2139,7 +2139,9 @@ void ExactSolver::forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Clu
 }
 
 /// A row fixed at its rating whose joint now moves beyond the command takes its motor back (true
-/// if it did; see finishJoints).
+/// if it did; see finishJoints). A servo's row with a compliance c meets its command w + c lambda:
+/// at its rating it is outgrown once w + c x rating passes the command, not w alone (which held a
+/// servo at full torque while its joint lagged the command by up to c x rating).
 bool ExactSolver::reenter(int j) {
   using A = ExactJoint::Axial;
   ExactJoint& e = m_shared->joints[size_t(j)];
@@ -2148,7 +2150,8 @@ bool ExactSolver::reenter(int j) {
   double w = 0;
   if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
   if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
-  if (!((e.fixedImpulse > 0 && w > e.targetVel) || (e.fixedImpulse < 0 && w < e.targetVel))) return false;
+  const double wl = w + e.compliance * e.fixedImpulse;
+  if (!((e.fixedImpulse > 0 && wl > e.targetVel) || (e.fixedImpulse < 0 && wl < e.targetVel))) return false;
   e.state = A::Motor;
   e.rowTarget = e.targetVel;
   r.axialActive = true;
@@ -2170,8 +2173,9 @@ void ExactSolver::settleState(int j) {
   if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
   if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
   if (e.state == A::Fixed) {
-    if (e.fixedImpulse > 0 && w > e.targetVel) e.state = A::Motor;
-    if (e.fixedImpulse < 0 && w < e.targetVel) e.state = A::Motor;
+    const double wl = w + e.compliance * e.fixedImpulse;
+    if (e.fixedImpulse > 0 && wl > e.targetVel) e.state = A::Motor;
+    if (e.fixedImpulse < 0 && wl < e.targetVel) e.state = A::Motor;
     if (e.state == A::Fixed && w < e.lowVel) e.state = A::Lower;
     if (e.state == A::Fixed && w > e.highVel) e.state = A::Upper;
   }

@@ -233,6 +233,40 @@ TEST_CASE("exact solver: a servo with a stiffness yields torque / stiffness unde
   }
 }
 
+TEST_CASE("exact solver: a servo with a stiffness gives its full rating only while its law asks for it") {
+  // A link held level (0.098 N m of gravity) is lifted 0.1 rad by a servo rated 0.0985 N m
+  // (stiffness 20 N m/rad, gain 20/s): it saturates, rises, and leaves its rating near the top.
+  // The servo's law asks for (command - speed) / (compliance x dt), the command gain x error: it
+  // asks for the whole rating only while the joint lags its command by at least gain x rating /
+  // stiffness (0.0985 rad/s). A saturated row that came back only once the joint ran past the
+  // command itself held full torque one step too long (0.0941 rad/s behind the command: 96% of
+  // the rating asked for).
+  PhysicsSettings s;
+  s.solver = SolverKind::Exact;
+  PhysicsWorld w(s);
+  const double rating = 0.0985, stiffness = 20, gain = 20, dt = 1.0 / 60;
+  const int hinge = cantileverChain(w, 1, rating, stiffness)[0];
+  for (int i = 0; i < 60; ++i) w.step(dt, 1);
+  CHECK(!w.hingeSaturated(hinge));
+  w.setMotor(hinge, MotorMode::Servo, -0.1);
+  int saturated = 0;
+  double closest = 1;  // the least lag behind the command of a step that ended saturated
+  for (int i = 0; i < 120; ++i) {
+    const double err = -0.1 - w.hingeAngle(hinge);
+    const double command =
+        std::clamp(std::clamp(gain * err, -3.0, 3.0), -std::abs(err) / dt, std::abs(err) / dt);
+    w.step(dt, 1);
+    if (!w.hingeSaturated(hinge)) continue;
+    ++saturated;
+    closest = std::min(closest, std::abs(command - w.hingeVelocity(hinge)));
+  }
+  MESSAGE("lift: " << saturated << " steps at the rating, the least lag behind the command " << closest
+                   << " rad/s");
+  CHECK(saturated > 10);
+  CHECK(closest >= gain * rating / stiffness - 1e-6);
+  CHECK(w.hingeAngle(hinge) == doctest::Approx(-0.1 + 0.098 * std::cos(0.1) / stiffness).epsilon(0.02));
+}
+
 namespace {
 
 /// Four 0.1 m links around a square (link i along +x turned 90 deg x i about z), hinged corner to

@@ -1705,7 +1705,7 @@ void ExactSolver::clusterIteration(Cluster& c, bool clamp) {
     // The loops' solve factors the tree again for the rows just fixed (their impulses were set
     // at their bounds on their joints' bodies alone), and so clears `dirty`; the tree's other
     // rows still want the solve that carries that change through them (finishJoints' settle).
-    // Without it a lattice kept those joints apart at up to 400 m/s of row velocity until the
+    // Without it a lattice kept those joints apart at up to 406 m/s and rad/s of row velocity until the
     // next substep (worlds/breakage_grid.lua).
     loopIteration(c, clamp);
     c.resolve = clamped && !c.dirty;
@@ -2138,20 +2138,31 @@ void ExactSolver::forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Clu
   }
 }
 
-/// A row fixed at its rating whose joint now moves beyond the command takes its motor back (true
-/// if it did; see finishJoints). A servo's row with a compliance c meets its command w + c lambda:
-/// at its rating it is outgrown once w + c x rating passes the command, not w alone (which held a
-/// servo at full torque while its joint lagged the command by up to c x rating).
+/// Joint j's speed about its axis (its axial row's velocity).
+double ExactSolver::axialSpeed(int j) const {
+  const Row& r = m_rows[size_t(j)];
+  double w = 0;
+  if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
+  if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
+  return w;
+}
+
+/// Whether a motor fixed at its rating (fixedImpulse, nonzero) has outgrown it at axial speed w:
+/// a servo's row with a compliance c meets its command as w + c lambda, so at its rating it wants
+/// less once w + c x rating runs past the command (w alone, as before, held a servo at full torque
+/// while its joint lagged the command by up to c x rating).
+bool ExactSolver::outgrown(const ExactJoint& e, double w) {
+  const double atRating = w + e.compliance * e.fixedImpulse;
+  return (e.fixedImpulse > 0 && atRating > e.targetVel) || (e.fixedImpulse < 0 && atRating < e.targetVel);
+}
+
+/// A row fixed at its rating that its motor has outgrown takes its motor back (true if it did;
+/// see finishJoints).
 bool ExactSolver::reenter(int j) {
   using A = ExactJoint::Axial;
   ExactJoint& e = m_shared->joints[size_t(j)];
   Row& r = m_rows[size_t(j)];
-  if (e.state != A::Fixed || e.fixedImpulse == 0) return false;
-  double w = 0;
-  if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
-  if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
-  const double wl = w + e.compliance * e.fixedImpulse;
-  if (!((e.fixedImpulse > 0 && wl > e.targetVel) || (e.fixedImpulse < 0 && wl < e.targetVel))) return false;
+  if (e.state != A::Fixed || e.fixedImpulse == 0 || !outgrown(e, axialSpeed(j))) return false;
   e.state = A::Motor;
   e.rowTarget = e.targetVel;
   r.axialActive = true;
@@ -2169,13 +2180,9 @@ void ExactSolver::settleState(int j) {
   e.saturated = e.motorOn && e.state == A::Fixed && e.fixedImpulse != 0;
   e.impulseA = r.ja.transpose() * r.lambda;
   e.impulseB = r.jb.transpose() * r.lambda;
-  double w = 0;
-  if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
-  if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
+  const double w = axialSpeed(j);
   if (e.state == A::Fixed) {
-    const double wl = w + e.compliance * e.fixedImpulse;
-    if (e.fixedImpulse > 0 && wl > e.targetVel) e.state = A::Motor;
-    if (e.fixedImpulse < 0 && wl < e.targetVel) e.state = A::Motor;
+    if (outgrown(e, w)) e.state = A::Motor;
     if (e.state == A::Fixed && w < e.lowVel) e.state = A::Lower;
     if (e.state == A::Fixed && w > e.highVel) e.state = A::Upper;
   }

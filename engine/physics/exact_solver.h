@@ -537,6 +537,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void clusterIteration(Cluster& c, bool clamp);
   bool clampAxial(int k);
   void forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Cluster&, bool)> marked);
+  double axialSpeed(int j) const;
+  static bool outgrown(const ExactJoint& e, double w);
   bool reenter(int j);
   void settleState(int j);
   void stabiliseCluster(Cluster& c);

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "physics/bullet_layout.h"
+#include "physics/node_factor.h"
 #include "physics/node_products.h"
 
 namespace rm3d {
@@ -94,34 +95,9 @@ Mat3d skew(const Vec3d& v) {
   return s;
 }
 
-/// Inverse of a symmetric 3x3 matrix by cofactors.
-Mat3d symmetricInverse3(const Mat3d& m) {
-  const double a = m(0, 0), b = m(1, 0), c = m(2, 0), d = m(1, 1), e = m(2, 1), f = m(2, 2);
-  const double c00 = d * f - e * e, c01 = c * e - b * f, c02 = b * e - c * d;
-  const double c11 = a * f - c * c, c12 = b * c - a * e, c22 = a * d - b * b;
-  const double inv = 1.0 / (a * c00 + b * c01 + c * c02);
-  Mat3d r;
-  r << c00 * inv, c01 * inv, c02 * inv, c01 * inv, c11 * inv, c12 * inv, c02 * inv, c12 * inv, c22 * inv;
-  return r;
-}
-
-/// Inverse of a symmetric, definite (positive or negative) 6x6 matrix [P Q; Q^T R] by its 3x3
-/// blocks: P and the Schur complement S = R - Q^T P^-1 Q are definite too, so no pivoting, and
-/// two 3x3 inverses by cofactors cost less than half of a 6x6 LDL^T (40 ns against 90 here, the
-/// same rounding error).
-///
-/// In place: every element is read before the first is written (a returned matrix cost a 288-byte
-/// copy, half of the factor's own time outside its products).
-void invertSymmetric(Mat6& a) {
-  const Mat3d pi = symmetricInverse3(a.topLeftCorner<3, 3>());
-  const Mat3d q = a.topRightCorner<3, 3>();
-  const Mat3d x = pi * q;
-  const Mat3d si = symmetricInverse3(a.bottomRightCorner<3, 3>() - q.transpose() * x);
-  const Mat3d y = x * si;
-  a.topLeftCorner<3, 3>() = pi + y * x.transpose();
-  a.topRightCorner<3, 3>() = -y;
-  a.bottomLeftCorner<3, 3>() = -y.transpose();
-  a.bottomRightCorner<3, 3>() = si;
+/// node_factor::invertSymmetric on AVX (node_products::invertSymmetric: the same bits).
+[[gnu::target("avx")]] void invertSymmetricAvx(Mat6& a) {
+  node_products::invertSymmetric(a.data());
 }
 
 inline void cpuRelax() {
@@ -937,48 +913,29 @@ void ExactSolver::initNode(int k) {
   }
 }
 
-// D_i = H_ii - sum over children H_ci^T D_c^-1 H_ci: a node's share of its parent's pivot (after
-// its own pivot is inverted).
-//
-// H is a hinge's rows on one body, J = [sI A; 0 B] (s = +-1: the pivot rows' sign; A the pivot
-// arm's cross product; B the axes), or its transpose: the products go by 3x3 blocks, without the
-// zero block and with sI as a sign (half of the dense products' multiplications).
+/// (node_factor::passShare says what the share is.)
 void ExactSolver::passToParent(int k, bool fresh) {
+  if (m_avx) return passToParentAvx(k, fresh);
   Node& n = m_nodes[size_t(k)];
   // H(node, parent): the joint's rows on the body (J) for a joint node, their transpose for a
   // body node; without the axial row while it is fixed.
   const Row& r = m_rows[size_t(n.joint >= 0 ? n.joint : m_nodes[size_t(n.parent)].joint)];
-  const Mat6& jac = n.parentIsA ? r.ja : r.jb;
-  const double s = jac(0, 0);
-  const auto a = jac.topRightCorner<3, 3>();
-  Mat3d b = jac.bottomRightCorner<3, 3>();
-  if (!r.axialActive) b.row(2).setZero();
-  const auto dl = n.dinv.leftCols<3>();
-  const auto dr = n.dinv.rightCols<3>();
-  Mat6& pd = m_nodes[size_t(n.parent)].dinv;  // its D, being summed
-  if (n.joint >= 0) {
-    // H = J: G = [s Dl, Dl A + Dr B]; H^T G = [s G_top; A^T G_top + B^T G_bottom].
-    if (fresh) {
-      n.g.leftCols<3>() = s * dl;
-      n.g.rightCols<3>() = dl.lazyProduct(a) + dr.lazyProduct(b);
-    }
-    pd.topRows<3>() -= s * n.g.topRows<3>();
-    pd.bottomRows<3>() -=
-        a.transpose().lazyProduct(n.g.topRows<3>()) + b.transpose().lazyProduct(n.g.bottomRows<3>());
-  } else {
-    // H = J^T = [sI 0; A^T B^T]: G = [s Dl + Dr A^T, Dr B^T]; H^T G = [s G_top + A G_bottom; B G_bottom].
-    const Mat3d at = a.transpose(), bt = b.transpose();
-    if (fresh) {
-      n.g.leftCols<3>() = s * dl + dr.lazyProduct(at);
-      n.g.rightCols<3>() = dr.lazyProduct(bt);
-    }
-    pd.topRows<3>() -= s * n.g.topRows<3>() + at.transpose().lazyProduct(n.g.bottomRows<3>());
-    pd.bottomRows<3>() -= bt.transpose().lazyProduct(n.g.bottomRows<3>());
-  }
-  // Kept exactly symmetric: each pair of elements set to their mean, in place (the same bits as
-  // 0.5 (D + D^T) without the temporary; the diagonal too, which a flushed denormal would change).
-  for (int col = 0; col < 6; ++col)
-    for (int row = col; row < 6; ++row) pd(row, col) = pd(col, row) = 0.5 * (pd(row, col) + pd(col, row));
+  node_factor::passShare(m_nodes[size_t(n.parent)].dinv, n.g, n.dinv, n.parentIsA ? r.ja : r.jb, n.joint >= 0,
+                         r.axialActive, fresh);
+}
+
+void ExactSolver::invertPivot(Mat6& d) const {
+  if (m_avx)
+    invertSymmetricAvx(d);
+  else
+    node_factor::invertSymmetric(d);
+}
+
+void ExactSolver::passToParentAvx(int k, bool fresh) {
+  Node& n = m_nodes[size_t(k)];
+  const Row& r = m_rows[size_t(n.joint >= 0 ? n.joint : m_nodes[size_t(n.parent)].joint)];
+  node_products::passShare(m_nodes[size_t(n.parent)].dinv.data(), n.g.data(), n.dinv.data(),
+                           (n.parentIsA ? r.ja : r.jb).data(), n.joint >= 0, r.axialActive, fresh);
 }
 
 template <class Fn>
@@ -1126,7 +1083,7 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
         const int k = lane[i];
         Node& n = m_nodes[size_t(k)];
         if (needs(k)) {
-          invertSymmetric(n.dinv);
+          invertPivot(n.dinv);
           if (n.parent != c.begin) passToParent(k, true);
         } else if (n.parent != c.begin && m_need[size_t(n.parent)]) {
           passToParent(k, false);
@@ -1137,7 +1094,7 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
     });
     for (int i = c.lane[3] - 1; i >= c.lane[2]; --i)
       passToParent(m_laneNodes[size_t(i)], needs(m_laneNodes[size_t(i)]));
-    invertSymmetric(m_nodes[size_t(c.begin)].dinv);
+    invertPivot(m_nodes[size_t(c.begin)].dinv);
   } else {
     if (partial) {
       m_need[size_t(c.begin)] = m_rowChanged[size_t(c.begin)];
@@ -1156,7 +1113,7 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
       }
       Node& n = m_nodes[size_t(k)];
       if (needs(k)) {
-        invertSymmetric(n.dinv);
+        invertPivot(n.dinv);
         if (n.parent >= 0) passToParent(k, true);
       } else if (n.parent >= 0 && m_need[size_t(n.parent)]) {
         passToParent(k, false);

@@ -479,10 +479,13 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   int centroidBody(int begin);
   void splitTree(Cluster& c);
   void subtreeSizes(int begin);
-  void initNode(int k);  ///< a node's pivot block before its children's shares
+  void initNode(int k);             ///< a node's pivot block before its children's shares
+  void invertPivot(Mat6& d) const;  ///< a node's summed pivot block inverted, in place (AVX where m_avx)
   /// Its share of its parent's pivot block (its own inverted); `fresh`: its G worked out again
   /// (else the last factor's, its subtree unchanged since).
   void passToParent(int k, bool fresh);
+  /// The same on AVX (node_products::passShare: node_factor::passShare's bits).
+  [[gnu::target("avx")]] void passToParentAvx(int k, bool fresh);
   /// By node: its row left or rejoined the active set since the cluster's last factor; and, in
   /// factor, whether the node is factored again.
   std::vector<char> m_rowChanged, m_need;

@@ -1,4 +1,5 @@
-// The tree solve's node products (node_products.h) give Eigen's bits, built for SSE2 and for AVX.
+// The tree solve's node products (node_products.h) give Eigen's bits, built for SSE2 and for AVX;
+// and the factor's steps there, on AVX, node_factor.h's (Eigen's).
 #include "physics/node_products.h"
 
 #include <doctest/doctest.h>
@@ -9,6 +10,8 @@
 #include <cstring>
 #include <random>
 #include <vector>
+
+#include "physics/node_factor.h"
 
 namespace {
 
@@ -155,4 +158,72 @@ TEST_CASE("node products: y made on first use and x taken when final give the wh
       differ += std::memcmp(taken[k].data(), whole[k].x.data(), sizeof(Vec6)) != 0;
     CHECK(differ == 0);
   }
+}
+
+namespace {
+
+[[gnu::target("avx")]] void passShareAvx(Mat6& pd, Mat6& g, const Mat6& d, const Mat6& jac, bool joint,
+                                         bool axial, bool fresh) {
+  rm3d::node_products::passShare(pd.data(), g.data(), d.data(), jac.data(), joint, axial, fresh);
+}
+
+[[gnu::target("avx")]] void invertSymmetricAvx(Mat6& a) {
+  rm3d::node_products::invertSymmetric(a.data());
+}
+
+bool sameBits(const Mat6& a, const Mat6& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(Mat6)) == 0;
+}
+
+}  // namespace
+
+// Both of a node's factor steps, on random blocks over eight orders of magnitude, with exact
+// zeros of both signs and denormals among them in half the trials (a product by a zeroed row, or
+// a sum in another order, changes such bits).
+TEST_CASE("node products: the factor's steps on AVX give node_factor's (Eigen's) bits") {
+  if (!__builtin_cpu_supports("avx")) {
+    MESSAGE("this CPU has no AVX: the factor takes node_factor.h's Eigen forms only");
+    return;
+  }
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal;
+  auto value = [&] { return normal(rng) * std::exp(3 * normal(rng)); };
+  auto fill = [&](Mat6& m, bool special) {
+    for (int i = 0; i < 36; ++i) {
+      const int r = special ? int(rng() % 12) : 12;
+      m.data()[i] = r == 0 ? 0.0 : r == 1 ? -0.0 : r == 2 ? 1e-310 * normal(rng) : value();
+    }
+  };
+  int passDiffer = 0, passChanged = 0, invertDiffer = 0, inverted = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const bool joint = trial & 1, axial = trial & 2, fresh = trial & 4, special = trial & 8;
+    Mat6 d, g, pd, jac;
+    fill(d, special), fill(g, special), fill(pd, special), fill(jac, special);
+    jac(0, 0) = trial & 16 ? 1 : -1;  // the pivot rows' sign
+    Mat6 pd1 = pd, g1 = g, pd2 = pd, g2 = g;
+    rm3d::node_factor::passShare(pd1, g1, d, jac, joint, axial, fresh);
+    passShareAvx(pd2, g2, d, jac, joint, axial, fresh);
+    passDiffer += !sameBits(pd1, pd2) || !sameBits(g1, g2);
+    passChanged += !sameBits(pd1, pd) && (!fresh || !sameBits(g1, g));
+    // A pivot: symmetric definite (of either sign, and as a fixed axial row leaves it), or any
+    // block (what is read is read the same way).
+    Mat6 m;
+    fill(m, special);
+    Mat6 a = m * m.transpose() + std::exp(3 * normal(rng)) * Mat6::Identity();
+    if (trial & 16) a = -a;
+    if (trial & 32) {
+      a.row(5).setZero(), a.col(5).setZero();
+      a(5, 5) = -1;
+    }
+    if (trial % 7 == 0) a = m;
+    Mat6 a1 = a, a2 = a;
+    rm3d::node_factor::invertSymmetric(a1);
+    invertSymmetricAvx(a2);
+    invertDiffer += !sameBits(a1, a2);
+    inverted += !sameBits(a1, a);
+  }
+  CHECK(passDiffer == 0);
+  CHECK(invertDiffer == 0);
+  CHECK(passChanged == 4000);  // every pass wrote its parent's pivot (and G where fresh)
+  CHECK(inverted == 4000);
 }

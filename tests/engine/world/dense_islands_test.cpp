@@ -104,7 +104,9 @@ TEST_CASE("exact solver: a small island's contacts on their own operator, the sa
 }
 
 TEST_CASE(
-    "exact solver: the tree solve's and the dense operator's SSE2 and AVX variants give the same bits") {
+    "exact solver: the tree factor's and solve's and the dense operator's SSE2 and AVX variants give the "
+    "same "
+    "bits") {
   if (!__builtin_cpu_supports("avx")) MESSAGE("this CPU has no AVX: both runs take the SSE2 variants");
   const Run sse2 = run(15, true, 1, 1.0, false), avx = run(15, true, 1, 1.0);
   CHECK(sse2.dense == 4 * sse2.steps);

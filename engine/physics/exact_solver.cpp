@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "physics/bullet_layout.h"
-#include "physics/node_factor.h"
+#include "physics/node_eigen.h"
 #include "physics/node_products.h"
 
 namespace rm3d {
@@ -95,7 +95,7 @@ Mat3d skew(const Vec3d& v) {
   return s;
 }
 
-/// node_factor::invertSymmetric on AVX (node_products::invertSymmetric: the same bits).
+/// node_eigen::invertSymmetric on AVX (node_products::invertSymmetric: the same bits).
 [[gnu::target("avx")]] void invertSymmetricAvx(Mat6& a) {
   node_products::invertSymmetric(a.data());
 }
@@ -207,23 +207,44 @@ void ExactSolver::jointRows(int j) {
   r.jb.block<1, 3>(5, 3) = frame.col(2).transpose();
 }
 
+namespace {
+
+/// A solver body's velocity as bodyVelocity makes it (each the float sum of three vectors, in
+/// double), linear and angular in lanes 0-2 of two vectors: the same bits, for AVX code.
+[[gnu::always_inline]] inline void velocityLanes(const btSolverBody& s, node_products::V4& lin,
+                                                 node_products::V4& ang) {
+  typedef float F4 __attribute__((vector_size(16), aligned(4), may_alias));
+  auto f4 = [](const btVector3& v) { return *reinterpret_cast<const F4*>(v.m_floats); };
+  lin = __builtin_convertvector(
+      (f4(s.m_linearVelocity) + f4(s.m_externalForceImpulse)) + f4(s.m_deltaLinearVelocity),
+      node_products::V4);
+  ang = __builtin_convertvector(
+      (f4(s.m_angularVelocity) + f4(s.m_externalTorqueImpulse)) + f4(s.m_deltaAngularVelocity),
+      node_products::V4);
+}
+
+}  // namespace
+
 /// What the rows still need of the bodies' present velocities: target - J v, the structural
 /// rows' target being the centripetal one in r.bias; the axial row's entry is -J v alone (its
 /// caller adds the motor's or the limit's target).
 Vec6 ExactSolver::structuralResidual(int j) const {
-  // J = [sI A; 0 B] (jointRows): J v = [s v + A w; B w].
+  if (m_avx) return structuralResidualAvx(j);
   const Row& r = m_rows[size_t(j)];
-  Vec6 y = -r.bias;
-  if (r.na >= 0) {
-    const Vec6 v = bodyVelocity(r.na);
-    y.head<3>() -= v.head<3>() + r.ja.topRightCorner<3, 3>().lazyProduct(v.tail<3>());
-    y.tail<3>() -= r.ja.bottomRightCorner<3, 3>().lazyProduct(v.tail<3>());
-  }
-  if (r.nb >= 0) {
-    const Vec6 v = bodyVelocity(r.nb);
-    y.head<3>() -= r.jb.topRightCorner<3, 3>().lazyProduct(v.tail<3>()) - v.head<3>();
-    y.tail<3>() -= r.jb.bottomRightCorner<3, 3>().lazyProduct(v.tail<3>());
-  }
+  Vec6 va, vb;  // (read only for the bodies the row has)
+  if (r.na >= 0) va = bodyVelocity(r.na);
+  if (r.nb >= 0) vb = bodyVelocity(r.nb);
+  return node_eigen::jointResidual(r.bias, r.na >= 0 ? &r.ja : nullptr, va, r.nb >= 0 ? &r.jb : nullptr, vb);
+}
+
+Vec6 ExactSolver::structuralResidualAvx(int j) const {
+  const Row& r = m_rows[size_t(j)];
+  node_products::V4 la, aa, lb, ab;
+  if (r.na >= 0) velocityLanes(m_tmpSolverBodyPool[m_bodies[size_t(r.na)].sid], la, aa);
+  if (r.nb >= 0) velocityLanes(m_tmpSolverBodyPool[m_bodies[size_t(r.nb)].sid], lb, ab);
+  Vec6 y;
+  node_products::jointResidual(y.data(), r.bias.data(), r.na >= 0 ? r.ja.data() : nullptr, la, aa,
+                               r.nb >= 0 ? r.jb.data() : nullptr, lb, ab);
   return y;
 }
 
@@ -913,22 +934,22 @@ void ExactSolver::initNode(int k) {
   }
 }
 
-/// (node_factor::passShare says what the share is.)
+/// (node_eigen::passShare says what the share is.)
 void ExactSolver::passToParent(int k, bool fresh) {
   if (m_avx) return passToParentAvx(k, fresh);
   Node& n = m_nodes[size_t(k)];
   // H(node, parent): the joint's rows on the body (J) for a joint node, their transpose for a
   // body node; without the axial row while it is fixed.
   const Row& r = m_rows[size_t(n.joint >= 0 ? n.joint : m_nodes[size_t(n.parent)].joint)];
-  node_factor::passShare(m_nodes[size_t(n.parent)].dinv, n.g, n.dinv, n.parentIsA ? r.ja : r.jb, n.joint >= 0,
-                         r.axialActive, fresh);
+  node_eigen::passShare(m_nodes[size_t(n.parent)].dinv, n.g, n.dinv, n.parentIsA ? r.ja : r.jb, n.joint >= 0,
+                        r.axialActive, fresh);
 }
 
 void ExactSolver::invertPivot(Mat6& d) const {
   if (m_avx)
     invertSymmetricAvx(d);
   else
-    node_factor::invertSymmetric(d);
+    node_eigen::invertSymmetric(d);
 }
 
 void ExactSolver::passToParentAvx(int k, bool fresh) {

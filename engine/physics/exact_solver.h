@@ -426,6 +426,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   JointFrame jointFrame(int j) const;
   void jointRows(int j);
   Vec6 structuralResidual(int j) const;
+  [[gnu::target("avx")]] Vec6 structuralResidualAvx(int j) const;  ///< the same on AVX (the same bits)
   void updateCentripetal(int j);
   Cluster& jointCluster(int j);  ///< the cluster of a joint of this substep
   /// With `solveToo`, then an iteration's solve (solve(c, true)), its down pass node by node as
@@ -484,7 +485,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// Its share of its parent's pivot block (its own inverted); `fresh`: its G worked out again
   /// (else the last factor's, its subtree unchanged since).
   void passToParent(int k, bool fresh);
-  /// The same on AVX (node_products::passShare: node_factor::passShare's bits).
+  /// The same on AVX (node_products::passShare: node_eigen::passShare's bits).
   [[gnu::target("avx")]] void passToParentAvx(int k, bool fresh);
   /// By node: its row left or rejoined the active set since the cluster's last factor; and, in
   /// factor, whether the node is factored again.

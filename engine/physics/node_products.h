@@ -2,7 +2,7 @@
 // at a time; and its factor's two steps a node (its pivot inverted, its share passed to its
 // parent's), on AVX. Each element takes the same operations in the same order as Eigen's
 // fixed-size products (coefficient-based, no fused multiply-add), so the result is the same, bit
-// for bit: the solve's compiled for SSE2 or AVX, the factor's as node_factor.h's Eigen forms.
+// for bit: the solve's compiled for SSE2 or AVX, the factor's as node_eigen.h's Eigen forms.
 // ExactSolver runs the AVX build where the CPU has it.
 #pragma once
 
@@ -117,7 +117,7 @@ typedef long long I2 __attribute__((vector_size(16)));
 }
 
 /// The inverse of a symmetric 3 x 3 by cofactors, from its lower triangle (m00, m10, m20, m11,
-/// m21, m22) as node_factor::symmetricInverse3 takes it: its columns in c (lanes 0-2).
+/// m21, m22) as node_eigen::symmetricInverse3 takes it: its columns in c (lanes 0-2).
 [[gnu::always_inline]] inline void inverse3(V4* c, double m00, double m10, double m20, double m11, double m21,
                                             double m22) {
   const double c00 = m11 * m22 - m21 * m21, c01 = m20 * m21 - m10 * m22, c02 = m10 * m21 - m20 * m11;
@@ -129,7 +129,7 @@ typedef long long I2 __attribute__((vector_size(16)));
   c[2] = V4{c02, c12, c22, 0} * s;
 }
 
-/// node_factor::invertSymmetric (which says how) on a column-major 6 x 6, in place: each 3 x 3
+/// node_eigen::invertSymmetric (which says how) on a column-major 6 x 6, in place: each 3 x 3
 /// product's elements summed in Eigen's order there (sum3Rows; q^T x's all in order, as Eigen's
 /// dot products of two columns).
 [[gnu::always_inline]] inline void invertSymmetric(double* a) {
@@ -160,7 +160,7 @@ typedef long long I2 __attribute__((vector_size(16)));
   }
 }
 
-/// node_factor::passShare (which says what the products mean) on column-major 6 x 6 arrays: pd
+/// node_eigen::passShare (which says what the products mean) on column-major 6 x 6 arrays: pd
 /// -= H^T G, with G = D^-1 H made first where `fresh`, then pd made exactly symmetric. Each
 /// element takes the operations of Eigen's evaluation of that function's expressions, in their
 /// order: a 6-row column's products summed column by column, and a 3-row block's (Eigen takes
@@ -225,6 +225,39 @@ typedef long long I2 __attribute__((vector_size(16)));
     }
   }
   symmetrise(pd);
+}
+
+/// J's right half times w, [A w; B w] for J = [sI A; 0 B] (6 x 6, column-major) and w in lanes
+/// 0-2, as Eigen's 3 x 3 products take each block: rows 0 and 1 of each summed in order, row 2 by
+/// halves (sum3Rows).
+[[gnu::always_inline]] inline Col6 rightHalf(const double* j, const V4& w) {
+  const Col6 p0 = column(j, 3, w[0]), p1 = column(j, 4, w[1]), p2 = column(j, 5, w[2]);
+  const V4 first = (p0.lo + p1.lo) + p2.lo, halves = p0.lo + (p1.lo + p2.lo);
+  const V2 firstHi = (p0.hi + p1.hi) + p2.hi, halvesHi = p0.hi + (p1.hi + p2.hi);
+  return {V4{first[0], first[1], halves[2], first[3]}, V2{firstHi[0], halvesHi[1]}};
+}
+
+/// node_eigen::jointResidual on column-major arrays: y = -bias - J_a v_a - J_b v_b, ja (jb) null
+/// without body a (b); each body's linear and angular velocity in lanes 0-2 of two vectors.
+/// (Where an element has nothing to add, -0 is added and +0 taken away: the same bits, signed
+/// zeros too.)
+[[gnu::always_inline]] inline void jointResidual(double* y, const double* bias, const double* ja,
+                                                 const V4& linA, const V4& angA, const double* jb,
+                                                 const V4& linB, const V4& angB) {
+  V4 lo = -*reinterpret_cast<const V4*>(bias);
+  V2 hi = -*reinterpret_cast<const V2*>(bias + 4);
+  if (ja) {
+    const Col6 jw = rightHalf(ja, angA);
+    lo -= V4{linA[0], linA[1], linA[2], -0.0} + jw.lo;
+    hi -= jw.hi;
+  }
+  if (jb) {
+    const Col6 jw = rightHalf(jb, angB);
+    lo -= jw.lo - V4{linB[0], linB[1], linB[2], 0.0};
+    hi -= jw.hi;
+  }
+  *reinterpret_cast<V4*>(y) = lo;
+  *reinterpret_cast<V2*>(y + 4) = hi;
 }
 
 /// How many nodes ahead of the one it works on a pass calls ahead(k): about a memory latency.

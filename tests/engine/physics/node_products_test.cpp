@@ -1,5 +1,5 @@
 // The tree solve's node products (node_products.h) give Eigen's bits, built for SSE2 and for AVX;
-// and the factor's steps there, on AVX, node_factor.h's (Eigen's).
+// and the factor's steps there, on AVX, node_eigen.h's (Eigen's).
 #include "physics/node_products.h"
 
 #include <doctest/doctest.h>
@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "physics/node_factor.h"
+#include "physics/node_eigen.h"
 
 namespace {
 
@@ -171,18 +171,31 @@ namespace {
   rm3d::node_products::invertSymmetric(a.data());
 }
 
+[[gnu::target("avx")]] Vec6 jointResidualAvx(const Vec6& bias, const Mat6* ja, const Vec6& va, const Mat6* jb,
+                                             const Vec6& vb) {
+  using rm3d::node_products::V4;
+  const double junk = std::nan("");  // (lane 3 is never read)
+  Vec6 y;
+  rm3d::node_products::jointResidual(y.data(), bias.data(), ja ? ja->data() : nullptr,
+                                     V4{va[0], va[1], va[2], junk}, V4{va[3], va[4], va[5], junk},
+                                     jb ? jb->data() : nullptr, V4{vb[0], vb[1], vb[2], junk},
+                                     V4{vb[3], vb[4], vb[5], junk});
+  return y;
+}
+
 bool sameBits(const Mat6& a, const Mat6& b) {
   return std::memcmp(a.data(), b.data(), sizeof(Mat6)) == 0;
 }
 
 }  // namespace
 
-// Both of a node's factor steps, on random blocks over eight orders of magnitude, with exact
-// zeros of both signs and denormals among them in half the trials (a product by a zeroed row, or
-// a sum in another order, changes such bits).
-TEST_CASE("node products: the factor's steps on AVX give node_factor's (Eigen's) bits") {
+// Both of a node's factor steps and a hinge's residual, on random blocks over eight orders of magnitude, with
+// exact zeros of both signs and denormals among them in half the trials (a product by a zeroed row, or a sum
+// in another order, changes such bits).
+TEST_CASE(
+    "node products: the factor's steps and a hinge's residual on AVX give node_eigen's (Eigen's) bits") {
   if (!__builtin_cpu_supports("avx")) {
-    MESSAGE("this CPU has no AVX: the factor takes node_factor.h's Eigen forms only");
+    MESSAGE("this CPU has no AVX: the factor takes node_eigen.h's Eigen forms only");
     return;
   }
   std::mt19937_64 rng(11);
@@ -194,14 +207,14 @@ TEST_CASE("node products: the factor's steps on AVX give node_factor's (Eigen's)
       m.data()[i] = r == 0 ? 0.0 : r == 1 ? -0.0 : r == 2 ? 1e-310 * normal(rng) : value();
     }
   };
-  int passDiffer = 0, passChanged = 0, invertDiffer = 0, inverted = 0;
+  int passDiffer = 0, passChanged = 0, invertDiffer = 0, inverted = 0, residualDiffer = 0;
   for (int trial = 0; trial < 4000; ++trial) {
     const bool joint = trial & 1, axial = trial & 2, fresh = trial & 4, special = trial & 8;
     Mat6 d, g, pd, jac;
     fill(d, special), fill(g, special), fill(pd, special), fill(jac, special);
     jac(0, 0) = trial & 16 ? 1 : -1;  // the pivot rows' sign
     Mat6 pd1 = pd, g1 = g, pd2 = pd, g2 = g;
-    rm3d::node_factor::passShare(pd1, g1, d, jac, joint, axial, fresh);
+    rm3d::node_eigen::passShare(pd1, g1, d, jac, joint, axial, fresh);
     passShareAvx(pd2, g2, d, jac, joint, axial, fresh);
     passDiffer += !sameBits(pd1, pd2) || !sameBits(g1, g2);
     passChanged += !sameBits(pd1, pd) && (!fresh || !sameBits(g1, g));
@@ -217,11 +230,20 @@ TEST_CASE("node products: the factor's steps on AVX give node_factor's (Eigen's)
     }
     if (trial % 7 == 0) a = m;
     Mat6 a1 = a, a2 = a;
-    rm3d::node_factor::invertSymmetric(a1);
+    rm3d::node_eigen::invertSymmetric(a1);
     invertSymmetricAvx(a2);
     invertDiffer += !sameBits(a1, a2);
     inverted += !sameBits(a1, a);
+    // A hinge's residual, with either body or both.
+    Vec6 bias, va, vb;
+    for (int i = 0; i < 6; ++i) bias[i] = g(i, 0), va[i] = g(i, 1), vb[i] = g(i, 2);
+    const Mat6* ja = trial & 32 ? nullptr : &d;
+    const Mat6* jb = trial & 64 ? nullptr : &jac;
+    const Vec6 r1 = rm3d::node_eigen::jointResidual(bias, ja, va, jb, vb),
+               r2 = jointResidualAvx(bias, ja, va, jb, vb);
+    residualDiffer += std::memcmp(r1.data(), r2.data(), sizeof(Vec6)) != 0;
   }
+  CHECK(residualDiffer == 0);
   CHECK(passDiffer == 0);
   CHECK(invertDiffer == 0);
   CHECK(passChanged == 4000);  // every pass wrote its parent's pivot (and G where fresh)

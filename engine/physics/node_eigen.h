@@ -1,14 +1,16 @@
-// The exact solver's factor, node by node, in Eigen: a node's pivot block inverted and its share
-// passed to its parent's. ExactSolver runs these where the CPU has no AVX; node_products.h has the
-// same steps on AVX, which must give these functions' bits (tests/engine/physics/node_products_test.cpp).
+// The exact solver's steps node by node, in Eigen: a node's pivot block inverted and its share
+// passed to its parent's (the factor), and a hinge's rows' velocity (each iteration's right-hand
+// side). ExactSolver runs these where the CPU has no AVX; node_products.h has the same steps on
+// AVX, which must give these functions' bits (tests/engine/physics/node_products_test.cpp).
 #pragma once
 
 #include <Eigen/Core>
 
-namespace rm3d::node_factor {
+namespace rm3d::node_eigen {
 
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Mat3d = Eigen::Matrix3d;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 /// Inverse of a symmetric 3x3 matrix by cofactors (its lower triangle read).
 inline Mat3d symmetricInverse3(const Mat3d& m) {
@@ -80,4 +82,20 @@ inline void passShare(Mat6& pd, Mat6& g, const Mat6& d, const Mat6& jac, bool jo
     for (int row = col; row < 6; ++row) pd(row, col) = pd(col, row) = 0.5 * (pd(row, col) + pd(col, row));
 }
 
-}  // namespace rm3d::node_factor
+/// A hinge's structural residual -bias - J v: J = [sI A; 0 B] on each body (jointRows), J v =
+/// [s v + A w; B w] with s = 1 on body a and -1 on body b; ja (jb) null where the row has no body
+/// a (b) in the tree.
+inline Vec6 jointResidual(const Vec6& bias, const Mat6* ja, const Vec6& va, const Mat6* jb, const Vec6& vb) {
+  Vec6 y = -bias;
+  if (ja) {
+    y.head<3>() -= va.head<3>() + ja->topRightCorner<3, 3>().lazyProduct(va.tail<3>());
+    y.tail<3>() -= ja->bottomRightCorner<3, 3>().lazyProduct(va.tail<3>());
+  }
+  if (jb) {
+    y.head<3>() -= jb->topRightCorner<3, 3>().lazyProduct(vb.tail<3>()) - vb.head<3>();
+    y.tail<3>() -= jb->bottomRightCorner<3, 3>().lazyProduct(vb.tail<3>());
+  }
+  return y;
+}
+
+}  // namespace rm3d::node_eigen

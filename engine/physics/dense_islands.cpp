@@ -373,10 +373,23 @@ bool ExactSolver::denseOperatorAvx(const Cluster& c, int n, int nu) {
   return denseOperatorOf<FourAvx>(c, n, nu);
 }
 
+/// denseSweepsOf, its passes over the rows' velocities by the CPU's widest vectors (element by
+/// element: the same bits).
+void ExactSolver::denseSweeps(int n, int sweeps) {
+  if (m_avx)
+    denseSweepsAvx(n, sweeps);
+  else
+    denseSweepsOf(n, sweeps);
+}
+
+void ExactSolver::denseSweepsAvx(int n, int sweeps) {
+  denseSweepsOf(n, sweeps);
+}
+
 /// Up to `sweeps` Gauss-Seidel sweeps on m_denseA from the impulses in m_denseLam (the velocities
 /// in m_denseVel), in the sweep's order and with its bounds; ends early where no impulse changed
 /// by more than the settling's threshold (kSweepSettled).
-void ExactSolver::denseSweeps(int n, int sweeps) {
+void ExactSolver::denseSweepsOf(int n, int sweeps) {
   double* lam = m_denseLam.data();
   double* vel = m_denseVel.data();
   const double* A = m_denseA.data();

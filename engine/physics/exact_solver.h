@@ -684,6 +684,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   template <class F>
   [[gnu::always_inline]] inline bool denseOperatorOf(const Cluster& c, int n, int nu);
   void denseSweeps(int n, int sweeps);
+  [[gnu::target("avx")]] void denseSweepsAvx(int n, int sweeps);
+  [[gnu::always_inline]] inline void denseSweepsOf(int n, int sweeps);
 };
 
 /// One side of a contact row: its solver body, Jacobian, and (if it is one of ours) body and group.

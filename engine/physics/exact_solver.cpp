@@ -95,9 +95,14 @@ Mat3d skew(const Vec3d& v) {
   return s;
 }
 
-/// node_eigen::invertSymmetric on AVX (node_products::invertSymmetric: the same bits).
+/// node_eigen::invertSymmetric and passShare on AVX (node_products': the same bits).
 [[gnu::target("avx")]] void invertSymmetricAvx(Mat6& a) {
   node_products::invertSymmetric(a.data());
+}
+
+[[gnu::target("avx")]] void passShareAvx(Mat6& pd, Mat6& g, const Mat6& d, const Mat6& jac, bool joint,
+                                         bool axial, bool fresh) {
+  node_products::passShare(pd.data(), g.data(), d.data(), jac.data(), joint, axial, fresh);
 }
 
 inline void cpuRelax() {
@@ -936,13 +941,16 @@ void ExactSolver::initNode(int k) {
 
 /// (node_eigen::passShare says what the share is.)
 void ExactSolver::passToParent(int k, bool fresh) {
-  if (m_avx) return passToParentAvx(k, fresh);
   Node& n = m_nodes[size_t(k)];
   // H(node, parent): the joint's rows on the body (J) for a joint node, their transpose for a
   // body node; without the axial row while it is fixed.
   const Row& r = m_rows[size_t(n.joint >= 0 ? n.joint : m_nodes[size_t(n.parent)].joint)];
-  node_eigen::passShare(m_nodes[size_t(n.parent)].dinv, n.g, n.dinv, n.parentIsA ? r.ja : r.jb, n.joint >= 0,
-                        r.axialActive, fresh);
+  Mat6& pd = m_nodes[size_t(n.parent)].dinv;
+  const Mat6& jac = n.parentIsA ? r.ja : r.jb;
+  if (m_avx)
+    passShareAvx(pd, n.g, n.dinv, jac, n.joint >= 0, r.axialActive, fresh);
+  else
+    node_eigen::passShare(pd, n.g, n.dinv, jac, n.joint >= 0, r.axialActive, fresh);
 }
 
 void ExactSolver::invertPivot(Mat6& d) const {
@@ -950,13 +958,6 @@ void ExactSolver::invertPivot(Mat6& d) const {
     invertSymmetricAvx(d);
   else
     node_eigen::invertSymmetric(d);
-}
-
-void ExactSolver::passToParentAvx(int k, bool fresh) {
-  Node& n = m_nodes[size_t(k)];
-  const Row& r = m_rows[size_t(n.joint >= 0 ? n.joint : m_nodes[size_t(n.parent)].joint)];
-  node_products::passShare(m_nodes[size_t(n.parent)].dinv.data(), n.g.data(), n.dinv.data(),
-                           (n.parentIsA ? r.ja : r.jb).data(), n.joint >= 0, r.axialActive, fresh);
 }
 
 template <class Fn>

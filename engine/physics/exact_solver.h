@@ -485,8 +485,6 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// Its share of its parent's pivot block (its own inverted); `fresh`: its G worked out again
   /// (else the last factor's, its subtree unchanged since).
   void passToParent(int k, bool fresh);
-  /// The same on AVX (node_products::passShare: node_eigen::passShare's bits).
-  [[gnu::target("avx")]] void passToParentAvx(int k, bool fresh);
   /// By node: its row left or rejoined the active set since the cluster's last factor; and, in
   /// factor, whether the node is factored again.
   std::vector<char> m_rowChanged, m_need;

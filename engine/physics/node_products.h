@@ -63,8 +63,7 @@ struct Col6 {  // six rows: four and two
   *reinterpret_cast<V2*>(x + 4) = *reinterpret_cast<const V2*>(x + 4) - v.hi;
 }
 
-typedef long long I4 __attribute__((vector_size(32)));
-typedef long long I2 __attribute__((vector_size(16)));
+typedef long long I4 __attribute__((vector_size(32)));  // (lanes chosen by __builtin_shuffle)
 
 /// m (6 x 6, column-major) exactly symmetric: each element and its mirror set to 0.5 (m(r, c) +
 /// m(c, r)), the diagonal too (0.5 (x + x) is x but for a denormal that flushes), as that loop
@@ -168,11 +167,11 @@ typedef long long I2 __attribute__((vector_size(16)));
 [[gnu::always_inline]] inline void passShare(double* pd, double* g, const double* d, const double* jac,
                                              bool joint, bool axial, bool fresh) {
   const double s = jac[0];
-  const double z = axial ? 1.0 : 0.0;  // (b's row 2 is zeroed, not left out: the same signed zeros)
-  // a = jac's top right 3 x 3, b its bottom right: a(k, j) = jac[k + 6 (3 + j)].
+  // a = jac's top right 3 x 3, b its bottom right: a(k, j) = jac[k + 6 (3 + j)]. Without the axial
+  // row, b's row 2 is zeroed, not left out (its products by +0 give the same signed zeros).
   const double* a = jac + 18;
   const double* b = jac + 21;
-  auto bk = [&](int k, int j) { return k == 2 && !axial ? 0.0 * z : b[k + 6 * j]; };
+  auto bk = [&](int k, int j) { return k == 2 && !axial ? 0.0 : b[k + 6 * j]; };
   if (joint) {
     if (fresh) {
       for (int k = 0; k < 3; ++k) store(g + 6 * k, column(d, k, s));

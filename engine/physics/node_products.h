@@ -63,8 +63,6 @@ struct Col6 {  // six rows: four and two
   *reinterpret_cast<V2*>(x + 4) = *reinterpret_cast<const V2*>(x + 4) - v.hi;
 }
 
-typedef long long I4 __attribute__((vector_size(32)));  // (lanes chosen by __builtin_shuffle)
-
 /// m (6 x 6, column-major) exactly symmetric: each element and its mirror set to 0.5 (m(r, c) +
 /// m(c, r)), the diagonal too (0.5 (x + x) is x but for a denormal that flushes), as that loop
 /// would, by 4 x 4, 4 x 2 and 2 x 2 blocks.
@@ -77,16 +75,16 @@ typedef long long I4 __attribute__((vector_size(32)));  // (lanes chosen by __bu
   }
   const V4 half = {0.5, 0.5, 0.5, 0.5};
   // The top left 4 x 4: rows 0-3 as vectors over columns 0-3.
-  const V4 t0 = __builtin_shuffle(c[0], c[1], I4{0, 4, 2, 6}),
-           t1 = __builtin_shuffle(c[0], c[1], I4{1, 5, 3, 7});
-  const V4 t2 = __builtin_shuffle(c[2], c[3], I4{0, 4, 2, 6}),
-           t3 = __builtin_shuffle(c[2], c[3], I4{1, 5, 3, 7});
-  const V4 r[4] = {__builtin_shuffle(t0, t2, I4{0, 1, 4, 5}), __builtin_shuffle(t1, t3, I4{0, 1, 4, 5}),
-                   __builtin_shuffle(t0, t2, I4{2, 3, 6, 7}), __builtin_shuffle(t1, t3, I4{2, 3, 6, 7})};
+  const V4 t0 = __builtin_shufflevector(c[0], c[1], 0, 4, 2, 6),
+           t1 = __builtin_shufflevector(c[0], c[1], 1, 5, 3, 7);
+  const V4 t2 = __builtin_shufflevector(c[2], c[3], 0, 4, 2, 6),
+           t3 = __builtin_shufflevector(c[2], c[3], 1, 5, 3, 7);
+  const V4 r[4] = {__builtin_shufflevector(t0, t2, 0, 1, 4, 5), __builtin_shufflevector(t1, t3, 0, 1, 4, 5),
+                   __builtin_shufflevector(t0, t2, 2, 3, 6, 7), __builtin_shufflevector(t1, t3, 2, 3, 6, 7)};
   // Rows 4 and 5 over columns 0-3, against columns 4 and 5's rows 0-3.
   const V4 v02 = {h[0][0], h[0][1], h[2][0], h[2][1]}, v13 = {h[1][0], h[1][1], h[3][0], h[3][1]};
-  const V4 s4 = half * (c[4] + __builtin_shuffle(v02, v13, I4{0, 4, 2, 6}));
-  const V4 s5 = half * (c[5] + __builtin_shuffle(v02, v13, I4{1, 5, 3, 7}));
+  const V4 s4 = half * (c[4] + __builtin_shufflevector(v02, v13, 0, 4, 2, 6));
+  const V4 s5 = half * (c[5] + __builtin_shufflevector(v02, v13, 1, 5, 3, 7));
   for (int k = 0; k < 4; ++k) {
     *reinterpret_cast<V4*>(m + 6 * k) = half * (c[k] + r[k]);
     *reinterpret_cast<V2*>(m + 6 * k + 4) = V2{s4[k], s5[k]};

@@ -1,9 +1,9 @@
 // The exact solver's tree solve, node by node: the three products of its 6 x 6 blocks, four rows
-// at a time; and its factor's two steps a node (its pivot inverted, its share passed to its
-// parent's), on AVX. Each element takes the same operations in the same order as Eigen's
-// fixed-size products (coefficient-based, no fused multiply-add), so the result is the same, bit
-// for bit: the solve's compiled for SSE2 or AVX, the factor's as node_eigen.h's Eigen forms.
-// ExactSolver runs the AVX build where the CPU has it.
+// at a time; and, on AVX, its factor's two steps a node (its pivot inverted, its share passed to
+// its parent's) and a hinge's residual. Each element takes the same operations in the same order
+// as Eigen's fixed-size products (coefficient-based, no fused multiply-add), so the result is the
+// same, bit for bit: the solve's compiled for SSE2 or AVX, the others as node_eigen.h's Eigen
+// forms. ExactSolver runs the AVX build where the CPU has it.
 #pragma once
 
 namespace rm3d::node_products {

@@ -1,5 +1,5 @@
 // The tree solve's node products (node_products.h) give Eigen's bits, built for SSE2 and for AVX;
-// and the factor's steps there, on AVX, node_eigen.h's (Eigen's).
+// and the factor's steps and a hinge's residual there, on AVX, node_eigen.h's (Eigen's).
 #include "physics/node_products.h"
 
 #include <doctest/doctest.h>
@@ -195,7 +195,7 @@ bool sameBits(const Mat6& a, const Mat6& b) {
 TEST_CASE(
     "node products: the factor's steps and a hinge's residual on AVX give node_eigen's (Eigen's) bits") {
   if (!__builtin_cpu_supports("avx")) {
-    MESSAGE("this CPU has no AVX: the factor takes node_eigen.h's Eigen forms only");
+    MESSAGE("this CPU has no AVX: the solver takes node_eigen.h's Eigen forms only");
     return;
   }
   std::mt19937_64 rng(11);

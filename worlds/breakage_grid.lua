@@ -2,9 +2,9 @@
 -- are hit by five heavy spheres. Docks carry at most 100 N and 10 N m (the SuperBot type's
 -- strength); where an impact loads a connection beyond that, it breaks ("broken" events with
 -- the measured load in the JSON summary). The connections that hold keep their modules exactly
--- together, and nothing explodes. On the exact solver (the default) 27 of the 76 connections hold:
+-- together, and nothing explodes. On the exact solver (the default) 25 of the 76 connections hold:
 -- its rigid hinges pass each impact's shear on to the neighbours at once, whose docks then carry
--- it (59 hold on "pgs", whose softer joints spread it over several steps; 27 at 8 substeps). The
+-- it (59 hold on "pgs", whose softer joints spread it over several steps; 26 at 8 substeps). The
 -- grid's loops are nearly redundant where two modules' pitch axes line up, and the solver damps
 -- those directions (docs/physics.md, "Lattices"); solved exactly, only 11 held.
 world.set{gravity = {0, 0, 0}, duration = 3}

@@ -41,12 +41,15 @@ constexpr int kClaimed = -2;              // a body whose joint node is placed, 
 constexpr int kResweeps = 4;
 constexpr double kResweepSettled = 1e-4;  // (N s)^2: the squared impulse change of a row
 // Position stabilisation: a joint error (m of pivot gap, rad of axis tilt) left above this after a
-// pass is projected again, with rows at the corrected poses, up to kStabilisePasses in all. One
-// pass with the substep's rows leaves about (motion per substep) x error: a free chain tumbling at
-// dt 1/60 kept 0.04 rad tilt errors and its hinges opened by up to 5 deg. A crawling snake's
-// errors are within it after one pass (no extra factorisation).
+// pass is projected again, up to kStabilisePasses in all. One pass with the substep's rows leaves
+// about (motion per substep) x error: a free chain tumbling at dt 1/60 kept 0.04 rad tilt errors
+// and its hinges opened by up to 5 deg, so its later passes take rows and factor at the corrected
+// poses; a crawling snake's first pass leaves 1e-5 to 2e-5 m, and its second keeps the factor.
 constexpr double kStabiliseTolerance = 1e-5;
 constexpr int kStabilisePasses = 3;
+// A pass with the last pass's rows and factor (a chord step) where the error left times the last
+// pass's rate is under this share of the tolerance (stabiliseCluster).
+constexpr double kChordShare = 0.5;
 // A stabilisation pass that turns part of a structure about a distant point: a body moves (its
 // centre, plus its turn at kLeverArm) over kLeverMove and over kLever times the largest joint
 // error the pass closes. On a 300-SuperBot chain lying straight, closing errors of 3.8 um turned
@@ -2243,13 +2246,25 @@ void ExactSolver::finishBatch() {
 
 /// Position errors at the integrated poses, projected out: first with the cluster's last factor
 /// (its rows from the substep's start), then, while an error is left above kStabiliseTolerance,
-/// with rows and factor at the corrected poses (Newton steps, so a few at most).
+/// again: with the same factor where the pass before predicts that this is enough (a chord step),
+/// else with rows and factor at the corrected poses (a Newton step). A few passes at most.
 void ExactSolver::stabiliseCluster(Cluster& c) {
-  double before = 0;  // the largest error before the pass
+  const bool loops = c.loopEnd > c.loopBegin;
+  double before = 0;    // the largest error before the pass
+  double rate = 1;      // what the pass before left of its error (left / before)
+  bool errors = false;  // each node's y holds its joint's error at the present poses (0 for a body)
   for (int pass = 0; pass < kStabilisePasses; ++pass) {
+    // A pass with the same rows takes the error down about as much as the pass before did (both
+    // stale by the substep's motion): taken where that would leave under half the tolerance. A
+    // crawling snake's first pass leaves 1e-5 to 2e-5 m of 1e-4 (rate 0.1 to 0.2); a chain
+    // tumbling at speed, or a loop (its Schur complement from the substep's start, too), is
+    // projected at the corrected poses.
+    const bool chord = pass > 0 && !loops && before * rate <= kChordShare * kStabiliseTolerance;
     // Node by node, each reading its own joint's bodies or writing its own row or body: a long
     // tree's halves apart (the largest error by half).
-    if (pass > 0) {
+    m_chordPasses += chord;
+    m_newtonPasses += pass > 0 && !chord;
+    if (pass > 0 && !chord) {
       forEachNode(c, [&](int k, int) {
         const Node& n = m_nodes[size_t(k)];
         if (n.joint >= 0) {
@@ -2270,23 +2285,42 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
     struct alignas(64) Largest {
       double v;
     };
-    Largest largest[2];
-    largest[0].v = largest[1].v = 0;
+    if (!errors) {
+      Largest largest[2];
+      largest[0].v = largest[1].v = 0;
+      forEachNode(c, [&](int k, int h) {
+        Node& n = m_nodes[size_t(k)];
+        n.y.setZero();
+        if (n.joint >= 0) n.y = positionError(n.joint);
+        largest[h].v = std::max(largest[h].v, n.y.cwiseAbs().maxCoeff());
+      });
+      if (pass == 0) before = std::max(largest[0].v, largest[1].v);
+    }
+    solve(c);
+    // Each body moved by its x; then each joint's error at the new poses (what is left, and the
+    // next pass's right-hand side), in the same pass where no loop moves the bodies again: a
+    // joint's, once its child body has moved (its parent body, earlier in node order, has).
+    Largest moves[2], lefts[2];  // the largest move and error left, by half
+    moves[0].v = moves[1].v = lefts[0].v = lefts[1].v = 0;
+    auto errorLeft = [&](int k, int h) {  // joint node k's error, into its y
+      Node& n = m_nodes[size_t(k)];
+      n.y = positionError(n.joint);
+      lefts[h].v = std::max(lefts[h].v, stabiliseExcess(n.joint, n.y));
+    };
     forEachNode(c, [&](int k, int h) {
       Node& n = m_nodes[size_t(k)];
-      n.y.setZero();
-      if (n.joint >= 0) n.y = positionError(n.joint);
-      largest[h].v = std::max(largest[h].v, n.y.cwiseAbs().maxCoeff());
-    });
-    if (pass == 0) before = std::max(largest[0].v, largest[1].v);
-    solve(c);
-    Largest moves[2];  // the largest move by half
-    moves[0].v = moves[1].v = 0;
-    forEachNode(c, [&](int k, int h) {
-      const Node& n = m_nodes[size_t(k)];
-      if (n.body < 0) return;
+      if (n.body < 0) {
+        // (A joint to the static world below a body has no child body: its error now.)
+        if (loops || n.parent < 0) return;
+        const Row& r = m_rows[size_t(n.joint)];
+        if ((n.parentIsA ? r.nb : r.na) < 0) errorLeft(k, h);
+        return;
+      }
       moves[h].v = std::max(moves[h].v, n.x.head<3>().norm() + kLeverArm * n.x.tail<3>().norm());
       applyPositionChange(k);
+      if (loops) return;
+      n.y.setZero();
+      if (n.parent >= 0) errorLeft(n.parent, h);
     });
     // A first pass that turned part of the structure: every body's move is followed by its
     // contact anchors (followPatchPoses; the mark is the substep, in Bullet's third user index).
@@ -2294,35 +2328,36 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
       for (int k = c.begin; k < c.end; ++k)
         if (const int b = m_nodes[size_t(k)].body; b >= 0)
           m_bodies[size_t(b)].rb->setUserIndex3(m_substepCount);
-    if (c.loopEnd > c.loopBegin) {
-      // Then the loops' errors at the corrected poses, through S and the tree.
-      const int loops = c.loopEnd - c.loopBegin;
-      Eigen::VectorXd err(6 * loops);
-      for (int l = 0; l < loops; ++l)
+    if (loops) {
+      // Then the loops' errors at the corrected poses, through S and the tree, and what is left.
+      const int count = c.loopEnd - c.loopBegin;
+      Eigen::VectorXd err(6 * count);
+      for (int l = 0; l < count; ++l)
         err.segment<6>(6 * l) = positionError(m_loopJoints[size_t(c.loopBegin + l)]);
       pushThroughTree(c, solveLoops(c, c.schurPosInv, err), true);
       applyPositionChanges(c);
+      forEachNode(c, [&](int k, int h) {
+        if (const int j = m_nodes[size_t(k)].joint; j >= 0)
+          lefts[h].v = std::max(lefts[h].v, stabiliseExcess(j, positionError(j)));
+      });
     }
-    Largest lefts[2];
-    lefts[0].v = lefts[1].v = 0;
-    forEachNode(c, [&](int k, int h) {
-      if (const int j = m_nodes[size_t(k)].joint; j >= 0)
-        lefts[h].v = std::max(lefts[h].v, stabiliseExcess(j));
-    });
+    errors = !loops;
     double left = std::max(lefts[0].v, lefts[1].v);
-    for (int l = c.loopBegin; l < c.loopEnd; ++l)
-      left = std::max(left, stabiliseExcess(m_loopJoints[size_t(l)]));
+    for (int l = c.loopBegin; l < c.loopEnd; ++l) {
+      const int j = m_loopJoints[size_t(l)];
+      left = std::max(left, stabiliseExcess(j, positionError(j)));
+    }
     // Done when within the tolerance, or when a pass at the new poses no longer halves the error.
     if (left <= kStabiliseTolerance || (pass > 0 && left > 0.5 * before)) break;
+    rate = before > 0 ? left / before : 1;
     before = left;
   }
 }
 
 /// A joint's position error beyond what float poses can resolve: Bullet keeps poses in float, so
 /// a pivot 20 m from the origin is known to 2e-6 m, and one 400 m away to 3e-5 m.
-double ExactSolver::stabiliseExcess(int j) const {
+double ExactSolver::stabiliseExcess(int j, const Vec6& err) const {
   const ExactJoint& e = m_shared->joints[size_t(j)];
-  const Vec6 err = positionError(j);
   const double reach = double((e.a->getCenterOfMassTransform() * e.frameA.getOrigin()).length());
   const double resolution = 8 * double(std::numeric_limits<float>::epsilon()) * std::max(1.0, reach);
   return std::max({err.head<3>().cwiseAbs().maxCoeff() - resolution, err.tail<3>().cwiseAbs().maxCoeff()});

@@ -40,8 +40,9 @@
 // After integration, the position error of the hinges (pivot gap, axis tilt) is projected out
 // with the same factor (post-stabilisation): no Baumgarte velocity, so no energy is added. Where
 // an error above 10 um or 10 urad is left (bodies turning fast, whose separate integration opens
-// their hinges by h^2 x joint speed x tumbling rate), it is projected again with rows and factor
-// at the corrected poses: Newton steps, two or three at most.
+// their hinges by h^2 x joint speed x tumbling rate), it is projected again: with the same factor
+// where the first pass's rate says that is enough (a chord step; a crawling chain), else with rows
+// and factor at the corrected poses (a Newton step; a tumbling one, a loop). Three passes at most.
 #pragma once
 
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
@@ -183,6 +184,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// before the substep's last iteration was spared (planSettling).
   long islandSweepCount() const { return m_islandSweeps; }
   long sparedSweepCount() const { return m_sparedSweeps; }
+  /// Stabilisation passes after a cluster's first so far: with its last factor (chord steps), and
+  /// with rows and factor made at the corrected poses (Newton steps; stabiliseCluster).
+  long chordPassCount() const { return m_chordPasses; }
+  long newtonPassCount() const { return m_newtonPasses; }
 
   /// Makes this a batch solver of `primary` (PhysicsWorld's, on a worker thread): it reads and
   /// writes the primary's joints, capture joints and contact-patch table instead of its own. Each
@@ -545,7 +550,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   void settleState(int j);
   void stabiliseCluster(Cluster& c);
   Vec6 positionError(int j) const;
-  double stabiliseExcess(int j) const;
+  double stabiliseExcess(int j, const Vec6& err) const;  ///< err: positionError(j)
   void applyPositionChanges(Cluster& c);
   void applyPositionChange(int k);  ///< node k's body, by its x
   void forEachCluster(int begin, FunctionRef<void(int)> fn);
@@ -637,6 +642,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<Settle> m_slotSettle;
   bool m_settling = false;  // within the substep's iterations: settled islands are not swept
   long m_islandSweeps = 0, m_sparedSweeps = 0;
+  long m_chordPasses = 0, m_newtonPasses = 0;
   void planSettling();
   int clusterSlot(const Cluster& c) const;
   bool settleIslands(int iteration, int last);

@@ -1270,6 +1270,14 @@ long PhysicsWorld::sparedSweeps() const {
   return sumOverSolvers(m->solver, m->helpers, &ExactSolver::sparedSweepCount);
 }
 
+long PhysicsWorld::chordPasses() const {
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::chordPassCount);
+}
+
+long PhysicsWorld::newtonPasses() const {
+  return sumOverSolvers(m->solver, m->helpers, &ExactSolver::newtonPassCount);
+}
+
 long PhysicsWorld::denseIslands() const {
   return sumOverSolvers(m->solver, m->helpers, &ExactSolver::denseIslandCount);
 }

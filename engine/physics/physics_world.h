@@ -210,6 +210,10 @@ class PhysicsWorld {
   /// (ExactSolver::planSettling).
   long islandSweeps() const;
   long sparedSweeps() const;
+  /// Position stabilisation passes after a cluster's first so far: with the first pass's factor
+  /// (chord steps), and with rows and factor at the corrected poses (Newton steps).
+  long chordPasses() const;
+  long newtonPasses() const;
   /// Islands whose contacts the exact solvers solved on their own operator so far (one an island
   /// a substep; ExactSolver::denseIslandCount).
   long denseIslands() const;

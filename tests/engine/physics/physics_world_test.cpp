@@ -422,10 +422,15 @@ TEST_CASE(
   PhysicsWorld w(s);
   double corner = 0;
   const auto [gap, angle] = shearAndTumble(w, fourBar(w, false, false), 1.0, corner);
-  MESSAGE("chain: largest gap " << gap << " m, axis angle " << angle << " rad");
+  MESSAGE("chain: largest gap " << gap << " m, axis angle " << angle << " rad, " << w.newtonPasses()
+                                << " passes at the corrected poses, " << w.chordPasses()
+                                << " with the first's factor");
   CHECK(corner > 0.05);
   CHECK(gap < 1e-5);
   CHECK(angle < 1e-4);
+  // Tumbling, the first pass's rate is too poor for a second with its factor: 1.1 mm / 0.029 rad
+  // when every later pass took it.
+  CHECK(w.newtonPasses() > 0);
 }
 
 TEST_CASE("a box slides down a slope at g (sin - mu cos) within 2% at one substep on both solvers") {

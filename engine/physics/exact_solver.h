@@ -625,6 +625,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   // angular velocity change per unit impulse of the row (buildGroups), as the sweep adds them.
   std::vector<double> m_rowPush;
   int m_groupFirstBody = 0;
+  int m_groupFirstNode = 0, m_groupFirstLoop = 0;  // the group's first node and loop joint
+  bool m_firstGroup = true;  // no group set up yet this substep (buildClusters: its trees kept)
   bool m_useSplit = true;
   std::vector<int> m_sidToBody;
   std::vector<int> m_bodyNode;

@@ -2264,9 +2264,8 @@ void ExactSolver::finishBatch() {
 /// else with rows and factor at the corrected poses (a Newton step). A few passes at most.
 void ExactSolver::stabiliseCluster(Cluster& c) {
   const bool loops = c.loopEnd > c.loopBegin;
-  double before = 0;    // the largest error before the pass
-  double rate = 1;      // what the pass before left of its error (left / before)
-  bool errors = false;  // each node's y holds its joint's error at the present poses (0 for a body)
+  double before = 0;  // the largest error before the pass
+  double rate = 1;    // what the pass before left of its error (left / before)
   for (int pass = 0; pass < kStabilisePasses; ++pass) {
     // A pass with the same rows takes the error down about as much as the pass before did (both
     // stale by the substep's motion): taken where that would leave under half the tolerance. A
@@ -2274,10 +2273,10 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
     // tumbling at speed, or a loop (its Schur complement from the substep's start, too), is
     // projected at the corrected poses.
     const bool chord = pass > 0 && !loops && before * rate <= kChordShare * kStabiliseTolerance;
-    // Node by node, each reading its own joint's bodies or writing its own row or body: a long
-    // tree's halves apart (the largest error by half).
     m_chordPasses += chord;
     m_newtonPasses += pass > 0 && !chord;
+    // Node by node, each reading its own joint's bodies or writing its own row or body: a long
+    // tree's halves apart (the largest error by half).
     if (pass > 0 && !chord) {
       forEachNode(c, [&](int k, int) {
         const Node& n = m_nodes[size_t(k)];
@@ -2299,7 +2298,8 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
     struct alignas(64) Largest {
       double v;
     };
-    if (!errors) {
+    // (A tree without loops has each node's y made by the pass before, at the present poses.)
+    if (pass == 0 || loops) {
       Largest largest[2];
       largest[0].v = largest[1].v = 0;
       forEachNode(c, [&](int k, int h) {
@@ -2355,7 +2355,6 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
           lefts[h].v = std::max(lefts[h].v, stabiliseExcess(j, positionError(j)));
       });
     }
-    errors = !loops;
     double left = std::max(lefts[0].v, lefts[1].v);
     for (int l = c.loopBegin; l < c.loopEnd; ++l) {
       const int j = m_loopJoints[size_t(l)];

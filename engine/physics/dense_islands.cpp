@@ -205,7 +205,7 @@ int ExactSolver::denseShape(const Cluster& c) {
       m_denseNodeIndex[size_t(k - c.begin)] = bodies++;
       continue;
     }
-    const Row& r = m_rows[size_t(nd.joint)];
+    const Row& r = row(nd.joint);
     if (r.na < 0 || r.nb < 0) return 0;
     m_denseNodeIndex[size_t(k - c.begin)] = nu++;
   }
@@ -251,7 +251,7 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
       cols[0] = 6;
     } else {
       const Node& jn = m_nodes[size_t(nd.parent)];
-      const Row& r = m_rows[size_t(jn.joint)];
+      const Row& r = row(jn.joint);
       const int pi = m_denseNodeIndex[size_t(jn.parent - c.begin)];
       const double* P = m_denseT.data() + size_t(pi) * 6 * kStride;
       const int* pcols = m_denseCols.data() + pi * (kDenseDofs + 1);
@@ -302,7 +302,7 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
   // Each motor's stiffness on its hinge (the tree's axial row: compliance, or hard at a limit).
   for (int k = c.begin; k < c.end; ++k) {
     const Node& nd = m_nodes[size_t(k)];
-    if (nd.joint < 0 || !m_rows[size_t(nd.joint)].axialActive) continue;
+    if (nd.joint < 0 || !row(nd.joint).axialActive) continue;
     const ExactJoint& e = m_shared->joints[size_t(nd.joint)];
     const int q = m_denseNodeIndex[size_t(k - c.begin)];
     H[q * nu + q] += 1.0 / (e.state == A::Motor ? e.compliance + kRegularisation : kRegularisation);

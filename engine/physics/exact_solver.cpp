@@ -140,7 +140,8 @@ void ExactSolver::beginSubstep() {
   m_laneNodes.clear();
   m_nodeOfBody.clear();
   m_bodyCluster.clear();
-  if (m_rows.size() < m_shared->joints.size()) m_rows.resize(m_shared->joints.size());
+  m_rows.clear();
+  if (m_rowOf.size() < m_shared->joints.size()) m_rowOf.resize(m_shared->joints.size(), -1);
 }
 
 // (These two and rowSide are inlined: each exact iteration calls them for every node and row.)
@@ -162,7 +163,7 @@ void ExactSolver::beginSubstep() {
 /// Moves the axial impulse of joint j by `impulse`, changing its bodies' velocities.
 void ExactSolver::applyAxial(int j, double impulse) {
   if (impulse == 0) return;
-  Row& r = m_rows[size_t(j)];
+  Row& r = row(j);
   r.lambda[5] += impulse;
   for (int side = 0; side < 2; ++side) {
     const int b = side == 0 ? r.na : r.nb;
@@ -177,7 +178,7 @@ void ExactSolver::applyAxial(int j, double impulse) {
 }
 
 ExactSolver::Cluster& ExactSolver::jointCluster(int j) {
-  const Row& r = m_rows[size_t(j)];
+  const Row& r = row(j);
   return m_clusters[size_t(m_bodyCluster[size_t(r.na >= 0 ? r.na : r.nb)])];
 }
 
@@ -193,7 +194,7 @@ ExactSolver::JointFrame ExactSolver::jointFrame(int j) const {
 /// A joint's rows on its two bodies at their current poses: J = [sI A; 0 B] on each (s = +-1),
 /// the block form that structuralResidual and passToParent multiply by.
 void ExactSolver::jointRows(int j) {
-  Row& r = m_rows[size_t(j)];
+  Row& r = row(j);
   const auto [ra, rb, frame] = jointFrame(j);
   r.ra = ra;
   r.rb = rb;
@@ -239,7 +240,7 @@ namespace {
 /// caller adds the motor's or the limit's target).
 Vec6 ExactSolver::structuralResidual(int j) const {
   if (m_avx) return structuralResidualAvx(j);
-  const Row& r = m_rows[size_t(j)];
+  const Row& r = row(j);
   Vec6 va, vb;  // (read only for the bodies the row has)
   if (r.na >= 0) va = bodyVelocity(r.na);
   if (r.nb >= 0) vb = bodyVelocity(r.nb);
@@ -247,7 +248,7 @@ Vec6 ExactSolver::structuralResidual(int j) const {
 }
 
 Vec6 ExactSolver::structuralResidualAvx(int j) const {
-  const Row& r = m_rows[size_t(j)];
+  const Row& r = row(j);
   node_products::V4 la, aa, lb, ab;
   if (r.na >= 0) velocityLanes(m_tmpSolverBodyPool[m_bodies[size_t(r.na)].sid], la, aa);
   if (r.nb >= 0) velocityLanes(m_tmpSolverBodyPool[m_bodies[size_t(r.nb)].sid], lb, ab);
@@ -269,7 +270,7 @@ Vec6 ExactSolver::structuralResidualAvx(int j) const {
 /// clamp's intermediate velocities gave targets of 0.5 m/s and opened a crawling snake's hinges
 /// by millimetres).
 void ExactSolver::updateCentripetal(int j) {
-  Row& r = m_rows[size_t(j)];
+  Row& r = row(j);
   r.bias.setZero();
   if (!jointCluster(j).centripetal) return;
   const Vec3d wa = r.na >= 0 ? Vec3d(bodyVelocity(r.na).tail<3>()) : Vec3d::Zero();
@@ -289,7 +290,7 @@ void ExactSolver::updateCentripetal(int j) {
 /// Rows, targets and the axial row's state for one joint at the start of a substep.
 void ExactSolver::setupJoint(int j, double h) {
   ExactJoint& e = m_shared->joints[size_t(j)];
-  Row& r = m_rows[size_t(j)];
+  Row& r = row(j);
   jointRows(j);
   r.lambda.setZero();
   updateCentripetal(j);
@@ -350,7 +351,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
       const int ahead = static_cast<ExactLink*>(constraints[i + 2 * kFetchAhead])->index();
       __builtin_prefetch(&m_shared->joints[size_t(ahead)].a);
       __builtin_prefetch(&m_shared->joints[size_t(ahead)].b);
-      __builtin_prefetch(&m_rows[size_t(ahead)].na, 1);
+      __builtin_prefetch(&m_rowOf[size_t(ahead)], 1);
     }
     if (i + kFetchAhead < numConstraints && exact(constraints[i + kFetchAhead])) {
       const ExactJoint& e =
@@ -363,10 +364,15 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     btTypedConstraint* c = constraints[i];
     if (!exact(c)) continue;
     const int j = static_cast<ExactLink*>(c)->index();
-    Row& r = m_rows[size_t(j)];
-    r.na = bodyOf(m_shared->joints[size_t(j)].a);
-    r.nb = bodyOf(m_shared->joints[size_t(j)].b);
-    if (r.na < 0 && r.nb < 0) continue;
+    const int na = bodyOf(m_shared->joints[size_t(j)].a);
+    const int nb = bodyOf(m_shared->joints[size_t(j)].b);
+    if (na < 0 && nb < 0) continue;
+    // The joint's row for this substep: the group's rows one after the other, in its joints'
+    // order (the batch's, reused by the next batch once this one is finished).
+    m_rowOf[size_t(j)] = int(m_rows.size());
+    Row& r = m_rows.emplace_back();
+    r.na = na;
+    r.nb = nb;
     m_groupJoints.push_back(j);
   }
   // The new bodies' mass properties (each body its own entry: on the halves' threads where a long
@@ -389,15 +395,14 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
   m_firstGroup = false;
   if (first) {
     m_treeKey.clear();
-    for (int j : m_groupJoints)
-      m_treeKey.insert(m_treeKey.end(), {j, m_rows[size_t(j)].na, m_rows[size_t(j)].nb});
+    for (int j : m_groupJoints) m_treeKey.insert(m_treeKey.end(), {j, row(j).na, row(j).nb});
     if (reuseTrees()) return;
   }
   const int nb = int(m_bodies.size()) - firstBody;
   // Body -> joints adjacency (CSR).
   m_adjStart.assign(size_t(nb) + 1, 0);
   for (int j : m_groupJoints) {
-    const Row& r = m_rows[size_t(j)];
+    const Row& r = row(j);
     if (r.na >= 0) ++m_adjStart[size_t(r.na - firstBody) + 1];
     if (r.nb >= 0) ++m_adjStart[size_t(r.nb - firstBody) + 1];
   }
@@ -407,7 +412,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     std::vector<int>& fill = m_queue;
     fill.assign(m_adjStart.begin(), m_adjStart.end() - 1);
     for (int j : m_groupJoints) {
-      const Row& r = m_rows[size_t(j)];
+      const Row& r = row(j);
       if (r.na >= 0) m_adj[size_t(fill[size_t(r.na - firstBody)]++)] = j;
       if (r.nb >= 0) m_adj[size_t(fill[size_t(r.nb - firstBody)]++)] = j;
     }
@@ -418,7 +423,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
   if (m_seenJoint.size() < m_shared->joints.size()) m_seenJoint.resize(m_shared->joints.size());
   for (int j : m_groupJoints) {
     m_seenJoint[size_t(j)] = 0;
-    m_rows[size_t(j)].node = -1;
+    row(j).node = -1;
   }
 
   // One cluster per connected component: first collect it, then root it at its anchor (a joint
@@ -431,7 +436,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     int root = -1;
     for (size_t k = 0; k < m_component.size(); ++k) {
       const int j = m_component[k];
-      const Row& r = m_rows[size_t(j)];
+      const Row& r = row(j);
       if (root < 0 && (r.na < 0 || r.nb < 0)) root = j;
       for (int b : {r.na, r.nb}) {
         if (b < 0) continue;
@@ -462,13 +467,13 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     // other body is placed already closes a loop and stays out of it.
     auto grow = [&](int rootJoint, int rootBody) {
       if (rootJoint >= 0)
-        m_rows[size_t(rootJoint)].node = addNode(-1, rootJoint, -1, false);
+        row(rootJoint).node = addNode(-1, rootJoint, -1, false);
       else
         m_bodyNode[size_t(rootBody - firstBody)] = addNode(rootBody, -1, -1, false);
       for (int k = c.begin; k < int(m_nodes.size()); ++k) {
         const int nodeJoint = m_nodes[size_t(k)].joint, nodeBody = m_nodes[size_t(k)].body;
         if (nodeJoint >= 0) {
-          const Row& r = m_rows[size_t(nodeJoint)];
+          const Row& r = row(nodeJoint);
           for (int side = 0; side < 2; ++side) {
             const int b = side == 0 ? r.na : r.nb;
             if (b < 0 || m_bodyNode[size_t(b - firstBody)] >= 0) continue;
@@ -478,7 +483,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
           const int b = nodeBody;
           for (int q = m_adjStart[size_t(b - firstBody)]; q < m_adjStart[size_t(b - firstBody) + 1]; ++q) {
             const int j = m_adj[size_t(q)];
-            Row& r = m_rows[size_t(j)];
+            Row& r = row(j);
             if (r.node >= 0) continue;  // already placed (the body's parent joint)
             const int other = r.na == b ? r.nb : r.na;
             // A body placed already, or claimed by another joint of this level: a loop.
@@ -489,8 +494,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
         }
       }
     };
-    const int firstRootBody =
-        m_rows[size_t(start)].na >= 0 ? m_rows[size_t(start)].na : m_rows[size_t(start)].nb;
+    const int firstRootBody = row(start).na >= 0 ? row(start).na : row(start).nb;
     grow(root, firstRootBody);
     // A long tree without loops or anchors: rooted again at its centroid body, so that its two
     // halves can be factored and solved apart (splitTree).
@@ -500,7 +504,7 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
       for (int k = c.begin; k < int(m_nodes.size()); ++k) {
         const Node& n = m_nodes[size_t(k)];
         if (n.body >= 0) m_bodyNode[size_t(n.body - firstBody)] = -1;
-        if (n.joint >= 0) m_rows[size_t(n.joint)].node = -1;
+        if (n.joint >= 0) row(n.joint).node = -1;
       }
       m_nodes.resize(size_t(c.begin));
       grow(-1, centre);
@@ -514,12 +518,12 @@ void ExactSolver::buildClusters(btTypedConstraint** constraints, int numConstrai
     // complement (factorLoops).
     c.loopBegin = int(m_loopJoints.size());
     for (int j : m_component)
-      if (m_rows[size_t(j)].node < 0) m_loopJoints.push_back(j);
+      if (row(j).node < 0) m_loopJoints.push_back(j);
     c.loopEnd = int(m_loopJoints.size());
     // A loop, or a second joint to the static world (a loop through it), has poses where its
     // rows lose rank and a centripetal target cannot be met (updateCentripetal).
     int anchors = 0;
-    for (int j : m_component) anchors += m_rows[size_t(j)].na < 0 || m_rows[size_t(j)].nb < 0;
+    for (int j : m_component) anchors += row(j).na < 0 || row(j).nb < 0;
     c.centripetal = c.loopEnd == c.loopBegin && anchors <= 1;
     m_clusters.push_back(std::move(c));
   }
@@ -533,7 +537,7 @@ bool ExactSolver::reuseTrees() {
   if (!m_trees.valid || m_trees.key != m_treeKey) return false;
   m_nodeOfBody.resize(m_bodies.size(), -1);
   m_bodyCluster.resize(m_bodies.size(), -1);
-  for (int j : m_groupJoints) m_rows[size_t(j)].node = -1;
+  for (int j : m_groupJoints) row(j).node = -1;
   m_clusters = m_trees.clusters;
   m_nodes.resize(m_trees.nodes.size());
   // Each node writes its own entries, and its body's and joint's (on the halves' threads where a
@@ -555,7 +559,7 @@ bool ExactSolver::reuseTrees() {
         m_nodeOfBody[size_t(n.body)] = k;
         m_bodyCluster[size_t(n.body)] = ci;
       }
-      if (n.joint >= 0) m_rows[size_t(n.joint)].node = k;
+      if (n.joint >= 0) row(n.joint).node = k;
     }
   });
   for (Cluster& c : m_clusters)  // (its first body's island)
@@ -600,13 +604,13 @@ void ExactSolver::buildGroups(int firstBody, bool planned) {
   for (int q = 0; q < joints; ++q) {
     if (q + kFetchAhead < joints) {
       const int ahead = m_groupJoints[size_t(q + kFetchAhead)];
-      __builtin_prefetch(&m_rows[size_t(ahead)].na);
+      __builtin_prefetch(&row(ahead).na);
       __builtin_prefetch(&m_shared->joints[size_t(ahead)].motorOn);
       __builtin_prefetch(&m_shared->joints[size_t(ahead)].state);
     }
     const int j = m_groupJoints[size_t(q)];
     const ExactJoint& e = m_shared->joints[size_t(j)];
-    const Row& r = m_rows[size_t(j)];
+    const Row& r = row(j);
     if (r.na < 0 || r.nb < 0 || !e.motorOn || e.state == A::Fixed) continue;
     if (planned && denseBody(r.na)) continue;  // (a tree the dense solve takes: no sweep moves it)
     const int a = find(r.na - firstBody), b = find(r.nb - firstBody);
@@ -931,7 +935,7 @@ btScalar ExactSolver::contactSweep() {
 void ExactSolver::initNode(int k) {
   Node& n = m_nodes[size_t(k)];
   if (n.joint >= 0) {
-    const Row& r = m_rows[size_t(n.joint)];
+    const Row& r = row(n.joint);
     n.dinv = -kRegularisation * Mat6::Identity();
     if (!r.axialActive) n.dinv(5, 5) = -1;
     const ExactJoint& ej = m_shared->joints[size_t(n.joint)];
@@ -949,7 +953,7 @@ void ExactSolver::passToParent(int k, bool fresh) {
   Node& n = m_nodes[size_t(k)];
   // H(node, parent): the joint's rows on the body (J) for a joint node, their transpose for a
   // body node; without the axial row while it is fixed.
-  const Row& r = m_rows[size_t(n.joint >= 0 ? n.joint : m_nodes[size_t(n.parent)].joint)];
+  const Row& r = row(n.joint >= 0 ? n.joint : m_nodes[size_t(n.parent)].joint);
   Mat6& pd = m_nodes[size_t(n.parent)].dinv;
   const Mat6& jac = n.parentIsA ? r.ja : r.jb;
   if (m_avx)
@@ -1160,7 +1164,7 @@ void ExactSolver::factor(Cluster& c, bool solveToo) {
 void ExactSolver::pushThroughTree(Cluster& c, const Eigen::VectorXd& p, bool positions) {
   for (int k = c.begin; k < c.end; ++k) m_nodes[size_t(k)].y.setZero();
   for (int l = c.loopBegin; l < c.loopEnd; ++l) {
-    const Row& r = m_rows[size_t(m_loopJoints[size_t(l)])];
+    const Row& r = row(m_loopJoints[size_t(l)]);
     const auto pl = p.segment<6>(6 * (l - c.loopBegin));
     if (r.na >= 0) m_nodes[size_t(m_nodeOfBody[size_t(r.na)])].y.noalias() += r.ja.transpose() * pl;
     if (r.nb >= 0) m_nodes[size_t(m_nodeOfBody[size_t(r.nb)])].y.noalias() += r.jb.transpose() * pl;
@@ -1172,7 +1176,7 @@ void ExactSolver::pushThroughTree(Cluster& c, const Eigen::VectorXd& p, bool pos
     if (n.body >= 0)
       addBodyVelocity(n.body, n.x);
     else
-      m_rows[size_t(n.joint)].lambda -= n.x;
+      row(n.joint).lambda -= n.x;
   }
 }
 
@@ -1182,7 +1186,7 @@ void ExactSolver::factorLoops(Cluster& c) {
   const int loops = c.loopEnd - c.loopBegin, k = 6 * loops;
   c.schur.setZero(k, k);
   Eigen::VectorXd unit = Eigen::VectorXd::Zero(k);
-  auto loopRow = [&](int l) -> const Row& { return m_rows[size_t(m_loopJoints[size_t(c.loopBegin + l)])]; };
+  auto loopRow = [&](int l) -> const Row& { return row(m_loopJoints[size_t(c.loopBegin + l)]); };
   auto nodeX = [&](int body) -> const Vec6& { return m_nodes[size_t(m_nodeOfBody[size_t(body)])].x; };
   for (int col = 0; col < k; ++col) {
     if (col % 6 == 5 && !loopRow(col / 6).axialActive) continue;
@@ -1253,20 +1257,19 @@ void ExactSolver::loopIteration(Cluster& c, bool clamp) {
   Eigen::VectorXd err(6 * loops);
   for (int l = 0; l < loops; ++l) {
     const int j = m_loopJoints[size_t(c.loopBegin + l)];
-    const Row& r = m_rows[size_t(j)];
+    const Row& r = row(j);
     const ExactJoint& e = m_shared->joints[size_t(j)];
     Vec6 y = structuralResidual(j);
     y[5] = r.axialActive ? e.rowTarget + y[5] - (e.state == A::Motor ? e.compliance * r.lambda[5] : 0) : 0;
     err.segment<6>(6 * l) = y;
   }
   const Eigen::VectorXd dl = solveLoops(c, c.schurInv, err);
-  for (int l = 0; l < loops; ++l)
-    m_rows[size_t(m_loopJoints[size_t(c.loopBegin + l)])].lambda += dl.segment<6>(6 * l);
+  for (int l = 0; l < loops; ++l) row(m_loopJoints[size_t(c.loopBegin + l)]).lambda += dl.segment<6>(6 * l);
   pushThroughTree(c, dl, false);
   if (!clamp) return;
   for (int l = 0; l < loops; ++l) {  // as the tree's bounded rows (clusterIteration)
     const int j = m_loopJoints[size_t(c.loopBegin + l)];
-    Row& r = m_rows[size_t(j)];
+    Row& r = row(j);
     if (!r.axialActive) continue;
     ExactJoint& e = m_shared->joints[size_t(j)];
     const double v = r.lambda[5], tau = e.motorOn ? e.maxImpulse : 0;
@@ -1364,7 +1367,7 @@ template <bool Iteration>
   const NodeBodies& nb = m_nodeBodies[size_t(k)];
   const int j = m_nodes[size_t(k)].joint;
   if (j < 0) return;  // (a body node's residual is 0)
-  const Row& r = m_rows[size_t(j)];
+  const Row& r = row(j);
   __builtin_prefetch(&r.na);
   for (const Mat6* m : {&r.ja, &r.jb}) {  // (their right halves: 144 bytes)
     __builtin_prefetch(&m->coeffRef(0, 3));
@@ -1387,7 +1390,7 @@ template <bool Iteration>
   const NodeBodies& nb = m_nodeBodies[size_t(k)];
   const int j = m_nodes[size_t(k)].joint;
   if (j >= 0) {
-    const Row& r = m_rows[size_t(j)];
+    const Row& r = row(j);
     __builtin_prefetch(&r.lambda[0]);
     __builtin_prefetch(&r.lambda[5]);
   } else if (nb.sid[0] >= 0) {
@@ -1400,7 +1403,7 @@ template <bool Iteration>
 [[gnu::always_inline]] inline void ExactSolver::fetchInit(int k) const {
   const Node& n = m_nodes[size_t(k)];
   if (n.joint >= 0) {
-    __builtin_prefetch(&m_rows[size_t(n.joint)].axialActive);
+    __builtin_prefetch(&row(n.joint).axialActive);
     const ExactJoint& e = m_shared->joints[size_t(n.joint)];
     __builtin_prefetch(&e.compliance);
     __builtin_prefetch(&e.state);
@@ -1414,7 +1417,7 @@ template <bool Iteration>
 [[gnu::always_inline]] inline void ExactSolver::fetchPass(int k) const {
   const int j = m_nodeBodies[size_t(k)].coupling;
   if (j < 0) return;
-  const Row& r = m_rows[size_t(j)];
+  const Row& r = row(j);
   const Mat6& m = m_nodes[size_t(k)].parentIsA ? r.ja : r.jb;
   __builtin_prefetch(&m.coeffRef(0, 0));
   __builtin_prefetch(&m.coeffRef(0, 3));
@@ -1434,8 +1437,8 @@ void ExactSolver::noteNodeBodies(int begin) {
     const Node& n = m_nodes[k];
     NodeBodies& nb = m_nodeBodies[k];
     if (n.joint >= 0) {
-      note(nb, 0, m_rows[size_t(n.joint)].na);
-      note(nb, 1, m_rows[size_t(n.joint)].nb);
+      note(nb, 0, row(n.joint).na);
+      note(nb, 1, row(n.joint).nb);
       nb.coupling = n.joint;
     } else {
       note(nb, 0, n.body);
@@ -1497,7 +1500,7 @@ void ExactSolver::iterationResidual(int k) {
     n.y.setZero();
     return;
   }
-  const Row& r = m_rows[size_t(n.joint)];
+  const Row& r = row(n.joint);
   n.y = structuralResidual(n.joint);
   const ExactJoint& e = m_shared->joints[size_t(n.joint)];
   n.y[5] = r.axialActive
@@ -1511,7 +1514,7 @@ void ExactSolver::iterationApply(int k) {
   if (n.body >= 0)
     addBodyVelocity(n.body, n.x);
   else
-    m_rows[size_t(n.joint)].lambda -= n.x;
+    row(n.joint).lambda -= n.x;
 }
 
 /// m_subtree: the nodes in each node's subtree, for the tree from `begin` to the end of m_nodes
@@ -1593,7 +1596,7 @@ void ExactSolver::splitTree(Cluster& c) {
       n.parent = head.parent;
       n.parentIsA = head.parentIsA;
       if (n.body >= 0) m_nodeOfBody[size_t(n.body)] = begin + int(i);
-      if (n.joint >= 0) m_rows[size_t(n.joint)].node = begin + int(i);
+      if (n.joint >= 0) row(n.joint).node = begin + int(i);
     }
   }
   // Each half's lane, in node order (a node's half is its old place's).
@@ -1627,7 +1630,7 @@ bool ExactSolver::clampAxial(int k) {
   using A = ExactJoint::Axial;
   Node& n = m_nodes[size_t(k)];
   if (n.body >= 0) return false;
-  Row& r = m_rows[size_t(n.joint)];
+  Row& r = row(n.joint);
   if (!r.axialActive) return false;
   ExactJoint& e = m_shared->joints[size_t(n.joint)];
   const double l = r.lambda[5];
@@ -1860,7 +1863,8 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
   else
     m_groupCaptures.clear();
   m_groupBegin = int(m_clusters.size());
-  if (m_rows.size() < m_shared->joints.size()) m_rows.resize(m_shared->joints.size());
+  if (m_rowOf.size() < m_shared->joints.size()) m_rowOf.resize(m_shared->joints.size(), -1);
+  m_groupFirstRow = int(m_rows.size());
   m_groupFirstBody = int(m_bodies.size());
   const int firstNode = int(m_nodes.size());
   m_groupFirstNode = firstNode;
@@ -1903,7 +1907,7 @@ btScalar ExactSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodies, i
                                   int(sizeof(ExactJoint)));
       if (i + kFetchAhead < n) {
         const int j = m_groupJoints[size_t(i + kFetchAhead)];
-        bullet_layout::fetchRange(&m_rows[size_t(j)], 0, int(sizeof(Row)));
+        bullet_layout::fetchRange(&row(j), 0, int(sizeof(Row)));
         bullet_layout::fetchPose(m_shared->joints[size_t(j)].a);
         bullet_layout::fetchPose(m_shared->joints[size_t(j)].b);
       }
@@ -2126,7 +2130,7 @@ void ExactSolver::forGroupJoints(FunctionRef<bool(int)> fn, FunctionRef<void(Clu
 
 /// Joint j's speed about its axis (its axial row's velocity).
 double ExactSolver::axialSpeed(int j) const {
-  const Row& r = m_rows[size_t(j)];
+  const Row& r = row(j);
   double w = 0;
   if (r.na >= 0) w += r.ja.row(5).dot(bodyVelocity(r.na));
   if (r.nb >= 0) w += r.jb.row(5).dot(bodyVelocity(r.nb));
@@ -2147,7 +2151,7 @@ bool ExactSolver::outgrown(const ExactJoint& e, double w) {
 bool ExactSolver::reenter(int j) {
   using A = ExactJoint::Axial;
   ExactJoint& e = m_shared->joints[size_t(j)];
-  Row& r = m_rows[size_t(j)];
+  Row& r = row(j);
   if (e.state != A::Fixed || e.fixedImpulse == 0 || !outgrown(e, axialSpeed(j))) return false;
   e.state = A::Motor;
   e.rowTarget = e.targetVel;
@@ -2161,7 +2165,7 @@ bool ExactSolver::reenter(int j) {
 void ExactSolver::settleState(int j) {
   using A = ExactJoint::Axial;
   ExactJoint& e = m_shared->joints[size_t(j)];
-  Row& r = m_rows[size_t(j)];
+  Row& r = row(j);
   e.axialImpulse = r.lambda[5];
   e.saturated = e.motorOn && e.state == A::Fixed && e.fixedImpulse != 0;
   e.impulseA = r.ja.transpose() * r.lambda;
@@ -2246,11 +2250,12 @@ void ExactSolver::finishBatch() {
     for (const PatchRows& pr : m_groupPatches)
       followPatchPose(m_shared->m_patches[size_t(pr.slot)], m_shared->m_patchPoses[size_t(pr.slot)]);
   ++m_groupsFinished, ++m_finishedBatches;
-  // Nothing reads the batch's clusters, nodes and bodies again this substep: the next batch's
-  // take their places. With many small islands they had run to megabytes a substep (7000 nodes
-  // of 688 bytes for 1000 SuperBots), each line written once from memory; the same few hundred
-  // kilobytes now stay in the caches from one batch to the next.
+  // Nothing reads the batch's clusters, rows, nodes and bodies again this substep: the next
+  // batch's take their places. With many small islands they had run to megabytes a substep (7000
+  // nodes of 688 bytes and 3000 rows of 704 for 1000 SuperBots), each line written once from
+  // memory; the same few hundred kilobytes now stay in the caches from one batch to the next.
   m_clusters.resize(size_t(m_groupBegin));
+  m_rows.resize(size_t(m_groupFirstRow));
   m_nodes.resize(size_t(m_groupFirstNode));
   m_loopJoints.resize(size_t(m_groupFirstLoop));
   m_bodies.resize(size_t(m_groupFirstBody));
@@ -2326,7 +2331,7 @@ void ExactSolver::stabiliseCluster(Cluster& c) {
       if (n.body < 0) {
         // (A joint to the static world below a body has no child body: its error now.)
         if (loops || n.parent < 0) return;
-        const Row& r = m_rows[size_t(n.joint)];
+        const Row& r = row(n.joint);
         if ((n.parentIsA ? r.nb : r.na) < 0) errorLeft(k, h);
         return;
       }

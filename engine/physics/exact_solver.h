@@ -589,7 +589,14 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<Body> m_bodies;
   std::vector<Node> m_nodes;
   std::vector<Cluster> m_clusters;
-  std::vector<Row> m_rows;  // by joint id
+  std::vector<Row> m_rows;   // this substep's, group by group (a finished batch's reused)
+  std::vector<int> m_rowOf;  // by joint id: its row in m_rows (set for the joints of a group)
+  Row& row(int j) {
+    return m_rows[size_t(m_rowOf[size_t(j)])];
+  }
+  const Row& row(int j) const {
+    return m_rows[size_t(m_rowOf[size_t(j)])];
+  }
   std::vector<int> m_groupJoints;
   std::vector<int> m_loopJoints;  // by cluster (Cluster::loopBegin..loopEnd)
   /// Rigid groups: bodies joined by hinges whose motors hold them (the structure moves as one
@@ -625,7 +632,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   // angular velocity change per unit impulse of the row (buildGroups), as the sweep adds them.
   std::vector<double> m_rowPush;
   int m_groupFirstBody = 0;
-  int m_groupFirstNode = 0, m_groupFirstLoop = 0;  // the group's first node and loop joint
+  int m_groupFirstNode = 0, m_groupFirstLoop = 0, m_groupFirstRow = 0;  // the group's first ones
   bool m_firstGroup = true;  // no group set up yet this substep (buildClusters: its trees kept)
   bool m_useSplit = true;
   std::vector<int> m_sidToBody;

@@ -34,6 +34,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <unordered_map>
 
 namespace rm3d {
 
@@ -184,9 +185,14 @@ struct PhysicsWorld::Impl {
     std::vector<int> hinges;
     std::vector<int> locks;  // parts locked to this one
   };
+  struct SharedCompound {
+    std::unique_ptr<btCompoundShape> shape;
+    int users = 0;
+  };
   struct Body {
     btRigidBody* rb = nullptr;
-    btCompoundShape* compound = nullptr;  // owned when the body has several shapes
+    btCompoundShape* compound = nullptr;  // when the body has several shapes (shared: compounds)
+    std::pair<const std::string, SharedCompound>* compoundEntry = nullptr;  // its entry there
     std::vector<int> parts;
     std::vector<int> owners;     // sorted module indices
     std::vector<int> childPart;  // compound child index -> part
@@ -282,6 +288,13 @@ struct PhysicsWorld::Impl {
   // once; allocated one at a time among the world's other allocations, 40,000 bodies lay
   // scattered over hundreds of megabytes and every pass streamed them from memory.
   SlotPool bodyPool{sizeof(btRigidBody), 256};
+  // The bodies' compounds, one for each set of children (shapes and poses, bit for bit) and shared
+  // by every body with that set: a module type's parts make the same compound in every module, so
+  // the contact and bounding-box passes read one copy of its children, not one per module
+  // (declared before `bodies`, which hold them). Bullet reads a compound without a box tree and
+  // never changes it; the key is the children's shape pointers and their poses' bits.
+  std::unordered_map<std::string, SharedCompound> compounds;
+  std::string compoundKey;  // (buildBody's, kept for its capacity)
   std::vector<Body> bodies;
   std::vector<OwnerPair> ownerPairs;  // by body (OwnerFilter)
   struct Capture {
@@ -384,12 +397,35 @@ struct PhysicsWorld::Impl {
     world.removeRigidBody(b.rb);
     b.rb->~btRigidBody();
     bodyPool.give(b.rb);
-    delete b.compound;
+    if (b.compoundEntry && --b.compoundEntry->second.users == 0) compounds.erase(b.compoundEntry->first);
+    b.compoundEntry = nullptr;
     b.rb = nullptr;
     b.compound = nullptr;
     b.parts.clear();
     b.owners.clear();
     --liveBodies;
+  }
+
+  /// The shared compound entry with the children of `made` (a new compound): made for it if it is
+  /// the first with them, else the one there is (`made` deleted). One use more either way.
+  std::pair<const std::string, SharedCompound>* shareCompound(btCompoundShape* made) {
+    std::string& key = compoundKey;
+    key.clear();
+    for (int c = 0; c < made->getNumChildShapes(); ++c) {
+      const btCollisionShape* child = made->getChildShape(c);
+      const btTransform& t = made->getChildTransform(c);
+      key.append(reinterpret_cast<const char*>(&child), sizeof child);
+      for (int r = 0; r < 3; ++r)
+        key.append(reinterpret_cast<const char*>(&t.getBasis()[r][0]), 3 * sizeof(btScalar));
+      key.append(reinterpret_cast<const char*>(&t.getOrigin()[0]), 3 * sizeof(btScalar));
+    }
+    auto& entry = *compounds.try_emplace(key).first;  // (its address stays while it is there)
+    if (entry.second.shape)
+      delete made;
+    else
+      entry.second.shape.reset(made);
+    ++entry.second.users;
+    return &entry;
   }
 
   Pose bodyPose(int b) const { return fromBt(bodies[b].rb->getWorldTransform()); }
@@ -414,7 +450,26 @@ struct PhysicsWorld::Impl {
     if (isStatic && ids.size() == 1 && parts[ids[0]].owner < 0 && parts[ids[0]].shapes.size() == 1)
       frame = world_[0] * parts[ids[0]].shapePoses[0];
     Eigen::Vector3d principal = Eigen::Vector3d::Zero();
-    if (!isStatic) {
+    // A moving body of one part (each link of a module) has its frame made in the part's own: the
+    // same frame in the part, inertia and compound, bit for bit, for every part of a definition
+    // wherever it stands (made from its world pose, the rounding differed from place to place).
+    const bool single = !isStatic && ids.size() == 1;
+    Pose inPart;  // (single: the body's frame in the part's)
+    if (single) {
+      const Part& p = parts[ids[0]];
+      Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
+      const double off = std::abs(p.inertia(0, 1)) + std::abs(p.inertia(0, 2)) + std::abs(p.inertia(1, 2));
+      if (off <= 1e-9 * p.inertia.trace()) {
+        principal = p.inertia.diagonal();
+      } else {
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(p.inertia);
+        rot = es.eigenvectors();
+        if (rot.determinant() < 0) rot.col(2) = -rot.col(2);
+        principal = es.eigenvalues();
+      }
+      inPart = Pose{p.com, Quat(rot).normalized()};
+      frame = world_[0] * inPart;
+    } else if (!isStatic) {
       com /= mass;
       Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
       for (size_t i = 0; i < ids.size(); ++i) {
@@ -424,17 +479,11 @@ struct PhysicsWorld::Impl {
         inertia += r * p.inertia * r.transpose() +
                    p.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
       }
-      // Keep the world-aligned frame when it is already principal (common for single links),
-      // so a one-shape body needs no compound.
+      // Keep the world-aligned frame when it is already principal.
       Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
-      const Eigen::Matrix3d local =
-          ids.size() == 1
-              ? (world_[0].rot.toRotationMatrix().transpose() * inertia * world_[0].rot.toRotationMatrix())
-              : inertia;
-      const double off = std::abs(local(0, 1)) + std::abs(local(0, 2)) + std::abs(local(1, 2));
-      if (off <= 1e-9 * local.trace()) {
-        rot = ids.size() == 1 ? world_[0].rot.toRotationMatrix() : Eigen::Matrix3d::Identity();
-        principal = local.diagonal();
+      const double off = std::abs(inertia(0, 1)) + std::abs(inertia(0, 2)) + std::abs(inertia(1, 2));
+      if (off <= 1e-9 * inertia.trace()) {
+        principal = inertia.diagonal();
       } else {
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(inertia);
         rot = es.eigenvectors();
@@ -455,7 +504,7 @@ struct PhysicsWorld::Impl {
     for (size_t i = 0; i < ids.size(); ++i) {
       Part& p = parts[ids[i]];
       p.body = index;
-      p.inBody = inv * world_[i];
+      p.inBody = single ? inPart.inverse() : inv * world_[i];
       if (p.owner >= 0) b.owners.push_back(p.owner);
       for (size_t k = 0; k < p.shapes.size(); ++k) {
         const Pose childPose = p.inBody * p.shapePoses[k];
@@ -468,7 +517,10 @@ struct PhysicsWorld::Impl {
         }
       }
     }
-    if (b.compound) shape = b.compound;
+    if (b.compound) {
+      b.compoundEntry = shareCompound(b.compound);
+      shape = b.compound = b.compoundEntry->second.shape.get();
+    }
     std::sort(b.owners.begin(), b.owners.end());
     b.owners.erase(std::unique(b.owners.begin(), b.owners.end()), b.owners.end());
     ownerPairs.resize(bodies.size());
@@ -839,6 +891,9 @@ int PhysicsWorld::partCount() const {
 }
 int PhysicsWorld::bodyCount() const {
   return m->liveBodies;
+}
+int PhysicsWorld::compoundCount() const {
+  return int(m->compounds.size());
 }
 
 void PhysicsWorld::configure(const PhysicsSettings& s) {

@@ -254,6 +254,8 @@ class PhysicsWorld {
   int partCount() const;
   double partMass(int part) const;  ///< kg (0: static)
   int bodyCount() const;
+  /// The bodies' distinct compound shapes (bodies with the same children share one).
+  int compoundCount() const;
   const PhysicsSettings& settings() const;
 
  private:

@@ -528,3 +528,33 @@ TEST_CASE("exact solver: a free chain turning in zero gravity keeps its kinetic 
   CHECK(hi < 1.02 * start);
   CHECK(w.hingeQuality().maxGap < 1e-5);
 }
+
+TEST_CASE("bodies of the same part share one compound shape wherever they stand, made and let go with them") {
+  PhysicsWorld w{PhysicsSettings{}};
+  w.addGroundPlane(0.8, 0);
+  PartDesc d;  // two boxes, its centre of mass off its origin: a compound
+  d.shapes = {box(0.1, 0.06, 0.04), box(0.04, 0.04, 0.04)};
+  d.shapes[1].pose.pos = Vec3(0.03, 0, 0.04);
+  d.mass = 0.3;
+  std::vector<int> parts;
+  for (int i = 0; i < 20; ++i) {  // at places and headings whose roundings differ
+    d.pose.pos = Vec3(0.35 * (i % 5) - 0.7, 0.3 * (i / 5) + 0.1, 0.0201);
+    d.pose.rot = Quat(Eigen::AngleAxisd(0.3 * i, Vec3::UnitZ()));
+    parts.push_back(w.addPart(d));
+  }
+  CHECK(w.bodyCount() == 20);
+  CHECK(w.compoundCount() == 1);
+  PartDesc other = d;  // the small box on the other side
+  other.shapes[1].pose.pos = Vec3(-0.03, 0, 0.04);
+  other.pose.pos = Vec3(0, -0.5, 0.0201);
+  w.addPart(other);
+  CHECK(w.compoundCount() == 2);
+  w.lockParts(parts[0], parts[1]);  // one body of two parts: its own compound
+  CHECK(w.bodyCount() == 20);
+  CHECK(w.compoundCount() == 3);
+  w.unlockParts(parts[0], parts[1]);  // that one let go; the two share the first again
+  CHECK(w.bodyCount() == 21);
+  CHECK(w.compoundCount() == 2);
+  run(w, 1.0);
+  for (int p : parts) CHECK(std::abs(w.partPose(p).pos.z() - 0.02) < 0.0005);  // each rests on its big box
+}

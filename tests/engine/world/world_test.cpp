@@ -174,6 +174,26 @@ require("snake_chain").build{n = 150, type = "superbot", behavior = "behaviors/s
   CHECK(angle < 1e-4);
 }
 
+TEST_CASE("SuperBots at any place and heading share their links' compound shapes") {
+  // A link's body frame is made in the link's own frame: the same compound for each link of a
+  // type, bit for bit, so 36 modules have the compounds of one.
+  auto one = makeWorld(R"(world.ground{}
+world.spawn("superbot", {at = {0, 0, 0.043}})
+)");
+  const int perModule = one->physicsConst().compoundCount();
+  auto many = makeWorld(R"(world.ground{}
+for i = 0, 35 do
+  world.spawn("superbot", {at = {(i % 6) * 0.35 - 0.9, (i // 6) * 0.3 + 0.17, 0.043}, rot = {0, 0, 0.37 * i}})
+end
+)");
+  MESSAGE("compounds: " << perModule << " for one SuperBot, " << many->physicsConst().compoundCount()
+                        << " for 36");
+  CHECK(perModule > 0);
+  CHECK(many->physicsConst().compoundCount() == perModule);
+  for (int i = 0; i < 60; ++i) many->step();
+  CHECK(many->faultCount() == 0);
+}
+
 TEST_CASE("spawning an unknown type or a missing behaviour is bad input with file:line") {
   CHECK_THROWS_WITH_AS(makeWorld("world.spawn('superbat')"),
                        doctest::Contains("test_world.lua:1: world.spawn: unknown module type 'superbat'"),

@@ -293,8 +293,9 @@ void Docking::findPairs(const DockingScene& s, int i, double cell, std::vector<H
     for (int dy = 0; dy < 2; ++dy)
       for (int dz = 0; dz < 2; ++dz) {
         const uint64_t k = cellKey(c + Eigen::Vector3i(dx * side.x(), dy * side.y(), dz * side.z()));
-        for (int e = m_cellHead[cellSlot(m_cellKeys, m_cellHead, k)]; e >= 0; e = m_cellNext[size_t(e)]) {
-          if (e <= i) continue;  // each pair once
+        // Each pair once: a cell's chain runs from its last dock to its first, so the walk ends at i
+        // (it had gone on past every earlier dock, half of each chain on average).
+        for (int e = m_cellHead[cellSlot(m_cellKeys, m_cellHead, k)]; e > i; e = m_cellNext[size_t(e)]) {
           const FreeDock& fb = m_freeDocks[size_t(e)];
           if (fb.module == fa.module) continue;
           if (sa.brokeFromModule == fb.module && sa.brokeFromDock == fb.dock) continue;

@@ -25,9 +25,13 @@ Eigen::Vector3i cellOf(const Vec3& p, double cell) {
                          int(std::floor(p.z() / cell)));
 }
 
+/// A cell's key is its three coordinates' keys, each by its axis's multiplier, combined by xor.
+constexpr uint64_t kAxisKey[3] = {73856093ull, 19349663ull, 83492791ull};
+uint64_t axisKey(int v, int axis) {
+  return uint64_t(uint32_t(v)) * kAxisKey[axis];
+}
 uint64_t cellKey(const Eigen::Vector3i& c) {
-  return (uint64_t(uint32_t(c.x())) * 73856093ull) ^ (uint64_t(uint32_t(c.y())) * 19349663ull) ^
-         (uint64_t(uint32_t(c.z())) * 83492791ull);
+  return axisKey(c.x(), 0) ^ axisKey(c.y(), 1) ^ axisKey(c.z(), 2);
 }
 
 /// The slot of the dock hash that holds cell key k, or the free slot where it would go.
@@ -287,12 +291,17 @@ void Docking::findPairs(const DockingScene& s, int i, double cell, std::vector<H
   const DockState& sa = s.modules[size_t(fa.module)].docks[size_t(fa.dock)];
   const DockDef& da = *fa.def;
   const Eigen::Vector3i c = cellOf(fa.pose.pos, cell);
-  Eigen::Vector3i side;
-  for (int a = 0; a < 3; ++a) side[a] = fa.pose.pos[a] / cell - double(c[a]) < 0.5 ? -1 : 1;
+  // The 2 x 2 x 2 cells on the dock's side of its own: each axis's two coordinates' keys, made once.
+  uint64_t keys[3][2];
+  for (int a = 0; a < 3; ++a) {
+    const int side = fa.pose.pos[a] / cell - double(c[a]) < 0.5 ? -1 : 1;
+    keys[a][0] = axisKey(c[a], a);
+    keys[a][1] = axisKey(c[a] + side, a);
+  }
   for (int dx = 0; dx < 2; ++dx)
     for (int dy = 0; dy < 2; ++dy)
       for (int dz = 0; dz < 2; ++dz) {
-        const uint64_t k = cellKey(c + Eigen::Vector3i(dx * side.x(), dy * side.y(), dz * side.z()));
+        const uint64_t k = keys[0][dx] ^ keys[1][dy] ^ keys[2][dz];
         // Each pair once: a cell's chain runs from its last dock to its first, so the walk ends at i
         // (it had gone on past every earlier dock, half of each chain on average).
         for (int e = m_cellHead[cellSlot(m_cellKeys, m_cellHead, k)]; e > i; e = m_cellNext[size_t(e)]) {

@@ -142,6 +142,9 @@ void ExactSolver::beginSubstep() {
   m_bodyCluster.clear();
   m_rows.clear();
   if (m_rowOf.size() < m_shared->joints.size()) m_rowOf.resize(m_shared->joints.size(), -1);
+#ifndef NDEBUG
+  std::fill(m_rowOf.begin(), m_rowOf.end(), -1);  // (rowIndex: no row is left from the substep before)
+#endif
 }
 
 // (These two and rowSide are inlined: each exact iteration calls them for every node and row.)
@@ -2256,6 +2259,9 @@ void ExactSolver::finishBatch() {
   // memory; the same few hundred kilobytes now stay in the caches from one batch to the next.
   m_clusters.resize(size_t(m_groupBegin));
   m_rows.resize(size_t(m_groupFirstRow));
+#ifndef NDEBUG
+  for (int j : m_groupJoints) m_rowOf[size_t(j)] = -1;  // (rowIndex: read no more this substep)
+#endif
   m_nodes.resize(size_t(m_groupFirstNode));
   m_loopJoints.resize(size_t(m_groupFirstLoop));
   m_bodies.resize(size_t(m_groupFirstBody));

@@ -51,6 +51,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cstdlib>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -591,11 +592,20 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<Cluster> m_clusters;
   std::vector<Row> m_rows;   // this substep's, group by group (a finished batch's reused)
   std::vector<int> m_rowOf;  // by joint id: its row in m_rows (set for the joints of a group)
+  // (Without NDEBUG, as in the sanitizer build, a joint's index is -1 once its batch or substep
+  // let its row go, and reading it then stops the program.)
   Row& row(int j) {
-    return m_rows[size_t(m_rowOf[size_t(j)])];
+    return m_rows[rowIndex(j)];
   }
   const Row& row(int j) const {
-    return m_rows[size_t(m_rowOf[size_t(j)])];
+    return m_rows[rowIndex(j)];
+  }
+  size_t rowIndex(int j) const {
+    const int r = m_rowOf[size_t(j)];
+#ifndef NDEBUG
+    if (r < 0 || size_t(r) >= m_rows.size()) std::abort();
+#endif
+    return size_t(r);
   }
   std::vector<int> m_groupJoints;
   std::vector<int> m_loopJoints;  // by cluster (Cluster::loopBegin..loopEnd)

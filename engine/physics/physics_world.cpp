@@ -191,8 +191,8 @@ struct PhysicsWorld::Impl {
   };
   struct Body {
     btRigidBody* rb = nullptr;
-    btCompoundShape* compound = nullptr;  // when the body has several shapes (shared: compounds)
-    std::pair<const std::string, SharedCompound>* compoundEntry = nullptr;  // its entry there
+    // Its compound when it has several shapes: its entry in `compounds` (shared by its kind).
+    std::pair<const std::string, SharedCompound>* compoundEntry = nullptr;
     std::vector<int> parts;
     std::vector<int> owners;     // sorted module indices
     std::vector<int> childPart;  // compound child index -> part
@@ -294,7 +294,6 @@ struct PhysicsWorld::Impl {
   // (declared before `bodies`, which hold them). Bullet reads a compound without a box tree and
   // never changes it; the key is the children's shape pointers and their poses' bits.
   std::unordered_map<std::string, SharedCompound> compounds;
-  std::string compoundKey;  // (buildBody's, kept for its capacity)
   std::vector<Body> bodies;
   std::vector<OwnerPair> ownerPairs;  // by body (OwnerFilter)
   struct Capture {
@@ -400,7 +399,6 @@ struct PhysicsWorld::Impl {
     if (b.compoundEntry && --b.compoundEntry->second.users == 0) compounds.erase(b.compoundEntry->first);
     b.compoundEntry = nullptr;
     b.rb = nullptr;
-    b.compound = nullptr;
     b.parts.clear();
     b.owners.clear();
     --liveBodies;
@@ -409,8 +407,7 @@ struct PhysicsWorld::Impl {
   /// The shared compound entry with the children of `made` (a new compound): made for it if it is
   /// the first with them, else the one there is (`made` deleted). One use more either way.
   std::pair<const std::string, SharedCompound>* shareCompound(btCompoundShape* made) {
-    std::string& key = compoundKey;
-    key.clear();
+    std::string key;
     for (int c = 0; c < made->getNumChildShapes(); ++c) {
       const btCollisionShape* child = made->getChildShape(c);
       const btTransform& t = made->getChildTransform(c);
@@ -501,6 +498,7 @@ struct PhysicsWorld::Impl {
     int shapeCount = 0;
     for (int id : ids) shapeCount += int(parts[id].shapes.size());
     btCollisionShape* shape = nullptr;
+    btCompoundShape* compound = nullptr;  // (made here, then shared: shareCompound)
     for (size_t i = 0; i < ids.size(); ++i) {
       Part& p = parts[ids[i]];
       p.body = index;
@@ -512,14 +510,14 @@ struct PhysicsWorld::Impl {
         if (shapeCount == 1 && isIdentity(childPose)) {
           shape = p.shapes[k];
         } else {
-          if (!b.compound) b.compound = new btCompoundShape(false, shapeCount);
-          b.compound->addChildShape(toBt(childPose), p.shapes[k]);
+          if (!compound) compound = new btCompoundShape(false, shapeCount);
+          compound->addChildShape(toBt(childPose), p.shapes[k]);
         }
       }
     }
-    if (b.compound) {
-      b.compoundEntry = shareCompound(b.compound);
-      shape = b.compound = b.compoundEntry->second.shape.get();
+    if (compound) {
+      b.compoundEntry = shareCompound(compound);
+      shape = b.compoundEntry->second.shape.get();
     }
     std::sort(b.owners.begin(), b.owners.end());
     b.owners.erase(std::unique(b.owners.begin(), b.owners.end()), b.owners.end());

@@ -4,13 +4,14 @@
 // fact give a little; the exact solve after each sweep puts that right, and the two alternate for
 // the substep's iterations. For an island of one small tree the contact rows' own operator is
 // cheap to make exactly: in the tree's coordinates (the root body's twist and each hinge's speed)
-// the mass matrix H is at most 16 x 16, each motor's compliance adds its stiffness on its hinge's
-// diagonal, and A = J H^-1 J^T, n x n for the island's n contact rows, is what a unit impulse of
-// each row does to every row through the hinges as they are. Gauss-Seidel sweeps on A (the same
-// bounds as the sweep's: normal rows clamped, each patch's tangent and rolling pairs to their
-// circles, its twist to its bound) then converge without the exact solve between them; one exact
-// solve with the motors' ratings applies the result. Where a motor reaches its rating there, the
-// operator is made again without that motor's stiffness, and the rows swept again.
+// the mass matrix H is at most 16 x 16 (PhysicsSettings::denseCoordinates), each motor's
+// compliance adds its stiffness on its hinge's diagonal, and A = J H^-1 J^T, n x n for the
+// island's n contact rows, is what a unit impulse of each row does to every row through the
+// hinges as they are. Gauss-Seidel sweeps on A (the same bounds as the sweep's: normal rows
+// clamped, each patch's tangent and rolling pairs to their circles, its twist to its bound) then
+// converge without the exact solve between them; one exact solve with the motors' ratings applies
+// the result. Where a motor reaches its rating there, the operator is made again without that
+// motor's stiffness, and the rows swept again.
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <algorithm>
@@ -27,7 +28,15 @@ namespace {
 
 using Vec3d = Eigen::Vector3d;
 
-constexpr int kDenseDofs = 16;   // the largest tree: 6 + 10 hinges (three SuperBots)
+// The largest tree (ExactSolver::denseCoordinates, 16 by default: a SuperBot alone or up to three
+// docked). Larger trees, measured against the alternation of sweeps and exact solves (one thread,
+// 15 iterations, snakes of N SuperBots crawling, 2026-12-07; each docked SuperBot adds three
+// hinges, its docked links being one body): 5 modules 24% less time a step, 8 modules 18% less,
+// 10 modules (36 coordinates) 14% less, 12 modules 8% less, 15 modules 1% more (the operator's
+// cost grows as the bodies times the coordinates squared, the sweeps' as the rows squared). Not
+// the default: the reconfiguration sample's crawls lean on the slip the sweeps leave
+// (docs/benchmarks.md, "Chains on their own operator").
+constexpr int kDenseDofs = ExactSolver::kDenseCoordinatesMax;
 constexpr int kDenseNodes = 5;   // the smallest tree: two hinges and their three bodies
 constexpr int kDenseRows = 64;   // the most contact rows an island may have
 constexpr int kDenseRounds = 4;  // operators made again where motors reach their rating
@@ -112,7 +121,8 @@ void ExactSolver::planDenseIslands() {
     // (A tree of one hinge, an ATRON's, settles in two sweeps: its operator costs more than it
     // saves, 12 to 17% more of atrons_275's physics.)
     const int nodes = c.end - c.begin;
-    if (c.split || c.loopEnd > c.loopBegin || nodes < kDenseNodes || nodes > 2 * kDenseDofs) continue;
+    if (c.split || c.loopEnd > c.loopBegin || nodes < kDenseNodes || nodes > 2 * m_shared->denseCoordinates)
+      continue;
     if (denseShape(c) == 0) continue;
     // Every row on this tree's bodies or the static world, and not too many of them. (Not through
     // rowSide: the groups it reads are made after this.)
@@ -209,7 +219,7 @@ int ExactSolver::denseShape(const Cluster& c) {
     if (r.na < 0 || r.nb < 0) return 0;
     m_denseNodeIndex[size_t(k - c.begin)] = nu++;
   }
-  return nu <= kDenseDofs ? nu : 0;
+  return nu <= std::min(kDenseDofs, m_shared->denseCoordinates) ? nu : 0;
 }
 
 /// The operator of the contact rows m_denseRows[0, n) on cluster c's tree (of denseShape's form,
@@ -227,7 +237,7 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
   // follow the tree's order, so that a child's are its parent's and its hinge's). T_b holds only
   // those, side by side (a row of kStride: the sums below take four columns at a time, and what
   // lies past a body's last column is finite and not used).
-  constexpr int kStride = kDenseDofs + 4;
+  const int kStride = std::min(kDenseDofs, m_shared->denseCoordinates) + 4;
   const size_t tsize = size_t(bodies) * 6 * kStride;
   if (m_denseT.size() < tsize) m_denseT.resize(tsize);
   if (m_denseMT.size() < 6 * kStride) m_denseMT.resize(6 * kStride);

@@ -172,6 +172,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   /// Small islands' contacts solved on their own operator (dense_islands.cpp;
   /// PhysicsSettings::denseIslands; batch solvers read the primary's).
   bool denseIslands = true;
+  /// The most coordinates of a tree the operator takes (PhysicsSettings::denseCoordinates, at
+  /// most kDenseCoordinatesMax; batch solvers read the primary's).
+  int denseCoordinates = 16;
+  static constexpr int kDenseCoordinatesMax = 48;
   /// The tree solve's and the dense operator's AVX variants, where the CPU has AVX
   /// (PhysicsSettings::avx; batch solvers read the primary's); off: their SSE2 ones, the same bits.
   bool avx = __builtin_cpu_supports("avx");
@@ -650,6 +654,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<int> m_nodeOfBody;    // node of each body this substep (any group)
   std::vector<int> m_bodyCluster;   // cluster of each body this substep (any group)
   std::vector<char> m_sweepIsland;  // by island: the contact re-sweep takes its rows (empty: all)
+  // By island, for each half's thread: the largest change of a re-sweep's rows (finishJoints).
+  std::vector<double> m_islandChange[2];
   // Islands that settle within the substep's iterations (planSettling): each of this solver
   // group's islands has a slot; each sweep item its island's slot (-1: none); by slot, the largest
   // squared impulse change of its items in this sweep (by thread of a halved sweep) and its state.

@@ -340,6 +340,7 @@ struct PhysicsWorld::Impl {
     solver.freshTrees = s.freshTrees;
     solver.everyIteration = s.everyIteration;
     solver.denseIslands = s.denseIslands;
+    solver.denseCoordinates = s.denseCoordinates;
     solver.avx = s.avx && __builtin_cpu_supports("avx");
     solver.alwaysThreads = s.alwaysThreads;
     world.getSolverInfo().m_numIterations = s.solverIterations;
@@ -904,6 +905,7 @@ void PhysicsWorld::configure(const PhysicsSettings& s) {
   m->solver.freshTrees = s.freshTrees;
   m->solver.everyIteration = s.everyIteration;
   m->solver.denseIslands = s.denseIslands;
+  m->solver.denseCoordinates = s.denseCoordinates;
   m->solver.avx = s.avx && __builtin_cpu_supports("avx");
   m->solver.alwaysThreads = s.alwaysThreads;
   m->world.setAlwaysThreads(s.alwaysThreads);

@@ -49,6 +49,10 @@ struct PhysicsSettings {
   /// The exact solver solves the contacts of an island of one small tree on their own operator
   /// (physics/dense_islands.cpp); off: by the sweeps alone (tests and measurements).
   bool denseIslands = true;
+  /// The most coordinates (the root's six and one a hinge) of a tree whose contacts the operator
+  /// takes: 16, a SuperBot alone or up to three docked (at most ExactSolver::kDenseCoordinatesMax;
+  /// tests and measurements: 36 takes a chain of ten, docs/benchmarks.md).
+  int denseCoordinates = 16;
   /// The exact solver's AVX variants where the CPU has AVX; off: the SSE2 ones (tests: the same
   /// bits either way).
   bool avx = true;

@@ -156,6 +156,7 @@ void World::ensurePhysics() {
   ps.freshTrees = m_options.freshTrees;
   ps.everyIteration = m_options.everyIteration;
   ps.denseIslands = m_options.denseIslands;
+  ps.denseCoordinates = m_options.denseCoordinates;
   ps.avx = m_options.avx;
   ps.alwaysThreads = m_options.alwaysThreads;
   ps.finishBatches = m_options.finishBatches;

@@ -15,8 +15,9 @@ using namespace rm3d;
 namespace {
 
 // Three SuperBots (one crawling with the snake gait on its own, one switching its joints, one
-// still), an ATRON (one hinge: left to the sweeps), a 3-module snake (nine hinges: one small tree)
-// and a 5-module one (fifteen: left to the sweeps).
+// still), an ATRON (one hinge: left to the sweeps), a 3-module snake (nine hinges: one small tree),
+// a 5-module one (fifteen: left to the sweeps but where the bound is raised to 36 coordinates) and
+// a 13-module one (39 hinges: left to the sweeps either way).
 std::string world(int iterations) {
   return "world.set{duration = 100, seed = 4, solver = \"exact\", solver_iterations = " +
          std::to_string(iterations) + R"(}
@@ -27,6 +28,7 @@ world.spawn("superbot", {at = {1.0, 0, 0.043}})
 world.spawn("atron", {at = {1.5, 0, 0.056}, behavior = "behaviors/atron_wheel.lua", params = {speed = 1}})
 require("snake_chain").build{n = 3, name = "three_", type = "superbot", behavior = "behaviors/snake.lua", at = {0, 0.6, 0.043}}
 require("snake_chain").build{n = 5, name = "five_", type = "superbot", behavior = "behaviors/snake.lua", at = {0, 1.2, 0.043}}
+require("snake_chain").build{n = 13, name = "thirteen_", type = "superbot", behavior = "behaviors/snake.lua", at = {0, 1.8, 0.043}}
 )";
 }
 
@@ -36,9 +38,10 @@ struct Run {
   long dense = 0, steps = 0;
 };
 
-Run run(int iterations, bool dense, int threads, double seconds, bool avx = true) {
+Run run(int iterations, bool dense, int threads, double seconds, bool avx = true, int coordinates = 16) {
   RunOptions o = rm3d::test::options();
   o.denseIslands = dense;
+  o.denseCoordinates = coordinates;
   o.avx = avx;
   o.threads = threads;
   o.alwaysThreads = threads > 1;
@@ -86,11 +89,29 @@ TEST_CASE("exact solver: a small island's contacts on their own operator go wher
   MESSAGE("converged, dense against swept: the SuperBots' links " << apart * 1000 << " mm apart after 1 s");
   CHECK(apart < 1e-4);
   // Every substep: the three SuperBots and the 3-module snake (one small tree each); not the
-  // ATRON (one hinge) nor the 5-module snake (fifteen hinges), whose links move as without it.
+  // ATRON (one hinge) nor the 5- and 13-module snakes (15 and 39 hinges), whose links move as
+  // without it.
   CHECK(dense.dense == 4 * dense.steps);
   CHECK(sweeps.dense == 0);
   CHECK(largestMove(dense, sweeps, 12, 14) == 0);
   CHECK(largestMove(dense, sweeps, 26) == 0);
+}
+
+TEST_CASE(
+    "exact solver: trees of up to 36 coordinates on their own operator leave the other islands as they "
+    "were") {
+  // Raised to 36 coordinates (a chain of ten SuperBots) the bound takes the 5-module snake too,
+  // which then moves otherwise; the 13-module snake (45) is left to the sweeps and moves as it does
+  // without the operator, bit for bit, though the two snakes are solved in one batch. (Until the
+  // contacts' re-sweep after the iterations ended island by island, the batch's islands all stopped
+  // when the largest change of any settled: the 13-module snake ended 0.4 mm elsewhere in step 47.)
+  const Run dense = run(15, true, 1, 1.0, true, 36), sweeps = run(15, false, 1, 1.0, true, 36);
+  CHECK(dense.dense == 5 * dense.steps);
+  CHECK(largestMove(dense, sweeps, 26, 46) > 1e-4);
+  CHECK(largestMove(dense, sweeps, 12, 14) == 0);
+  CHECK(largestMove(dense, sweeps, 46) == 0);
+  // And the default bound leaves the 5-module snake to the sweeps.
+  CHECK(largestMove(run(15, true, 1, 1.0), sweeps, 26, 46) == 0);
 }
 
 TEST_CASE("exact solver: a small island's contacts on their own operator, the same bits at 1 and 2 threads") {

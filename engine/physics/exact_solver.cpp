@@ -844,8 +844,9 @@ void ExactSolver::applyRowImpulse(const RowSide (&sides)[2], double delta) {
 btScalar ExactSolver::contactSweep() {
   double residual = 0;
   const int nc = m_tmpSolverContactConstraintPool.size();
-  // Only the rows of the islands m_sweepIsland names, when it names any: the island of the row's
-  // first body that has one (a row joins bodies of one island, or one and the static world), or -1.
+  // Only the rows of the islands m_sweepIsland names, when it names any: a row's island (of its
+  // first body that has one: a row joins bodies of one island, or one and the static world), -1
+  // where it names none (every row is swept), -2 for a row of an island it does not name.
   auto islandOf = [&](const btSolverConstraint& c) {
     if (m_sweepIsland.empty()) return -1;
     for (const int sid : {c.m_solverBodyIdA, c.m_solverBodyIdB}) {

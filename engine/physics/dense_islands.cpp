@@ -36,7 +36,6 @@ using Vec3d = Eigen::Vector3d;
 // cost grows as the bodies times the coordinates squared, the sweeps' as the rows squared). Not
 // the default: the reconfiguration sample's crawls lean on the slip the sweeps leave
 // (docs/benchmarks.md, "Chains on their own operator").
-constexpr int kDenseDofs = ExactSolver::kDenseCoordinatesMax;
 constexpr int kDenseNodes = 5;   // the smallest tree: two hinges and their three bodies
 constexpr int kDenseRows = 64;   // the most contact rows an island may have
 constexpr int kDenseRounds = 4;  // operators made again where motors reach their rating
@@ -90,6 +89,12 @@ struct FourAvx {
 
 }  // namespace
 
+/// The most coordinates of a tree the operator takes: the setting (the primary's), within
+/// [0, kDenseCoordinatesMax].
+int ExactSolver::denseBound() const {
+  return std::clamp(m_shared->denseCoordinates, 0, kDenseCoordinatesMax);
+}
+
 /// At a solver group's setup, after planSettling: the islands whose contacts the dense solve will
 /// take at the first iteration (each one small tree and its rows, as denseIsland asks), so that
 /// buildGroups makes no sweep data for them (m_slotDense, m_rowDense).
@@ -121,8 +126,7 @@ void ExactSolver::planDenseIslands() {
     // (A tree of one hinge, an ATRON's, settles in two sweeps: its operator costs more than it
     // saves, 12 to 17% more of atrons_275's physics.)
     const int nodes = c.end - c.begin;
-    if (c.split || c.loopEnd > c.loopBegin || nodes < kDenseNodes || nodes > 2 * m_shared->denseCoordinates)
-      continue;
+    if (c.split || c.loopEnd > c.loopBegin || nodes < kDenseNodes || nodes > 2 * denseBound()) continue;
     if (denseShape(c) == 0) continue;
     // Every row on this tree's bodies or the static world, and not too many of them. (Not through
     // rowSide: the groups it reads are made after this.)
@@ -202,7 +206,7 @@ void ExactSolver::solveDenseIslands(int sweeps) {
 }
 
 /// Whether cluster c's tree is one the operator takes (a body at its root, no hinge to the static
-/// world, at most kDenseDofs coordinates), its bodies' and hinges' places noted
+/// world, at most kDenseCoordinatesMax coordinates), its bodies' and hinges' places noted
 /// (m_denseNodeIndex); its coordinates' count, or 0.
 int ExactSolver::denseShape(const Cluster& c) {
   if (m_nodes[size_t(c.begin)].body < 0) return 0;
@@ -219,7 +223,7 @@ int ExactSolver::denseShape(const Cluster& c) {
     if (r.na < 0 || r.nb < 0) return 0;
     m_denseNodeIndex[size_t(k - c.begin)] = nu++;
   }
-  return nu <= std::min(kDenseDofs, m_shared->denseCoordinates) ? nu : 0;
+  return nu <= denseBound() ? nu : 0;
 }
 
 /// The operator of the contact rows m_denseRows[0, n) on cluster c's tree (of denseShape's form,
@@ -237,22 +241,22 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
   // follow the tree's order, so that a child's are its parent's and its hinge's). T_b holds only
   // those, side by side (a row of kStride: the sums below take four columns at a time, and what
   // lies past a body's last column is finite and not used).
-  const int kStride = std::min(kDenseDofs, m_shared->denseCoordinates) + 4;
-  const size_t tsize = size_t(bodies) * 6 * kStride;
+  const int kStride = denseBound() + 4;
+  const size_t tsize = size_t(bodies) * 6 * size_t(kStride);
   if (m_denseT.size() < tsize) m_denseT.resize(tsize);
-  if (m_denseMT.size() < 6 * kStride) m_denseMT.resize(6 * kStride);
+  if (m_denseMT.size() < size_t(6 * kStride)) m_denseMT.resize(size_t(6 * kStride));
   if (m_denseH.size() < size_t(nu * nu)) m_denseH.resize(size_t(nu * nu));
   double* H = m_denseH.data();
   std::fill_n(H, nu * nu, 0.0);
-  if (m_denseCols.size() < size_t(bodies * (kDenseDofs + 1)))
-    m_denseCols.resize(size_t(bodies * (kDenseDofs + 1)));
+  if (m_denseCols.size() < size_t(bodies * (kDenseCoordinatesMax + 1)))
+    m_denseCols.resize(size_t(bodies * (kDenseCoordinatesMax + 1)));
   double* mt = m_denseMT.data();  // M_b T_b
   for (int k = c.begin; k < c.end; ++k) {
     const Node& nd = m_nodes[size_t(k)];
     if (nd.body < 0) continue;
     const int bi = m_denseNodeIndex[size_t(k - c.begin)];
     double* T = m_denseT.data() + size_t(bi) * 6 * kStride;
-    int* cols = m_denseCols.data() + bi * (kDenseDofs + 1);
+    int* cols = m_denseCols.data() + bi * (kDenseCoordinatesMax + 1);
     if (k == c.begin) {
       for (int i = 0; i < 6; ++i) {
         for (int a = 0; a < 6; ++a) T[i * kStride + a] = i == a ? 1 : 0;
@@ -264,7 +268,7 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
       const Row& r = row(jn.joint);
       const int pi = m_denseNodeIndex[size_t(jn.parent - c.begin)];
       const double* P = m_denseT.data() + size_t(pi) * 6 * kStride;
-      const int* pcols = m_denseCols.data() + pi * (kDenseDofs + 1);
+      const int* pcols = m_denseCols.data() + pi * (kDenseCoordinatesMax + 1);
       // The child's side of the hinge: v_b = v_a + w_a x (r_a - r_b) - q z x r_b, w_b = w_a + q z
       // (b the child); v_a = v_b + w_b x (r_b - r_a) + q z x r_a, w_a = w_b - q z (a the child).
       const bool childIsB = jn.parentIsA;
@@ -342,7 +346,7 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
       const int node = m_nodeOfBody[size_t(side.index)];
       const int bi = m_denseNodeIndex[size_t(node - c.begin)];
       const double* T = m_denseT.data() + size_t(bi) * 6 * kStride;
-      const int* cols = m_denseCols.data() + bi * (kDenseDofs + 1);
+      const int* cols = m_denseCols.data() + bi * (kDenseCoordinatesMax + 1);
       const double j[6] = {side.n->x(), side.n->y(), side.n->z(), side.rc->x(), side.rc->y(), side.rc->z()};
       for (int a0 = 0; a0 < cols[0]; a0 += 4) {
         F acc = F::zero();

@@ -2080,6 +2080,7 @@ void ExactSolver::finishJoints() {
     const Cluster& c = m_clusters[size_t(ci)];
     if (!c.clamped || c.island < 0) continue;
     if (c.island >= int(m_sweepIsland.size())) m_sweepIsland.resize(size_t(c.island) + 1, 0);
+    if (!m_sweepIsland[size_t(c.island)]) m_resweptIslands.push_back(c.island);
     m_sweepIsland[size_t(c.island)] = 1;
     clamped = true;
   }
@@ -2100,16 +2101,19 @@ void ExactSolver::finishJoints() {
     // the largest change of any settled, made an island's substep depend on which others Bullet
     // batched with it (a 13-module snake ended 0.4 mm elsewhere in one step as a 5-module one in its
     // batch was solved one way or the other).
+    // (By the list of the islands swept, not a pass over every island's place.)
+    for (std::vector<double>& change : m_islandChange)
+      if (change.size() < m_sweepIsland.size()) change.resize(m_sweepIsland.size());
     for (int k = 0; k < kResweeps; ++k) {
       m_useSplit = k == 0;
-      for (std::vector<double>& change : m_islandChange) change.assign(m_sweepIsland.size(), 0.0);
+      for (const int i : m_resweptIslands) m_islandChange[0][size_t(i)] = m_islandChange[1][size_t(i)] = 0;
       contactSweep();
       exactIterationWhere(true, swept);
       bool open = false;
-      for (size_t i = 0; i < m_sweepIsland.size(); ++i) {
-        if (!m_sweepIsland[i]) continue;
-        if (std::max(m_islandChange[0][i], m_islandChange[1][i]) < kResweepSettled)
-          m_sweepIsland[i] = 0;
+      for (const int i : m_resweptIslands) {
+        if (!m_sweepIsland[size_t(i)]) continue;
+        if (std::max(m_islandChange[0][size_t(i)], m_islandChange[1][size_t(i)]) < kResweepSettled)
+          m_sweepIsland[size_t(i)] = 0;
         else
           open = true;
       }
@@ -2117,6 +2121,7 @@ void ExactSolver::finishJoints() {
       if (k + 1 < kResweeps && settle()) buildGroups(m_groupFirstBody);  // (after the last, settle() below)
     }
     m_sweepIsland.clear();
+    m_resweptIslands.clear();
   }
   // A row fixed at its rating whose joint now moves beyond the command (the load it met went
   // away as the contacts settled, or the rating overshot it) takes its motor back, once: the

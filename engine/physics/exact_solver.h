@@ -654,8 +654,10 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<int> m_nodeOfBody;    // node of each body this substep (any group)
   std::vector<int> m_bodyCluster;   // cluster of each body this substep (any group)
   std::vector<char> m_sweepIsland;  // by island: the contact re-sweep takes its rows (empty: all)
-  // By island, for each half's thread: the largest change of a re-sweep's rows (finishJoints).
+  // By island, for each half's thread: the largest change of a re-sweep's rows (finishJoints),
+  // and the islands it sweeps.
   std::vector<double> m_islandChange[2];
+  std::vector<int> m_resweptIslands;
   // Islands that settle within the substep's iterations (planSettling): each of this solver
   // group's islands has a slot; each sweep item its island's slot (-1: none); by slot, the largest
   // squared impulse change of its items in this sweep (by thread of a halved sweep) and its state.
@@ -702,6 +704,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<char> m_slotDense;  // per settling slot: its island is one the dense solve takes
   std::vector<char> m_rowDense;   // per contact and patch row: on such an island
   void planDenseIslands();
+  int denseBound() const;
   template <class Fn>
   void forSlotRows(int s, const Fn& fn);
   bool denseBody(int b) const;

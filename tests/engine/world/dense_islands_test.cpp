@@ -38,7 +38,8 @@ struct Run {
   long dense = 0, steps = 0;
 };
 
-Run run(int iterations, bool dense, int threads, double seconds, bool avx = true, int coordinates = 16) {
+Run run(int iterations, bool dense, int threads, double seconds, bool avx = true,
+        int coordinates = RunOptions{}.denseCoordinates) {
   RunOptions o = rm3d::test::options();
   o.denseIslands = dense;
   o.denseCoordinates = coordinates;

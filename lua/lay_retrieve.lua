@@ -6,7 +6,8 @@
 --
 -- 1. lay: the snake's last module is swung a quarter turn by its neighbour's yaw joint, so that it
 --    lies across the chain's side with its front face looking at the chain; the neighbour lets go
---    of it (a cut) and turns its yaw back. A right leg first, then a left one.
+--    of it (a cut) and turns its yaw back (or, if it is itself laid next for the chain's last
+--    module, once it is captured). A right leg first, then a left one.
 -- 2. retrieve: the rest of the chain crawls backwards (the caterpillar wave run tail first) with
 --    only the two side docks that must take the legs enabled, until both have captured and
 --    latched their legs.
@@ -180,14 +181,23 @@ local function layAndRetrieve(from, order, to, opts)
   for i = 1, c - 1 do conns[#conns + 1] = {order[i], "back", order[i + 1], "front"} end
   for _, r in ipairs(rounds) do
     local sockets = {}
-    for _, x in ipairs(r.sockets) do
+    local onLast = r.p == m - #r.sockets  -- the socket module is the crawling chain's last
+    for xi, x in ipairs(r.sockets) do
       local side = x.side
       local leg, mover = order[m], order[m - 1]
       if m <= c then return nil, "the snake has too few modules left to lay a leg for " .. order[r.p] end
       steps[#steps + 1] = {kind = "sweep", owner = mover, joint = "yaw", angle = side == "right" and kQuarter or -kQuarter,
                            leg = leg}
       steps[#steps + 1] = {kind = "cut", owner = mover, dock = "back", leg = leg}
-      steps[#steps + 1] = {kind = "sweep", owner = mover, joint = "yaw", angle = 0}
+      -- The mover turns its yaw back, unless it is laid next for the chain's last module: turning
+      -- back, the corners of its back bracket (6.3 cm from the joint) sweep through the laid leg's
+      -- face (5.2 cm) and push the leg 1.8 cm out. Beside the chain's last module that put the leg
+      -- beyond its socket's reach: the module ahead bent to its limit and the chain crept past.
+      -- Further up the chain the push gives the modules that crawl past the leg room (without it
+      -- they rubbed legs up to 35 deg askew). A mover left turned straightens once it is captured.
+      if not (onLast and xi < #r.sockets) then
+        steps[#steps + 1] = {kind = "sweep", owner = mover, joint = "yaw", angle = 0}
+      end
       sockets[#sockets + 1] = {side, leg}
       conns[#conns + 1] = {order[r.p], side, leg, "front"}
       m = m - 1
@@ -445,6 +455,11 @@ function Exec:on_dock(dock, event)
   if event == "disengaged" and self.isLeg and dock:name() == "front" then
     -- Let go (or laid): out of touch from now on, so it flattens its hip by itself.
     self.flattenAt = sim.time() + M.tip_wait
+  end
+  if event == "engaged" and self.isLeg and dock:name() == "front" then
+    -- Captured: a leg laid with its yaw still turned (the mover of the leg laid before it)
+    -- straightens it, its foot in the air.
+    self.io.target("yaw", 0)
   end
   if event == "engaged" then
     -- A module just joined (a captured leg): tell it where the run is.

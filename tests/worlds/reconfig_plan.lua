@@ -116,7 +116,15 @@ end)
 -- four modules in two rounds, each followed by a crawl; what they build is walker8.
 local layRetrieve = require("lay_retrieve")
 local steps, built = layRetrieve.compile(s8, walker8)
-expect(steps ~= nil and #steps == 14, "snake to walker8: 14 steps, got " .. tostring(steps and #steps or built))
+expect(steps ~= nil and #steps == 13, "snake to walker8: 13 steps, got " .. tostring(steps and #steps or built))
+-- Each mover turns its yaw back after its cut, but s5: it is laid next, for the chain's last module,
+-- and keeps its yaw turned until it is captured (turning back would push s6 out of s4's reach).
+local straightened = {}
+for _, st in ipairs(steps or {}) do
+  if st.kind == "sweep" and st.joint == "yaw" and st.angle == 0 then straightened[#straightened + 1] = st.owner end
+end
+expect(table.concat(straightened, " ") == "s7 s6 s4", "s7, s6 and s4 turn their yaws back, s5 does not: " ..
+       table.concat(straightened, " "))
 local crawls = {}
 for _, st in ipairs(steps or {}) do
   if st.kind == "crawl" then crawls[#crawls + 1] = st.owner .. ":" .. #st.chain end

@@ -239,12 +239,13 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
   // Only the columns of the root and of the hinges on a body's path from it are not zero in its
   // T_b (m_denseCols: its count, then the columns in increasing order, as the hinges' columns
   // follow the tree's order, so that a child's are its parent's and its hinge's). T_b holds only
-  // those, side by side (a row of kStride: the sums below take four columns at a time, and what
-  // lies past a body's last column is finite and not used).
-  const int kStride = denseBound() + 4;
-  const size_t tsize = size_t(bodies) * 6 * size_t(kStride);
+  // those, side by side (a row of the tree's coordinates and four, rounded up to four: the sums
+  // below take four columns at a time, and what lies past a body's last column is finite and not
+  // used; the rows follow the tree's size, not the bound).
+  const int stride = (nu + 7) & ~3;
+  const size_t tsize = size_t(bodies) * 6 * size_t(stride);
   if (m_denseT.size() < tsize) m_denseT.resize(tsize);
-  if (m_denseMT.size() < size_t(6 * kStride)) m_denseMT.resize(size_t(6 * kStride));
+  if (m_denseMT.size() < size_t(6 * stride)) m_denseMT.resize(size_t(6 * stride));
   if (m_denseH.size() < size_t(nu * nu)) m_denseH.resize(size_t(nu * nu));
   double* H = m_denseH.data();
   std::fill_n(H, nu * nu, 0.0);
@@ -255,11 +256,11 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
     const Node& nd = m_nodes[size_t(k)];
     if (nd.body < 0) continue;
     const int bi = m_denseNodeIndex[size_t(k - c.begin)];
-    double* T = m_denseT.data() + size_t(bi) * 6 * kStride;
+    double* T = m_denseT.data() + size_t(bi) * 6 * stride;
     int* cols = m_denseCols.data() + bi * (kDenseCoordinatesMax + 1);
     if (k == c.begin) {
       for (int i = 0; i < 6; ++i) {
-        for (int a = 0; a < 6; ++a) T[i * kStride + a] = i == a ? 1 : 0;
+        for (int a = 0; a < 6; ++a) T[i * stride + a] = i == a ? 1 : 0;
         cols[1 + i] = i;
       }
       cols[0] = 6;
@@ -267,7 +268,7 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
       const Node& jn = m_nodes[size_t(nd.parent)];
       const Row& r = row(jn.joint);
       const int pi = m_denseNodeIndex[size_t(jn.parent - c.begin)];
-      const double* P = m_denseT.data() + size_t(pi) * 6 * kStride;
+      const double* P = m_denseT.data() + size_t(pi) * 6 * stride;
       const int* pcols = m_denseCols.data() + pi * (kDenseCoordinatesMax + 1);
       // The child's side of the hinge: v_b = v_a + w_a x (r_a - r_b) - q z x r_b, w_b = w_a + q z
       // (b the child); v_a = v_b + w_b x (r_b - r_a) + q z x r_a, w_a = w_b - q z (a the child).
@@ -277,11 +278,11 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
       const int pm = pcols[0];
       for (int a = 0; a < pm; ++a) {
         // v + w x d, the cross product's terms as Eigen's.
-        const double wx = P[3 * kStride + a], wy = P[4 * kStride + a], wz = P[5 * kStride + a];
+        const double wx = P[3 * stride + a], wy = P[4 * stride + a], wz = P[5 * stride + a];
         T[a] = P[a] + (wy * d.z() - wz * d.y());
-        T[kStride + a] = P[kStride + a] + (wz * d.x() - wx * d.z());
-        T[2 * kStride + a] = P[2 * kStride + a] + (wx * d.y() - wy * d.x());
-        T[3 * kStride + a] = wx, T[4 * kStride + a] = wy, T[5 * kStride + a] = wz;
+        T[stride + a] = P[stride + a] + (wz * d.x() - wx * d.z());
+        T[2 * stride + a] = P[2 * stride + a] + (wx * d.y() - wy * d.x());
+        T[3 * stride + a] = wx, T[4 * stride + a] = wy, T[5 * stride + a] = wz;
       }
       for (int a = 1; a <= pm; ++a) cols[a] = pcols[a];
       cols[0] = pm + 1;
@@ -290,17 +291,17 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
       const Vec3d ang = childIsB ? z : Vec3d(-z);
       // (0.0 + x: as added to a zeroed entry, a -0.0 made +0.0.)
       for (int i = 0; i < 3; ++i)
-        T[i * kStride + pm] = 0.0 + lin[i], T[(3 + i) * kStride + pm] = 0.0 + ang[i];
+        T[i * stride + pm] = 0.0 + lin[i], T[(3 + i) * stride + pm] = 0.0 + ang[i];
     }
     const Body& b = m_bodies[size_t(nd.body)];
     const double m = 1.0 / b.invMass;
     const int cm = cols[0];
     for (int a = 0; a < cm; ++a) {
-      for (int i = 0; i < 3; ++i) mt[i * kStride + a] = m * T[i * kStride + a];
+      for (int i = 0; i < 3; ++i) mt[i * stride + a] = m * T[i * stride + a];
       for (int i = 0; i < 3; ++i)
-        mt[(3 + i) * kStride + a] = b.inertia(i, 0) * T[3 * kStride + a] +
-                                    b.inertia(i, 1) * T[4 * kStride + a] +
-                                    b.inertia(i, 2) * T[5 * kStride + a];
+        mt[(3 + i) * stride + a] = b.inertia(i, 0) * T[3 * stride + a] +
+                                    b.inertia(i, 1) * T[4 * stride + a] +
+                                    b.inertia(i, 2) * T[5 * stride + a];
     }
     // H's entries (i, j), i <= j, among the body's columns: each sum over the twist's six in
     // order, four j at a time.
@@ -308,7 +309,7 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
       double* h = H + cols[1 + a] * nu;
       for (int b0 = a; b0 < cm; b0 += 4) {
         F acc = F::zero();
-        for (int r = 0; r < 6; ++r) acc += T[r * kStride + a] * F::load(mt + r * kStride + b0);
+        for (int r = 0; r < 6; ++r) acc += T[r * stride + a] * F::load(mt + r * stride + b0);
         for (int q = 0; q < 4 && b0 + q < cm; ++q) h[cols[1 + b0 + q]] += acc[q];
       }
     }
@@ -345,12 +346,12 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
       if (!side.body->m_originalBody) continue;
       const int node = m_nodeOfBody[size_t(side.index)];
       const int bi = m_denseNodeIndex[size_t(node - c.begin)];
-      const double* T = m_denseT.data() + size_t(bi) * 6 * kStride;
+      const double* T = m_denseT.data() + size_t(bi) * 6 * stride;
       const int* cols = m_denseCols.data() + bi * (kDenseCoordinatesMax + 1);
       const double j[6] = {side.n->x(), side.n->y(), side.n->z(), side.rc->x(), side.rc->y(), side.rc->z()};
       for (int a0 = 0; a0 < cols[0]; a0 += 4) {
         F acc = F::zero();
-        for (int r = 0; r < 6; ++r) acc += j[r] * F::load(T + r * kStride + a0);
+        for (int r = 0; r < 6; ++r) acc += j[r] * F::load(T + r * stride + a0);
         for (int q = 0; q < 4 && a0 + q < cols[0]; ++q) Y[cols[1 + a0 + q] * n + i] += acc[q];
       }
     }

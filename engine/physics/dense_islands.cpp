@@ -290,8 +290,7 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
       const Vec3d lin = childIsB ? Vec3d(-z.cross(r.rb)) : Vec3d(z.cross(r.ra));
       const Vec3d ang = childIsB ? z : Vec3d(-z);
       // (0.0 + x: as added to a zeroed entry, a -0.0 made +0.0.)
-      for (int i = 0; i < 3; ++i)
-        T[i * stride + pm] = 0.0 + lin[i], T[(3 + i) * stride + pm] = 0.0 + ang[i];
+      for (int i = 0; i < 3; ++i) T[i * stride + pm] = 0.0 + lin[i], T[(3 + i) * stride + pm] = 0.0 + ang[i];
     }
     const Body& b = m_bodies[size_t(nd.body)];
     const double m = 1.0 / b.invMass;
@@ -299,9 +298,8 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
     for (int a = 0; a < cm; ++a) {
       for (int i = 0; i < 3; ++i) mt[i * stride + a] = m * T[i * stride + a];
       for (int i = 0; i < 3; ++i)
-        mt[(3 + i) * stride + a] = b.inertia(i, 0) * T[3 * stride + a] +
-                                    b.inertia(i, 1) * T[4 * stride + a] +
-                                    b.inertia(i, 2) * T[5 * stride + a];
+        mt[(3 + i) * stride + a] = b.inertia(i, 0) * T[3 * stride + a] + b.inertia(i, 1) * T[4 * stride + a] +
+                                   b.inertia(i, 2) * T[5 * stride + a];
     }
     // H's entries (i, j), i <= j, among the body's columns: each sum over the twist's six in
     // order, four j at a time.

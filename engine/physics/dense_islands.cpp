@@ -4,7 +4,7 @@
 // fact give a little; the exact solve after each sweep puts that right, and the two alternate for
 // the substep's iterations. For an island of one small tree the contact rows' own operator is
 // cheap to make exactly: in the tree's coordinates (the root body's twist and each hinge's speed)
-// the mass matrix H is at most 16 x 16 (PhysicsSettings::denseCoordinates), each motor's
+// the mass matrix H is at most 36 x 36 (PhysicsSettings::denseCoordinates), each motor's
 // compliance adds its stiffness on its hinge's diagonal, and A = J H^-1 J^T, n x n for the
 // island's n contact rows, is what a unit impulse of each row does to every row through the
 // hinges as they are. Gauss-Seidel sweeps on A (the same bounds as the sweep's: normal rows

@@ -174,7 +174,7 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   bool denseIslands = true;
   /// The most coordinates of a tree the operator takes (PhysicsSettings::denseCoordinates, at
   /// most kDenseCoordinatesMax; batch solvers read the primary's).
-  int denseCoordinates = 16;
+  int denseCoordinates = 36;
   static constexpr int kDenseCoordinatesMax = 48;
   /// The tree solve's and the dense operator's AVX variants, where the CPU has AVX
   /// (PhysicsSettings::avx; batch solvers read the primary's); off: their SSE2 ones, the same bits.

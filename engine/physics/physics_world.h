@@ -50,9 +50,9 @@ struct PhysicsSettings {
   /// (physics/dense_islands.cpp); off: by the sweeps alone (tests and measurements).
   bool denseIslands = true;
   /// The most coordinates (the root's six and one a hinge) of a tree whose contacts the operator
-  /// takes: 16, a SuperBot alone or up to three docked (at most ExactSolver::kDenseCoordinatesMax;
-  /// tests and measurements: 36 takes a chain of ten, docs/benchmarks.md).
-  int denseCoordinates = 16;
+  /// takes: 36, a chain of up to ten SuperBots or a tree as large (at most
+  /// ExactSolver::kDenseCoordinatesMax; 16, up to three docked, until 2026-12-07: docs/benchmarks.md).
+  int denseCoordinates = 36;
   /// The exact solver's AVX variants where the CPU has AVX; off: the SSE2 ones (tests: the same
   /// bits either way).
   bool avx = true;

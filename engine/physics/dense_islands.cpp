@@ -28,14 +28,14 @@ namespace {
 
 using Vec3d = Eigen::Vector3d;
 
-// The largest tree (ExactSolver::denseCoordinates, 16 by default: a SuperBot alone or up to three
-// docked). Larger trees, measured against the alternation of sweeps and exact solves (one thread,
-// 15 iterations, snakes of N SuperBots crawling, 2026-12-07; each docked SuperBot adds three
-// hinges, its docked links being one body): 5 modules 24% less time a step, 8 modules 18% less,
-// 10 modules (36 coordinates) 14% less, 12 modules 8% less, 15 modules 1% more (the operator's
-// cost grows as the bodies times the coordinates squared, the sweeps' as the rows squared). Not
-// the default: the reconfiguration sample's crawls lean on the slip the sweeps leave
-// (docs/benchmarks.md, "Chains on their own operator").
+// The largest tree (ExactSolver::denseCoordinates, 36 by default: a chain of up to ten SuperBots
+// or a tree as large; each docked SuperBot adds three hinges, its docked links being one body).
+// Against the alternation of sweeps and exact solves (one thread, 15 iterations, snakes of N
+// SuperBots crawling, 2026-12-07): 5 modules 24% less time a step, 8 modules 18% less, 10 modules
+// (36 coordinates) 14 to 16% less, 12 modules 8% less, 15 modules 1% more (the operator's cost
+// grows as the bodies times the coordinates squared, the sweeps' as the rows squared). 16 until
+// 2026-12-07; at 42 the 12-module walker's chain loaded a dock over its check (docs/benchmarks.md,
+// "Chains on their own operator by default").
 constexpr int kDenseNodes = 5;   // the smallest tree: two hinges and their three bodies
 constexpr int kDenseRows = 64;   // the most contact rows an island may have
 constexpr int kDenseRounds = 4;  // operators made again where motors reach their rating

@@ -33,7 +33,8 @@ using Vec3d = Eigen::Vector3d;
 // Against the alternation of sweeps and exact solves (one thread, 15 iterations, snakes of N
 // SuperBots crawling, 2026-12-07): 5 modules 24% less time a step, 8 modules 18% less, 10 modules
 // (36 coordinates) 14 to 16% less, 12 modules 8% less, 15 modules 1% more (the operator's cost
-// grows as the bodies times the coordinates squared, the sweeps' as the rows squared). 16 until
+// then grew as the bodies times the coordinates squared, the sweeps' as the rows squared; since
+// H is summed by subtrees, its factor's cost, the coordinates cubed, leads). 16 until
 // 2026-12-07; at 42 the 12-module walker's chain loaded a dock over its check (docs/benchmarks.md,
 // "Chains on their own operator by default").
 constexpr int kDenseNodes = 5;   // the smallest tree: two hinges and their three bodies
@@ -63,6 +64,13 @@ struct Four {
     lo += b.lo, hi += b.hi;
     return *this;
   }
+  [[gnu::always_inline]] friend Four operator-(const Four& a, const Four& b) {
+    return {a.lo - b.lo, a.hi - b.hi};
+  }
+  [[gnu::always_inline]] void store(double* p) const {
+    std::memcpy(p, &lo, sizeof lo);
+    std::memcpy(p + 2, &hi, sizeof hi);
+  }
   [[gnu::always_inline]] double operator[](int q) const { return q < 2 ? lo[q] : hi[q - 2]; }
 };
 typedef double Quad __attribute__((vector_size(32), aligned(8)));
@@ -84,6 +92,8 @@ struct FourAvx {
     v += b.v;
     return *this;
   }
+  [[gnu::always_inline]] friend FourAvx operator-(const FourAvx& a, const FourAvx& b) { return {a.v - b.v}; }
+  [[gnu::always_inline]] void store(double* p) const { std::memcpy(p, &v, sizeof v); }
   [[gnu::always_inline]] double operator[](int q) const { return v[q]; }
 };
 
@@ -233,84 +243,97 @@ template <class F>
 bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
   using A = ExactJoint::Axial;
   const int bodies = (c.end - c.begin + 1) / 2;  // (a tree of bodies and hinges: one more body)
-  // T_b maps the coordinates to body b's twist (linear at its centre, then angular): the root's is
-  // the identity on the root's six; a child's is its parent's carried to its centre, plus its
-  // hinge's axis. H = sum of T_b^T M_b T_b.
-  // Only the columns of the root and of the hinges on a body's path from it are not zero in its
-  // T_b (m_denseCols: its count, then the columns in increasing order, as the hinges' columns
-  // follow the tree's order, so that a child's are its parent's and its hinge's). T_b holds only
-  // those, side by side (a row of the tree's coordinates and four, rounded up to four: the sums
-  // below take four columns at a time, and what lies past a body's last column is finite and not
-  // used; the rows follow the tree's size, not the bound).
-  const int stride = (nu + 7) & ~3;
-  const size_t tsize = size_t(bodies) * 6 * size_t(stride);
-  if (m_denseT.size() < tsize) m_denseT.resize(tsize);
-  if (m_denseMT.size() < size_t(6 * stride)) m_denseMT.resize(size_t(6 * stride));
-  if (m_denseH.size() < size_t(nu * nu)) m_denseH.resize(size_t(nu * nu));
+  constexpr int kCols = kDenseCoordinatesMax + 1;
+  // H by its subtrees' inertias (the composite-rigid-body algorithm), in the world's axes about
+  // the root body's centre: each coordinate's twist S_k there (the root's: its centre's velocity
+  // and its angular velocity; a hinge's: the rotation about its axis of the bodies past it), and
+  // H's entry (j, k), j on k's path from the root, S_j against the momentum I_k S_k of the bodies
+  // that k moves (I_k: their inertia together; the whole tree's for the root's six). A body's
+  // columns (m_denseCols: its count, then the root's six and the hinges' on its path, increasing,
+  // as the hinges' columns follow the tree's order) are the only ones its rows touch.
+  const int hs = (nu + 3) & ~3;  // (H's rows: the sums below take four entries at a time)
+  if (m_denseH.size() < size_t(nu * hs)) m_denseH.resize(size_t(nu * hs));
+  if (m_denseS.size() < size_t(6 * nu)) m_denseS.resize(size_t(6 * nu));
+  if (m_denseBody.size() < size_t(16 * bodies)) m_denseBody.resize(size_t(16 * bodies));
+  if (m_denseCols.size() < size_t(bodies * kCols)) m_denseCols.resize(size_t(bodies * kCols));
   double* H = m_denseH.data();
-  std::fill_n(H, nu * nu, 0.0);
-  if (m_denseCols.size() < size_t(bodies * (kDenseCoordinatesMax + 1)))
-    m_denseCols.resize(size_t(bodies * (kDenseCoordinatesMax + 1)));
-  double* mt = m_denseMT.data();  // M_b T_b
+  std::fill_n(H, nu * hs, 0.0);
+  double* S = m_denseS.data();
+  double* B = m_denseBody.data();  // per body: its centre (3), then its subtree's m, h = sum m c (3), I (9)
+  auto get3 = [](const double* p) { return Vec3d(p[0], p[1], p[2]); };
+  auto put3 = [](double* p, const Vec3d& v) { p[0] = v.x(), p[1] = v.y(), p[2] = v.z(); };
+  using Matrix3dRef = Eigen::Map<const Eigen::Matrix3d>;
   for (int k = c.begin; k < c.end; ++k) {
     const Node& nd = m_nodes[size_t(k)];
     if (nd.body < 0) continue;
     const int bi = m_denseNodeIndex[size_t(k - c.begin)];
-    double* T = m_denseT.data() + size_t(bi) * 6 * stride;
-    int* cols = m_denseCols.data() + bi * (kDenseCoordinatesMax + 1);
+    double* bd = B + 16 * bi;
+    int* cols = m_denseCols.data() + bi * kCols;
     if (k == c.begin) {
-      for (int i = 0; i < 6; ++i) {
-        for (int a = 0; a < 6; ++a) T[i * stride + a] = i == a ? 1 : 0;
-        cols[1 + i] = i;
-      }
+      put3(bd, Vec3d::Zero());
+      std::fill_n(S, 36, 0.0);
+      for (int i = 0; i < 6; ++i) S[6 * i + i] = 1, cols[1 + i] = i;
       cols[0] = 6;
     } else {
       const Node& jn = m_nodes[size_t(nd.parent)];
       const Row& r = row(jn.joint);
       const int pi = m_denseNodeIndex[size_t(jn.parent - c.begin)];
-      const double* P = m_denseT.data() + size_t(pi) * 6 * stride;
-      const int* pcols = m_denseCols.data() + pi * (kDenseCoordinatesMax + 1);
-      // The child's side of the hinge: v_b = v_a + w_a x (r_a - r_b) - q z x r_b, w_b = w_a + q z
-      // (b the child); v_a = v_b + w_b x (r_b - r_a) + q z x r_a, w_a = w_b - q z (a the child).
+      const int* pcols = m_denseCols.data() + pi * kCols;
+      // The child's centre is its parent's and r_a - r_b (b the child) or r_b - r_a (a the child);
+      // the hinge turns it at w = z (b the child) or -z about the pivot p, at the root's centre
+      // v = p x w.
       const bool childIsB = jn.parentIsA;
-      const Vec3d z = r.frame.col(2);
-      const Vec3d d = childIsB ? Vec3d(r.ra - r.rb) : Vec3d(r.rb - r.ra);
+      const Vec3d centre = get3(B + 16 * pi) + (childIsB ? Vec3d(r.ra - r.rb) : Vec3d(r.rb - r.ra));
+      put3(bd, centre);
       const int pm = pcols[0];
-      for (int a = 0; a < pm; ++a) {
-        // v + w x d, the cross product's terms as Eigen's.
-        const double wx = P[3 * stride + a], wy = P[4 * stride + a], wz = P[5 * stride + a];
-        T[a] = P[a] + (wy * d.z() - wz * d.y());
-        T[stride + a] = P[stride + a] + (wz * d.x() - wx * d.z());
-        T[2 * stride + a] = P[2 * stride + a] + (wx * d.y() - wy * d.x());
-        T[3 * stride + a] = wx, T[4 * stride + a] = wy, T[5 * stride + a] = wz;
-      }
       for (int a = 1; a <= pm; ++a) cols[a] = pcols[a];
+      const int q = m_denseNodeIndex[size_t(nd.parent - c.begin)];
+      cols[pm + 1] = q;
       cols[0] = pm + 1;
-      cols[pm + 1] = m_denseNodeIndex[size_t(nd.parent - c.begin)];
-      const Vec3d lin = childIsB ? Vec3d(-z.cross(r.rb)) : Vec3d(z.cross(r.ra));
-      const Vec3d ang = childIsB ? z : Vec3d(-z);
-      // (0.0 + x: as added to a zeroed entry, a -0.0 made +0.0.)
-      for (int i = 0; i < 3; ++i) T[i * stride + pm] = 0.0 + lin[i], T[(3 + i) * stride + pm] = 0.0 + ang[i];
+      const Vec3d w = childIsB ? Vec3d(r.frame.col(2)) : Vec3d(-r.frame.col(2));
+      const Vec3d pivot = centre + (childIsB ? r.rb : r.ra);
+      put3(S + 6 * q, pivot.cross(w));
+      put3(S + 6 * q + 3, w);
     }
+    // The body's own m, m c and inertia about the root's centre, I_c + m (|c|^2 - c c^T).
     const Body& b = m_bodies[size_t(nd.body)];
     const double m = 1.0 / b.invMass;
-    const int cm = cols[0];
-    for (int a = 0; a < cm; ++a) {
-      for (int i = 0; i < 3; ++i) mt[i * stride + a] = m * T[i * stride + a];
-      for (int i = 0; i < 3; ++i)
-        mt[(3 + i) * stride + a] = b.inertia(i, 0) * T[3 * stride + a] + b.inertia(i, 1) * T[4 * stride + a] +
-                                   b.inertia(i, 2) * T[5 * stride + a];
+    const Vec3d centre = get3(bd);
+    bd[3] = m;
+    put3(bd + 4, m * centre);
+    Eigen::Map<Eigen::Matrix3d>(bd + 7) =
+        b.inertia + m * (centre.squaredNorm() * Eigen::Matrix3d::Identity() - centre * centre.transpose());
+  }
+  // Each subtree's: its children's added to each body, the last first.
+  for (int k = c.end - 1; k > c.begin; --k) {
+    const Node& nd = m_nodes[size_t(k)];
+    if (nd.body < 0) continue;
+    const double* from = B + 16 * m_denseNodeIndex[size_t(k - c.begin)];
+    double* to = B + 16 * m_denseNodeIndex[size_t(m_nodes[size_t(nd.parent)].parent - c.begin)];
+    for (int i = 3; i < 16; ++i) to[i] += from[i];
+  }
+  // Column k of H: p = m v + w x h and L = h x v + I w of its bodies moving at S_k = (v, w), then
+  // each entry on its path S_j . (p, L).
+  auto column = [&](int k, const double* bd, const int* path, int count) {
+    const Vec3d v = get3(S + 6 * k), w = get3(S + 6 * k + 3), h = get3(bd + 4);
+    const Vec3d p = bd[3] * v + w.cross(h);
+    const Vec3d L = h.cross(v) + Matrix3dRef(bd + 7) * w;
+    for (int t = 0; t < count; ++t) {
+      const int j = path[t];
+      const double* sj = S + 6 * j;
+      H[j * hs + k] =
+          sj[0] * p.x() + sj[1] * p.y() + sj[2] * p.z() + sj[3] * L.x() + sj[4] * L.y() + sj[5] * L.z();
     }
-    // H's entries (i, j), i <= j, among the body's columns: each sum over the twist's six in
-    // order, four j at a time.
-    for (int a = 0; a < cm; ++a) {
-      double* h = H + cols[1 + a] * nu;
-      for (int b0 = a; b0 < cm; b0 += 4) {
-        F acc = F::zero();
-        for (int r = 0; r < 6; ++r) acc += T[r * stride + a] * F::load(mt + r * stride + b0);
-        for (int q = 0; q < 4 && b0 + q < cm; ++q) h[cols[1 + b0 + q]] += acc[q];
-      }
-    }
+  };
+  static constexpr int kRootCols[6] = {0, 1, 2, 3, 4, 5};
+  const double* root = B + 16 * m_denseNodeIndex[0];
+  for (int k = 0; k < 6; ++k) column(k, root, kRootCols, k + 1);
+  for (int k = c.begin + 1; k < c.end; ++k) {
+    const Node& nd = m_nodes[size_t(k)];
+    if (nd.body < 0) continue;
+    const int bi = m_denseNodeIndex[size_t(k - c.begin)];
+    const int* cols = m_denseCols.data() + bi * kCols;
+    column(cols[cols[0]], B + 16 * bi, cols + 1, cols[0]);
   }
   // Each motor's stiffness on its hinge (the tree's axial row: compliance, or hard at a limit).
   for (int k = c.begin; k < c.end; ++k) {
@@ -318,59 +341,64 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
     if (nd.joint < 0 || !row(nd.joint).axialActive) continue;
     const ExactJoint& e = m_shared->joints[size_t(nd.joint)];
     const int q = m_denseNodeIndex[size_t(k - c.begin)];
-    H[q * nu + q] += 1.0 / (e.state == A::Motor ? e.compliance + kRegularisation : kRegularisation);
+    H[q * hs + q] += 1.0 / (e.state == A::Motor ? e.compliance + kRegularisation : kRegularisation);
   }
-  // H = L L^T, in place (the lower triangle; H's upper triangle holds H).
+  // H = U^T U, U upper triangular, in place in H's upper triangle, a row of U at a time, each
+  // later row then less its product, four entries at a time (from the group of four its diagonal
+  // is in: what lands left of the diagonal, and past the last column, is finite and not read).
   for (int j = 0; j < nu; ++j) {
-    double djj = H[j * nu + j];
-    for (int k = 0; k < j; ++k) djj -= H[j * nu + k] * H[j * nu + k];
-    if (!(djj > 0)) return false;
-    const double ljj = std::sqrt(djj);
-    H[j * nu + j] = ljj;
+    double* uj = H + j * hs;
+    const double d = uj[j];
+    if (!(d > 0)) return false;
+    const double ujj = std::sqrt(d);
+    uj[j] = ujj;
+    const double inv = 1.0 / ujj;
+    for (int k = j + 1; k < nu; ++k) uj[k] *= inv;
     for (int i = j + 1; i < nu; ++i) {
-      double s = H[j * nu + i];  // (H's entry (i, j), from the upper triangle)
-      for (int k = 0; k < j; ++k) s -= H[i * nu + k] * H[j * nu + k];
-      H[i * nu + j] = s / ljj;
+      const double u = uj[i];
+      double* hi = H + i * hs;
+      for (int k0 = i & ~3; k0 < nu; k0 += 4) (F::load(hi + k0) - u * F::load(uj + k0)).store(hi + k0);
     }
   }
-  // Each row's Jacobian in the tree's coordinates, J_i = sum over its sides of T_b^T j, then
-  // Y = L^-1 J^T (nu x n, a coordinate's entries for all rows together: the substitution runs
-  // across the rows, not down one row's chain); A = Y^T Y.
-  if (m_denseY.size() < size_t(n * nu + 4)) m_denseY.resize(size_t(n * nu + 4));
+  // Each row's Jacobian in the tree's coordinates, J_i = S_k . (n, r x n + c_b x n) over its
+  // sides' bodies (the row's wrench about the root's centre) on each column k of the body's, then
+  // Y = U^-T J^T (nu x n, a coordinate's entries for all rows together, in rows of four: the
+  // substitution runs across the rows, not down one row's chain); A = Y^T Y.
+  const int n4 = (n + 3) & ~3;
+  if (m_denseY.size() < size_t(nu * n4)) m_denseY.resize(size_t(nu * n4));
   double* Y = m_denseY.data();
-  std::fill_n(Y, n * nu, 0.0);
+  std::fill_n(Y, nu * n4, 0.0);
   for (int i = 0; i < n; ++i)
     for (const RowSide& side : m_denseRows[size_t(i)].sides) {
       if (!side.body->m_originalBody) continue;
       const int node = m_nodeOfBody[size_t(side.index)];
       const int bi = m_denseNodeIndex[size_t(node - c.begin)];
-      const double* T = m_denseT.data() + size_t(bi) * 6 * stride;
-      const int* cols = m_denseCols.data() + bi * (kDenseCoordinatesMax + 1);
-      const double j[6] = {side.n->x(), side.n->y(), side.n->z(), side.rc->x(), side.rc->y(), side.rc->z()};
-      for (int a0 = 0; a0 < cols[0]; a0 += 4) {
-        F acc = F::zero();
-        for (int r = 0; r < 6; ++r) acc += j[r] * F::load(T + r * stride + a0);
-        for (int q = 0; q < 4 && a0 + q < cols[0]; ++q) Y[cols[1 + a0 + q] * n + i] += acc[q];
+      const int* cols = m_denseCols.data() + bi * kCols;
+      const Vec3d f(side.n->x(), side.n->y(), side.n->z());
+      const Vec3d moment = Vec3d(side.rc->x(), side.rc->y(), side.rc->z()) + get3(B + 16 * bi).cross(f);
+      for (int a = 0; a < cols[0]; ++a) {
+        const double* sk = S + 6 * cols[1 + a];
+        Y[cols[1 + a] * n4 + i] += sk[0] * f.x() + sk[1] * f.y() + sk[2] * f.z() + sk[3] * moment.x() +
+                                   sk[4] * moment.y() + sk[5] * moment.z();
       }
     }
   for (int col = 0; col < nu; ++col) {
-    double* y = Y + col * n;
+    double* y = Y + col * n4;
     for (int k = 0; k < col; ++k) {
-      const double l = H[col * nu + k];
-      const double* yk = Y + k * n;
-      for (int i = 0; i < n; ++i) y[i] -= l * yk[i];
+      const double l = H[k * hs + col];
+      const double* yk = Y + k * n4;
+      for (int i0 = 0; i0 < n; i0 += 4) (F::load(y + i0) - l * F::load(yk + i0)).store(y + i0);
     }
-    const double inv = 1.0 / H[col * nu + col];
-    for (int i = 0; i < n; ++i) y[i] *= inv;
+    const double inv = 1.0 / H[col * hs + col];
+    for (int i0 = 0; i0 < n; i0 += 4) (inv * F::load(y + i0)).store(y + i0);
   }
   // A = Y^T Y, each entry's sum over the coordinates in their order from 0.0 + its first product,
-  // four entries of a row at a time (Y has four entries of slack for the last ones), each entry
-  // written to both halves.
+  // four entries of a row at a time, each entry written to both halves.
   double* op = m_denseA.data();
   for (int i = 0; i < n; ++i) {
     for (int j0 = i; j0 < n; j0 += 4) {
       F acc = 0.0 + Y[i] * F::load(Y + j0);
-      for (int col = 1; col < nu; ++col) acc += Y[col * n + i] * F::load(Y + col * n + j0);
+      for (int col = 1; col < nu; ++col) acc += Y[col * n4 + i] * F::load(Y + col * n4 + j0);
       for (int k = 0; k < 4 && j0 + k < n; ++k) op[i * n + j0 + k] = op[(j0 + k) * n + i] = acc[k];
     }
   }

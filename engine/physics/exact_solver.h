@@ -695,10 +695,11 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   std::vector<DenseUnit> m_denseUnits;
   std::vector<double> m_denseA, m_denseU0, m_denseVel, m_denseLam, m_denseStart;
   std::vector<double> m_denseRowX;  // per row: target velocity, compliance, 1 / (diagonal + compliance)
-  std::vector<double> m_denseT, m_denseH, m_denseY;  // per body 6 x its columns; nu x nu; per coordinate n
-  std::vector<double> m_denseMT;                     // a body's M_b T_b
-  std::vector<int> m_denseNodeIndex;                 // per node of the cluster: body row or hinge column
-  std::vector<int> m_denseCols;                      // per body: its count of non-zero columns, then them
+  std::vector<double> m_denseH, m_denseY;  // nu rows of H, then U; nu rows of Y, a row's entry per row
+  std::vector<int> m_denseNodeIndex;       // per node of the cluster: body row or hinge column
+  std::vector<int> m_denseCols;            // per body: its count of non-zero columns, then them
+  std::vector<double> m_denseS;            // per coordinate: its twist at the root's centre (linear, angular)
+  std::vector<double> m_denseBody;  // per body: its centre from the root's, its subtree's m, h, I there
   std::vector<int> m_denseSlotStart, m_denseSlotItems, m_denseSlotClusters;
   long m_denseIslands = 0;
   std::vector<char> m_slotDense;  // per settling slot: its island is one the dense solve takes

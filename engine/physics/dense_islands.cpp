@@ -4,7 +4,7 @@
 // fact give a little; the exact solve after each sweep puts that right, and the two alternate for
 // the substep's iterations. For an island of one small tree the contact rows' own operator is
 // cheap to make exactly: in the tree's coordinates (the root body's twist and each hinge's speed)
-// the mass matrix H is at most 36 x 36 (PhysicsSettings::denseCoordinates), each motor's
+// the mass matrix H is at most 60 x 60 (PhysicsSettings::denseCoordinates), each motor's
 // compliance adds its stiffness on its hinge's diagonal, and A = J H^-1 J^T, n x n for the
 // island's n contact rows, is what a unit impulse of each row does to every row through the
 // hinges as they are. Gauss-Seidel sweeps on A (the same bounds as the sweep's: normal rows
@@ -28,15 +28,14 @@ namespace {
 
 using Vec3d = Eigen::Vector3d;
 
-// The largest tree (ExactSolver::denseCoordinates, 36 by default: a chain of up to ten SuperBots
-// or a tree as large; each docked SuperBot adds three hinges, its docked links being one body).
-// Against the alternation of sweeps and exact solves (one thread, 15 iterations, snakes of N
-// SuperBots crawling, 2026-12-07): 5 modules 24% less time a step, 8 modules 18% less, 10 modules
-// (36 coordinates) 14 to 16% less, 12 modules 8% less, 15 modules 1% more (the operator's cost
-// then grew as the bodies times the coordinates squared, the sweeps' as the rows squared; since
-// H is summed by subtrees, its factor's cost, the coordinates cubed, leads). 16 until
-// 2026-12-07; at 42 the 12-module walker's chain loaded a dock over its check (docs/benchmarks.md,
-// "Chains on their own operator by default").
+// The largest tree (ExactSolver::denseCoordinates, 60 by default: a chain of up to eighteen
+// SuperBots or a tree as large; each docked SuperBot adds three hinges, its docked links being one
+// body). Against the alternation of sweeps and exact solves (one thread, 15 iterations, snakes of
+// N SuperBots crawling, 2026-12-07, H summed by subtrees): 12 modules 18% less time a step, 15
+// modules 18% less, 18 modules (60 coordinates) 8% less, 20 modules 4% less, where an island's
+// rows often pass kDenseRows. (With H summed body by body, 10 modules 14 to 16% less, 12 modules 8%
+// less, 15 modules 1% more: the bound was 36, and 16 before that; docs/benchmarks.md, "Chains of
+// up to eighteen on their own operator".)
 constexpr int kDenseNodes = 5;   // the smallest tree: two hinges and their three bodies
 constexpr int kDenseRows = 64;   // the most contact rows an island may have
 constexpr int kDenseRounds = 4;  // operators made again where motors reach their rating

@@ -174,8 +174,8 @@ class ExactSolver : public btSequentialImpulseConstraintSolver {
   bool denseIslands = true;
   /// The most coordinates of a tree the operator takes (PhysicsSettings::denseCoordinates, at
   /// most kDenseCoordinatesMax; batch solvers read the primary's).
-  int denseCoordinates = 36;
-  static constexpr int kDenseCoordinatesMax = 48;
+  int denseCoordinates = 60;
+  static constexpr int kDenseCoordinatesMax = 72;
   /// The tree solve's and the dense operator's AVX variants, where the CPU has AVX
   /// (PhysicsSettings::avx; batch solvers read the primary's); off: their SSE2 ones, the same bits.
   bool avx = __builtin_cpu_supports("avx");

@@ -50,9 +50,10 @@ struct PhysicsSettings {
   /// (physics/dense_islands.cpp); off: by the sweeps alone (tests and measurements).
   bool denseIslands = true;
   /// The most coordinates (the root's six and one a hinge) of a tree whose contacts the operator
-  /// takes: 36, a chain of up to ten SuperBots or a tree as large (at most
-  /// ExactSolver::kDenseCoordinatesMax; 16, up to three docked, until 2026-12-07: docs/benchmarks.md).
-  int denseCoordinates = 36;
+  /// takes: 60, a chain of up to eighteen SuperBots or a tree as large (at most
+  /// ExactSolver::kDenseCoordinatesMax; 16, up to three docked, and then 36, up to ten, until
+  /// 2026-12-07: docs/benchmarks.md).
+  int denseCoordinates = 60;
   /// The exact solver's AVX variants where the CPU has AVX; off: the SSE2 ones (tests: the same
   /// bits either way).
   bool avx = true;

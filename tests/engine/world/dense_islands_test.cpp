@@ -16,8 +16,9 @@ namespace {
 
 // Three SuperBots (one crawling with the snake gait on its own, one switching its joints, one
 // still), an ATRON (one hinge: left to the sweeps), a 3-module snake (nine hinges: one small tree),
-// a 5-module one (fifteen: one small tree at the default bound of 36 coordinates, left to the
-// sweeps at 16) and a 13-module one (39 hinges: left to the sweeps either way).
+// a 5-module one (fifteen: one small tree at a bound of 36 coordinates, left to the sweeps at 16)
+// and a 13-module one (39 hinges, 45 coordinates: one small tree at the default bound of 60, left
+// to the sweeps at 36).
 std::string world(int iterations) {
   return "world.set{duration = 100, seed = 4, solver = \"exact\", solver_iterations = " +
          std::to_string(iterations) + R"(}
@@ -85,12 +86,12 @@ TEST_CASE("exact solver: a small island's contacts on their own operator go wher
   // its rating, at 0.53 s: the sweeps then take four more at most, the operator sweeps to the
   // end again.) With the motors taken as rigid in the operator (their compliance left out) the
   // SuperBots end 0.28 mm apart.
-  const Run dense = run(400, true, 1, 1.0), sweeps = run(400, false, 1, 1.0);
+  const Run dense = run(400, true, 1, 1.0, true, 36), sweeps = run(400, false, 1, 1.0);
   const double apart = largestMove(dense, sweeps, 0, 12);
   MESSAGE("converged, dense against swept: the SuperBots' links " << apart * 1000 << " mm apart after 1 s");
   CHECK(apart < 1e-4);
   // Every substep: the three SuperBots and the 3- and 5-module snakes (one small tree each); not
-  // the ATRON (one hinge) nor the 13-module snake (39 hinges), whose links move as without it.
+  // the ATRON (one hinge) nor, at a bound of 36, the 13-module snake, whose links move as without it.
   CHECK(dense.dense == 5 * dense.steps);
   CHECK(sweeps.dense == 0);
   CHECK(largestMove(dense, sweeps, 12, 14) == 0);
@@ -98,14 +99,20 @@ TEST_CASE("exact solver: a small island's contacts on their own operator go wher
 }
 
 TEST_CASE(
-    "exact solver: trees of up to 36 coordinates on their own operator leave the other islands as they "
+    "exact solver: trees of up to 60 coordinates on their own operator leave the other islands as they "
     "were") {
-  // The default bound, 36 coordinates (a chain of ten SuperBots), takes the 5-module snake, which
-  // then moves otherwise; the 13-module snake (45) is left to the sweeps and moves as it does
-  // without the operator, bit for bit, though the two snakes are solved in one batch. (Until the
-  // contacts' re-sweep after the iterations ended island by island, the batch's islands all stopped
-  // when the largest change of any settled: the 13-module snake ended 0.4 mm elsewhere in step 47.)
-  const Run dense = run(15, true, 1, 1.0), sweeps = run(15, false, 1, 1.0);
+  // The default bound, 60 coordinates (a chain of eighteen SuperBots), takes the 13-module snake
+  // (45) too, which then moves otherwise. A bound of 36 (a chain of ten) takes the 5-module snake
+  // and leaves the 13-module one to the sweeps, where it moves as it does without the operator,
+  // bit for bit, though the two snakes are solved in one batch. (Until the contacts' re-sweep after
+  // the iterations ended island by island, the batch's islands all stopped when the largest change
+  // of any settled: the 13-module snake ended 0.4 mm elsewhere in step 47. A 19-module snake, 63
+  // coordinates, still parts from its swept twin by 2.5 mm in steps 26 to 30 when the 5-module one
+  // is on its operator: not yet traced.)
+  const Run sweeps = run(15, false, 1, 1.0), sixty = run(15, true, 1, 1.0);
+  CHECK(sixty.dense == 6 * sixty.steps);
+  CHECK(largestMove(sixty, sweeps, 46) > 1e-4);
+  const Run dense = run(15, true, 1, 1.0, true, 36);
   CHECK(dense.dense == 5 * dense.steps);
   CHECK(largestMove(dense, sweeps, 26, 46) > 1e-4);
   CHECK(largestMove(dense, sweeps, 12, 14) == 0);
@@ -118,7 +125,7 @@ TEST_CASE(
 
 TEST_CASE("exact solver: a small island's contacts on their own operator, the same bits at 1 and 2 threads") {
   const Run one = run(15, true, 1, 1.0), two = run(15, true, 2, 1.0);
-  CHECK(one.dense == 5 * one.steps);
+  CHECK(one.dense == 6 * one.steps);
   CHECK(two.dense == one.dense);
   checkSameBits(one, two);
   // And at the defaults the operator's result differs from the sweeps' (it is in use).
@@ -132,7 +139,7 @@ TEST_CASE(
     "bits") {
   if (!__builtin_cpu_supports("avx")) MESSAGE("this CPU has no AVX: both runs take the SSE2 variants");
   const Run sse2 = run(15, true, 1, 1.0, false), avx = run(15, true, 1, 1.0);
-  CHECK(sse2.dense == 5 * sse2.steps);
+  CHECK(sse2.dense == 6 * sse2.steps);
   checkSameBits(sse2, avx);
   // (And the runs moved: a SuperBot crawled.)
   CHECK(largestMove(sse2, run(15, true, 1, 0.0)) > 1e-3);

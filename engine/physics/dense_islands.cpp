@@ -364,7 +364,8 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
   // Y = U^-T J^T (nu x n, a coordinate's entries for all rows together, in rows of four: the
   // substitution runs across the rows, not down one row's chain); A = Y^T Y.
   const int n4 = (n + 3) & ~3;
-  if (m_denseY.size() < size_t(nu * n4)) m_denseY.resize(size_t(nu * n4));
+  // (Four entries of slack: A's sums below load four from a row's entry i, past the last row's end.)
+  if (m_denseY.size() < size_t(nu * n4 + 4)) m_denseY.resize(size_t(nu * n4 + 4));
   double* Y = m_denseY.data();
   std::fill_n(Y, nu * n4, 0.0);
   for (int i = 0; i < n; ++i)

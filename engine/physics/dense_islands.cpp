@@ -342,22 +342,45 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
     const int q = m_denseNodeIndex[size_t(k - c.begin)];
     H[q * hs + q] += 1.0 / (e.state == A::Motor ? e.compliance + kRegularisation : kRegularisation);
   }
-  // H = U^T U, U upper triangular, in place in H's upper triangle, a row of U at a time, each
-  // later row then less its product, four entries at a time (from the group of four its diagonal
-  // is in: what lands left of the diagonal, and past the last column, is finite and not read).
-  for (int j = 0; j < nu; ++j) {
-    double* uj = H + j * hs;
-    const double d = uj[j];
-    if (!(d > 0)) return false;
-    const double ujj = std::sqrt(d);
-    uj[j] = ujj;
-    const double inv = 1.0 / ujj;
-    for (int k = j + 1; k < nu; ++k) uj[k] *= inv;
-    for (int i = j + 1; i < nu; ++i) {
-      const double u = uj[i];
-      double* hi = H + i * hs;
-      for (int k0 = i & ~3; k0 < nu; k0 += 4) (F::load(hi + k0) - u * F::load(uj + k0)).store(hi + k0);
+  // H = U^T U, U upper triangular, in place in H's upper triangle, a row of U at a time: H's row
+  // less the products of the rows of U before it, in their order, four entries at a time (from the
+  // group of four its diagonal is in: what lands left of the diagonal, and past the last column, is
+  // finite and not read), sixteen side by side where there are (held in registers over the rows
+  // before), then scaled.
+  for (int i = 0; i < nu; ++i) {
+    double* hi = H + i * hs;
+    int k0 = i & ~3;
+    for (; k0 + 12 < nu; k0 += 16) {
+      F h0 = F::load(hi + k0), h1 = F::load(hi + k0 + 4), h2 = F::load(hi + k0 + 8),
+        h3 = F::load(hi + k0 + 12);
+      for (int j = 0; j < i; ++j) {
+        const double* uj = H + j * hs;
+        const double u = uj[i];
+        h0 = h0 - u * F::load(uj + k0), h1 = h1 - u * F::load(uj + k0 + 4);
+        h2 = h2 - u * F::load(uj + k0 + 8), h3 = h3 - u * F::load(uj + k0 + 12);
+      }
+      h0.store(hi + k0), h1.store(hi + k0 + 4), h2.store(hi + k0 + 8), h3.store(hi + k0 + 12);
     }
+    for (; k0 + 4 < nu; k0 += 8) {
+      F h0 = F::load(hi + k0), h1 = F::load(hi + k0 + 4);
+      for (int j = 0; j < i; ++j) {
+        const double* uj = H + j * hs;
+        const double u = uj[i];
+        h0 = h0 - u * F::load(uj + k0), h1 = h1 - u * F::load(uj + k0 + 4);
+      }
+      h0.store(hi + k0), h1.store(hi + k0 + 4);
+    }
+    for (; k0 < nu; k0 += 4) {
+      F h = F::load(hi + k0);
+      for (int j = 0; j < i; ++j) h = h - H[j * hs + i] * F::load(H + j * hs + k0);
+      h.store(hi + k0);
+    }
+    const double d = hi[i];
+    if (!(d > 0)) return false;
+    const double uii = std::sqrt(d);
+    hi[i] = uii;
+    const double inv = 1.0 / uii;
+    for (int k = i + 1; k < nu; ++k) hi[k] *= inv;
   }
   // Each row's Jacobian in the tree's coordinates, J_i = S_k . (n, r x n + c_b x n) over its
   // sides' bodies (the row's wrench about the root's centre) on each column k of the body's, then
@@ -382,24 +405,74 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
                                    sk[4] * moment.y() + sk[5] * moment.z();
       }
     }
+  // (Sixteen rows at a time held in registers over the coordinates before: each entry the same
+  // products and differences in the same order, four chains at once instead of a load and store
+  // of each entry per coordinate.)
   for (int col = 0; col < nu; ++col) {
     double* y = Y + col * n4;
-    for (int k = 0; k < col; ++k) {
-      const double l = H[k * hs + col];
-      const double* yk = Y + k * n4;
-      for (int i0 = 0; i0 < n; i0 += 4) (F::load(y + i0) - l * F::load(yk + i0)).store(y + i0);
-    }
     const double inv = 1.0 / H[col * hs + col];
-    for (int i0 = 0; i0 < n; i0 += 4) (inv * F::load(y + i0)).store(y + i0);
+    int i0 = 0;
+    for (; i0 + 12 < n; i0 += 16) {
+      F y0 = F::load(y + i0), y1 = F::load(y + i0 + 4), y2 = F::load(y + i0 + 8), y3 = F::load(y + i0 + 12);
+      for (int k = 0; k < col; ++k) {
+        const double l = H[k * hs + col];
+        const double* yk = Y + k * n4 + i0;
+        y0 = y0 - l * F::load(yk), y1 = y1 - l * F::load(yk + 4);
+        y2 = y2 - l * F::load(yk + 8), y3 = y3 - l * F::load(yk + 12);
+      }
+      (inv * y0).store(y + i0), (inv * y1).store(y + i0 + 4);
+      (inv * y2).store(y + i0 + 8), (inv * y3).store(y + i0 + 12);
+    }
+    for (; i0 + 4 < n; i0 += 8) {
+      F y0 = F::load(y + i0), y1 = F::load(y + i0 + 4);
+      for (int k = 0; k < col; ++k) {
+        const double l = H[k * hs + col];
+        const double* yk = Y + k * n4 + i0;
+        y0 = y0 - l * F::load(yk), y1 = y1 - l * F::load(yk + 4);
+      }
+      (inv * y0).store(y + i0), (inv * y1).store(y + i0 + 4);
+    }
+    for (; i0 < n; i0 += 4) {
+      F yi = F::load(y + i0);
+      for (int k = 0; k < col; ++k) yi = yi - H[k * hs + col] * F::load(Y + k * n4 + i0);
+      (inv * yi).store(y + i0);
+    }
   }
   // A = Y^T Y, each entry's sum over the coordinates in their order from 0.0 + its first product,
   // four entries of a row at a time, each entry written to both halves.
+  // (Sixteen entries of a row at a time where there are: four sums side by side, each as alone.)
   double* op = m_denseA.data();
+  auto put = [&](int i, int j0, const F& acc) {
+    for (int k = 0; k < 4 && j0 + k < n; ++k) op[i * n + j0 + k] = op[(j0 + k) * n + i] = acc[k];
+  };
   for (int i = 0; i < n; ++i) {
-    for (int j0 = i; j0 < n; j0 += 4) {
+    int j0 = i;
+    for (; j0 + 12 < n; j0 += 16) {
+      const double y0 = Y[i];
+      F a0 = 0.0 + y0 * F::load(Y + j0), a1 = 0.0 + y0 * F::load(Y + j0 + 4);
+      F a2 = 0.0 + y0 * F::load(Y + j0 + 8), a3 = 0.0 + y0 * F::load(Y + j0 + 12);
+      for (int col = 1; col < nu; ++col) {
+        const double* yc = Y + col * n4;
+        const double yi = yc[i];
+        a0 += yi * F::load(yc + j0), a1 += yi * F::load(yc + j0 + 4);
+        a2 += yi * F::load(yc + j0 + 8), a3 += yi * F::load(yc + j0 + 12);
+      }
+      put(i, j0, a0), put(i, j0 + 4, a1), put(i, j0 + 8, a2), put(i, j0 + 12, a3);
+    }
+    for (; j0 + 4 < n; j0 += 8) {
+      const double y0 = Y[i];
+      F a0 = 0.0 + y0 * F::load(Y + j0), a1 = 0.0 + y0 * F::load(Y + j0 + 4);
+      for (int col = 1; col < nu; ++col) {
+        const double* yc = Y + col * n4;
+        const double yi = yc[i];
+        a0 += yi * F::load(yc + j0), a1 += yi * F::load(yc + j0 + 4);
+      }
+      put(i, j0, a0), put(i, j0 + 4, a1);
+    }
+    for (; j0 < n; j0 += 4) {
       F acc = 0.0 + Y[i] * F::load(Y + j0);
       for (int col = 1; col < nu; ++col) acc += Y[col * n4 + i] * F::load(Y + col * n4 + j0);
-      for (int k = 0; k < 4 && j0 + k < n; ++k) op[i * n + j0 + k] = op[(j0 + k) * n + i] = acc[k];
+      put(i, j0, acc);
     }
   }
   return true;

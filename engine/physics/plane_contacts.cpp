@@ -191,10 +191,18 @@ class PlaneContactAlgorithm : public btCollisionAlgorithm {
                                std::abs(constant) + std::abs(margin) + m_disc;
       clear = (largest + btScalar(1)) * btScalar(1e-5);
     }
+    // (A box's corners made here as btBoxShape::getVertex makes them, h x 1 - h x 0 = h and
+    // h x 0 - h x 1 = -h, without its virtual call for each.)
+    const bool box = shape->getShapeType() == BOX_SHAPE_PROXYTYPE;
+    const btVector3 half =
+        box ? static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin() : btVector3();
     for (int i = 0; i < count; ++i) {
       if (points && along.dot(points[i]) + offset >= cutoff + clear) continue;
       btVector3 v;
-      shape->getVertex(i, v);
+      if (box)
+        v.setValue(i & 1 ? -half.x() : half.x(), i & 2 ? -half.y() : half.y(), i & 4 ? -half.z() : half.z());
+      else
+        shape->getVertex(i, v);
       const btVector3 p = hullInPlane(v);
       const btScalar distance = normal.dot(p) - constant - margin;
       if (distance >= cutoff) continue;

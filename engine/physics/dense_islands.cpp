@@ -96,6 +96,17 @@ struct FourAvx {
   [[gnu::always_inline]] double operator[](int q) const { return v[q]; }
 };
 
+// Runs fn.template operator()<G>(k) over groups of four entries from `begin` (a multiple of four's
+// start) while k < end: G = 4 groups (sixteen entries) at a time where there are, then 2, then 1.
+// With G fixed its G sums are held in registers side by side, each summed as it would be alone.
+template <class Fn>
+[[gnu::always_inline]] inline void inGroups(int begin, int end, Fn&& fn) {
+  int k = begin;
+  for (; k + 12 < end; k += 16) fn.template operator()<4>(k);
+  for (; k + 4 < end; k += 8) fn.template operator()<2>(k);
+  for (; k < end; k += 4) fn.template operator()<1>(k);
+}
+
 }  // namespace
 
 /// The most coordinates of a tree the operator takes: the setting (the primary's), within
@@ -345,36 +356,20 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
   // H = U^T U, U upper triangular, in place in H's upper triangle, a row of U at a time: H's row
   // less the products of the rows of U before it, in their order, four entries at a time (from the
   // group of four its diagonal is in: what lands left of the diagonal, and past the last column, is
-  // finite and not read), sixteen side by side where there are (held in registers over the rows
+  // finite and not read; up to four groups held in registers over the rows
   // before), then scaled.
   for (int i = 0; i < nu; ++i) {
     double* hi = H + i * hs;
-    int k0 = i & ~3;
-    for (; k0 + 12 < nu; k0 += 16) {
-      F h0 = F::load(hi + k0), h1 = F::load(hi + k0 + 4), h2 = F::load(hi + k0 + 8),
-        h3 = F::load(hi + k0 + 12);
+    inGroups(i & ~3, nu, [&]<int G>(int k0) {
+      F h[G];
+      for (int g = 0; g < G; ++g) h[g] = F::load(hi + k0 + 4 * g);
       for (int j = 0; j < i; ++j) {
-        const double* uj = H + j * hs;
-        const double u = uj[i];
-        h0 = h0 - u * F::load(uj + k0), h1 = h1 - u * F::load(uj + k0 + 4);
-        h2 = h2 - u * F::load(uj + k0 + 8), h3 = h3 - u * F::load(uj + k0 + 12);
+        const double u = H[j * hs + i];
+        const double* uj = H + j * hs + k0;
+        for (int g = 0; g < G; ++g) h[g] = h[g] - u * F::load(uj + 4 * g);
       }
-      h0.store(hi + k0), h1.store(hi + k0 + 4), h2.store(hi + k0 + 8), h3.store(hi + k0 + 12);
-    }
-    for (; k0 + 4 < nu; k0 += 8) {
-      F h0 = F::load(hi + k0), h1 = F::load(hi + k0 + 4);
-      for (int j = 0; j < i; ++j) {
-        const double* uj = H + j * hs;
-        const double u = uj[i];
-        h0 = h0 - u * F::load(uj + k0), h1 = h1 - u * F::load(uj + k0 + 4);
-      }
-      h0.store(hi + k0), h1.store(hi + k0 + 4);
-    }
-    for (; k0 < nu; k0 += 4) {
-      F h = F::load(hi + k0);
-      for (int j = 0; j < i; ++j) h = h - H[j * hs + i] * F::load(H + j * hs + k0);
-      h.store(hi + k0);
-    }
+      for (int g = 0; g < G; ++g) h[g].store(hi + k0 + 4 * g);
+    });
     const double d = hi[i];
     if (!(d > 0)) return false;
     const double uii = std::sqrt(d);
@@ -405,76 +400,40 @@ bool ExactSolver::denseOperatorOf(const Cluster& c, int n, int nu) {
                                    sk[4] * moment.y() + sk[5] * moment.z();
       }
     }
-  // (Sixteen rows at a time held in registers over the coordinates before: each entry the same
-  // products and differences in the same order, four chains at once instead of a load and store
-  // of each entry per coordinate.)
+  // (Up to sixteen rows at a time held in registers over the coordinates before: each entry the
+  // same products and differences in the same order, without a load and store per coordinate.)
   for (int col = 0; col < nu; ++col) {
     double* y = Y + col * n4;
     const double inv = 1.0 / H[col * hs + col];
-    int i0 = 0;
-    for (; i0 + 12 < n; i0 += 16) {
-      F y0 = F::load(y + i0), y1 = F::load(y + i0 + 4), y2 = F::load(y + i0 + 8), y3 = F::load(y + i0 + 12);
+    inGroups(0, n, [&]<int G>(int i0) {
+      F v[G];
+      for (int g = 0; g < G; ++g) v[g] = F::load(y + i0 + 4 * g);
       for (int k = 0; k < col; ++k) {
         const double l = H[k * hs + col];
         const double* yk = Y + k * n4 + i0;
-        y0 = y0 - l * F::load(yk), y1 = y1 - l * F::load(yk + 4);
-        y2 = y2 - l * F::load(yk + 8), y3 = y3 - l * F::load(yk + 12);
+        for (int g = 0; g < G; ++g) v[g] = v[g] - l * F::load(yk + 4 * g);
       }
-      (inv * y0).store(y + i0), (inv * y1).store(y + i0 + 4);
-      (inv * y2).store(y + i0 + 8), (inv * y3).store(y + i0 + 12);
-    }
-    for (; i0 + 4 < n; i0 += 8) {
-      F y0 = F::load(y + i0), y1 = F::load(y + i0 + 4);
-      for (int k = 0; k < col; ++k) {
-        const double l = H[k * hs + col];
-        const double* yk = Y + k * n4 + i0;
-        y0 = y0 - l * F::load(yk), y1 = y1 - l * F::load(yk + 4);
-      }
-      (inv * y0).store(y + i0), (inv * y1).store(y + i0 + 4);
-    }
-    for (; i0 < n; i0 += 4) {
-      F yi = F::load(y + i0);
-      for (int k = 0; k < col; ++k) yi = yi - H[k * hs + col] * F::load(Y + k * n4 + i0);
-      (inv * yi).store(y + i0);
-    }
+      for (int g = 0; g < G; ++g) (inv * v[g]).store(y + i0 + 4 * g);
+    });
   }
   // A = Y^T Y, each entry's sum over the coordinates in their order from 0.0 + its first product,
-  // four entries of a row at a time, each entry written to both halves.
-  // (Sixteen entries of a row at a time where there are: four sums side by side, each as alone.)
+  // four entries of a row at a time (up to four such sums side by side), each entry written to both
+  // halves.
   double* op = m_denseA.data();
   auto put = [&](int i, int j0, const F& acc) {
     for (int k = 0; k < 4 && j0 + k < n; ++k) op[i * n + j0 + k] = op[(j0 + k) * n + i] = acc[k];
   };
-  for (int i = 0; i < n; ++i) {
-    int j0 = i;
-    for (; j0 + 12 < n; j0 += 16) {
-      const double y0 = Y[i];
-      F a0 = 0.0 + y0 * F::load(Y + j0), a1 = 0.0 + y0 * F::load(Y + j0 + 4);
-      F a2 = 0.0 + y0 * F::load(Y + j0 + 8), a3 = 0.0 + y0 * F::load(Y + j0 + 12);
+  for (int i = 0; i < n; ++i)
+    inGroups(i, n, [&]<int G>(int j0) {
+      F acc[G];
+      for (int g = 0; g < G; ++g) acc[g] = 0.0 + Y[i] * F::load(Y + j0 + 4 * g);
       for (int col = 1; col < nu; ++col) {
         const double* yc = Y + col * n4;
         const double yi = yc[i];
-        a0 += yi * F::load(yc + j0), a1 += yi * F::load(yc + j0 + 4);
-        a2 += yi * F::load(yc + j0 + 8), a3 += yi * F::load(yc + j0 + 12);
+        for (int g = 0; g < G; ++g) acc[g] += yi * F::load(yc + j0 + 4 * g);
       }
-      put(i, j0, a0), put(i, j0 + 4, a1), put(i, j0 + 8, a2), put(i, j0 + 12, a3);
-    }
-    for (; j0 + 4 < n; j0 += 8) {
-      const double y0 = Y[i];
-      F a0 = 0.0 + y0 * F::load(Y + j0), a1 = 0.0 + y0 * F::load(Y + j0 + 4);
-      for (int col = 1; col < nu; ++col) {
-        const double* yc = Y + col * n4;
-        const double yi = yc[i];
-        a0 += yi * F::load(yc + j0), a1 += yi * F::load(yc + j0 + 4);
-      }
-      put(i, j0, a0), put(i, j0 + 4, a1);
-    }
-    for (; j0 < n; j0 += 4) {
-      F acc = 0.0 + Y[i] * F::load(Y + j0);
-      for (int col = 1; col < nu; ++col) acc += Y[col * n4 + i] * F::load(Y + col * n4 + j0);
-      put(i, j0, acc);
-    }
-  }
+      for (int g = 0; g < G; ++g) put(i, j0 + 4 * g, acc[g]);
+    });
   return true;
 }
 

@@ -42,6 +42,15 @@ size_t cellSlot(const std::vector<uint64_t>& keys, const std::vector<int>& head,
   return h;
 }
 
+/// Cell key k's bit in a filter of `bits` bits (a power of two): clear, the cell holds no dock.
+size_t cellBit(uint64_t k, size_t bits) {
+  return size_t((k * 0xD6E8FEB86659FD93ull) >> 32) & (bits - 1);
+}
+bool cellMayHold(const std::vector<uint64_t>& filter, uint64_t k) {
+  const size_t b = cellBit(k, filter.size() * 64);
+  return (filter[b >> 6] >> (b & 63)) & 1;
+}
+
 }  // namespace
 
 std::vector<int> componentOf(const std::vector<Module>& modules, int m) {
@@ -302,6 +311,7 @@ void Docking::findPairs(const DockingScene& s, int i, double cell, std::vector<H
     for (int dy = 0; dy < 2; ++dy)
       for (int dz = 0; dz < 2; ++dz) {
         const uint64_t k = keys[0][dx] ^ keys[1][dy] ^ keys[2][dz];
+        if (!cellMayHold(m_cellBits, k)) continue;  // (most of the 8 are empty: no probe of the table)
         // Each pair once: a cell's chain runs from its last dock to its first, so the walk ends at i
         // (it had gone on past every earlier dock, half of each chain on average).
         for (int e = m_cellHead[cellSlot(m_cellKeys, m_cellHead, k)]; e > i; e = m_cellNext[size_t(e)]) {
@@ -399,8 +409,13 @@ void Docking::dock(const DockingScene& s) {
   m_cellKeys.resize(cap);
   m_cellHead.assign(cap, -1);
   m_cellNext.resize(m_freeDocks.size());
+  // Beside the table, a filter of 8 bits a slot (an eighth of the table's bytes: it stays in the
+  // first-level cache): a cell whose bit is clear holds no dock, and its look-up is skipped.
+  m_cellBits.assign(cap / 8, 0);
   for (size_t i = 0; i < m_freeDocks.size(); ++i) {
     const uint64_t k = cellKey(cellOf(m_freeDocks[i].pose.pos, cell));
+    const size_t bit = cellBit(k, cap * 8);
+    m_cellBits[bit >> 6] |= uint64_t(1) << (bit & 63);
     const size_t h = cellSlot(m_cellKeys, m_cellHead, k);
     m_cellKeys[h] = k;
     m_cellNext[i] = m_cellHead[h];

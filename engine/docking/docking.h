@@ -146,6 +146,7 @@ class Docking {
   std::vector<uint64_t> m_cellKeys;  ///< dock hash: slot -> cell key
   std::vector<int> m_cellHead;       ///< slot -> first dock in the cell, or -1
   std::vector<int> m_cellNext;       ///< dock -> next dock in its cell, or -1
+  std::vector<uint64_t> m_cellBits;  ///< a bit per hash of an occupied cell's key (cellBit)
   std::vector<size_t> m_boxFirst;    ///< box -> its module's first free dock in m_freeDocks
   /// Two free docks within each other's capture limits (findPairs): m_freeDocks[i] and [e], e > i.
   struct Hit {

@@ -365,18 +365,49 @@ void Docking::dock(const DockingScene& s) {
     m_dockBoxes.push_back({c - r, c + r, size_t(i), false});
   }
   // The boxes stay in module order; the sweep sorts their lower x ends (16 bytes each, not the
-  // 64-byte boxes, which it then sorted back into module order).
+  // 64-byte boxes, which it then sorted back into module order), within bands along y as tall as
+  // the tallest box: a box can only overlap boxes of its own band and the next ones. (A sweep along
+  // x alone compared each box with every box of the same column: on a square grid of modules,
+  // about sqrt(n) each, and 10,000 modules' step took 1.9 ms there.)
+  double band = 0, wide = 0;
+  for (const DockBox& b : m_dockBoxes) {
+    band = std::max(band, b.hi.y() - b.lo.y());
+    wide = std::max(wide, b.hi.x() - b.lo.x());
+  }
+  band *= 1.001;  // (a margin over the rounding of lo.y / band: boxes two bands apart never meet)
+  const bool banded = band > 0 && std::isfinite(band) && std::isfinite(wide);
   m_sweep.clear();
-  for (size_t k = 0; k < m_dockBoxes.size(); ++k) m_sweep.push_back({m_dockBoxes[k].lo.x(), uint32_t(k)});
-  std::sort(m_sweep.begin(), m_sweep.end(),
-            [](const SweepEnd& a, const SweepEnd& b) { return a.x < b.x || (a.x == b.x && a.box < b.box); });
-  for (size_t a = 0; a < m_sweep.size(); ++a) {
-    DockBox& ba = m_dockBoxes[m_sweep[a].box];
-    for (size_t b = a + 1; b < m_sweep.size() && m_sweep[b].x <= ba.hi.x(); ++b) {
-      DockBox& bb = m_dockBoxes[m_sweep[b].box];
-      if (ba.lo.y() <= bb.hi.y() && bb.lo.y() <= ba.hi.y() && ba.lo.z() <= bb.hi.z() &&
-          bb.lo.z() <= ba.hi.z())
-        ba.near = bb.near = true;
+  for (size_t k = 0; k < m_dockBoxes.size(); ++k) {
+    double row = banded ? std::floor(m_dockBoxes[k].lo.y() / band) : 0.0;
+    if (!(row >= -2e9)) row = -2e9;  // (far away, or not a number: the end bands)
+    if (!(row <= 2e9)) row = 2e9;
+    m_sweep.push_back({m_dockBoxes[k].lo.x(), int32_t(row), uint32_t(k)});
+  }
+  std::sort(m_sweep.begin(), m_sweep.end(), [](const SweepEnd& a, const SweepEnd& b) {
+    return a.row < b.row || (a.row == b.row && (a.x < b.x || (a.x == b.x && a.box < b.box)));
+  });
+  auto meet = [&](DockBox& ba, DockBox& bb) {
+    if (ba.lo.x() <= bb.hi.x() && bb.lo.x() <= ba.hi.x() && ba.lo.y() <= bb.hi.y() &&
+        bb.lo.y() <= ba.hi.y() && ba.lo.z() <= bb.hi.z() && bb.lo.z() <= ba.hi.z())
+      ba.near = bb.near = true;
+  };
+  const size_t boxes = m_sweep.size();
+  for (size_t first = 0, next = 0; first < boxes; first = next) {
+    // This band [first, next), and the one after it if it is the next band along y: [next, last).
+    const int32_t row = m_sweep[first].row;
+    while (next < boxes && m_sweep[next].row == row) ++next;
+    size_t last = next;
+    if (next < boxes && int64_t(m_sweep[next].row) == int64_t(row) + 1)
+      while (last < boxes && m_sweep[last].row == row + 1) ++last;
+    size_t from = next;  // the next band's first box that may still reach the boxes to come
+    for (size_t a = first; a < next; ++a) {
+      DockBox& ba = m_dockBoxes[m_sweep[a].box];
+      for (size_t b = a + 1; b < next && m_sweep[b].x <= ba.hi.x(); ++b)
+        meet(ba, m_dockBoxes[m_sweep[b].box]);
+      // (A box of the next band ending before this one begins starts at least `wide` before it;
+      // twice that, a margin over the rounding.)
+      while (from < last && m_sweep[from].x < ba.lo.x() - 2 * wide) ++from;
+      for (size_t b = from; b < last && m_sweep[b].x <= ba.hi.x(); ++b) meet(ba, m_dockBoxes[m_sweep[b].box]);
     }
   }
   // Fine pass: the free docks of modules near another, hashed into cells. Each module's free docks

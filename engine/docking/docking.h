@@ -140,9 +140,10 @@ class Docking {
   std::vector<ModuleRoot> m_roots;
   struct SweepEnd {
     double x;      ///< a box's lower x end
+    int32_t row;   ///< its band along y (the coarse pass)
     uint32_t box;  ///< its index in m_dockBoxes
   };
-  std::vector<SweepEnd> m_sweep;     ///< the boxes by lower x end
+  std::vector<SweepEnd> m_sweep;     ///< the boxes by band, then lower x end
   std::vector<uint64_t> m_cellKeys;  ///< dock hash: slot -> cell key
   std::vector<int> m_cellHead;       ///< slot -> first dock in the cell, or -1
   std::vector<int> m_cellNext;       ///< dock -> next dock in its cell, or -1

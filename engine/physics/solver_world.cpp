@@ -507,7 +507,13 @@ void SolverWorld::predictUnconstraintMotion(btScalar timeStep) {
   const bool fused = m_fused, gravity = m_gravityDue;
   const btScalar kinematicStep = m_kinematicStep;
   m_gravityDue = false;
-  forEachBody(m_predictPace, [=](btRigidBody* body) {
+  btRigidBody* const* bodies = m_nonStaticRigidBodies.size() ? &m_nonStaticRigidBodies[0] : nullptr;
+  const int n = m_nonStaticRigidBodies.size();
+  forEachIndex(m_predictPace, n, kChunk, [=](int i) {
+    // The body 4 ahead, whole: this pass is the substep's first to reach each body, and with many
+    // modules the bodies have left the caches since the last substep.
+    if (i + 4 < n) bullet_layout::fetchRange(bodies[i + 4], 0, int(sizeof(btRigidBody)));
+    btRigidBody* body = bodies[i];
     if (fused) {
       if (body->getActivationState() != ISLAND_SLEEPING && body->isKinematicObject())
         body->saveKinematicState(kinematicStep);

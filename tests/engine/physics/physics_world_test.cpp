@@ -558,3 +558,40 @@ TEST_CASE("bodies of the same part share one compound shape wherever they stand,
   run(w, 1.0);
   for (int p : parts) CHECK(std::abs(w.partPose(p).pos.z() - 0.02) < 0.0005);  // each rests on its big box
 }
+
+TEST_CASE("contact readings are the last step's touches, read after the step or after a merge of bodies") {
+  // Two boxes side by side on the ground and one in the air: the touches are those of the step's
+  // end, whenever a sensor reads them, and a merge of the two bodies after the step (a dock
+  // latching) leaves them as they were. A step with nobody reading makes them anew.
+  auto make = [](PhysicsWorld& w, int(&p)[3]) {
+    w.addGroundPlane(0.8, 0);
+    PartDesc d;
+    d.shapes = {box(0.04, 0.04, 0.04)};
+    d.mass = 0.1;
+    for (int i = 0; i < 3; ++i) {
+      d.pose.pos = Vec3(0.04 * i, 0, i == 2 ? 0.5 : 0.02);
+      p[i] = w.addPart(d);
+    }
+    w.setContactTracking(true);
+  };
+  PhysicsWorld w(PhysicsSettings{});
+  int p[3];
+  make(w, p);
+  for (int i = 0; i < 10; ++i) w.step(1.0 / 60, 1);
+  CHECK(w.partTouching(p[0]));
+  CHECK(w.partTouching(p[1]));
+  CHECK_FALSE(w.partTouching(p[2]));  // falling, 0.4 m up
+  CHECK_FALSE(w.partTouching(99));    // no such part
+
+  PhysicsWorld merged(PhysicsSettings{});
+  int q[3];
+  make(merged, q);
+  for (int i = 0; i < 10; ++i) merged.step(1.0 / 60, 1);
+  merged.lockParts(q[0], q[1]);  // their bodies (and manifolds) replaced by one, before any reading
+  CHECK(merged.partTouching(q[0]));
+  CHECK(merged.partTouching(q[1]));
+  CHECK_FALSE(merged.partTouching(q[2]));
+  // Unread steps, then the one in the air lands: the readings follow.
+  for (int i = 0; i < 40; ++i) merged.step(1.0 / 60, 1);
+  CHECK(merged.partTouching(q[2]));
+}

@@ -368,7 +368,7 @@ void Docking::dock(const DockingScene& s) {
   // 64-byte boxes, which it then sorted back into module order), within bands along y as tall as
   // the tallest box: a box can only overlap boxes of its own band and the next ones. (A sweep along
   // x alone compared each box with every box of the same column: on a square grid of modules,
-  // about sqrt(n) each, and 10,000 modules' step took 1.9 ms there.)
+  // about sqrt(n) each: 1.6 ms of the step with 10,000 modules.)
   double band = 0, wide = 0;
   for (const DockBox& b : m_dockBoxes) {
     band = std::max(band, b.hi.y() - b.lo.y());

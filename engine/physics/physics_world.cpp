@@ -1489,8 +1489,14 @@ void PhysicsWorld::step(double dt, int substeps) {
     }
     // Each hinge's load and angle (each hinge writes only its own).
     m->world.forEachIndex(m->anglePace, hinges, 64, [&](int i) {
-      // The bodies' poses of the hinge 4 ahead fetched now, and its joint 8 ahead: with many
-      // modules they have left the caches since the integration and the solve.
+      // The bodies' poses of the hinge 4 ahead fetched now, and its joint and what this pass reads
+      // of the hinge 8 ahead (from `c` on): with many modules they have left the caches since the
+      // integration and the solve, and reading the hinge 4 ahead's link waited on memory.
+      if (i + 8 < hinges) {
+        const Impl::Hinge* ahead = &m->hinges[size_t(i + 8)];
+        const char* from = reinterpret_cast<const char*>(&ahead->c);
+        bullet_layout::fetchRange(from, 0, int(reinterpret_cast<const char*>(ahead + 1) - from));
+      }
       if (exact && size_t(i + 8) < m->solver.joints.size())
         bullet_layout::fetchRange(&m->solver.joints[size_t(i + 8)], 0, int(sizeof(ExactJoint)));
       if (exact && i + 4 < hinges && m->hinges[size_t(i + 4)].link) {

@@ -59,6 +59,9 @@ std::string mismatch() {
     check(readAt<int>(&a, kCollideWith) == refs, "kCollideWith: the collision check",
           readAt<int>(&a, kCollideWith));
   }
+  const auto* const* ignored = readAt<const btCollisionObject* const*>(&a, kIgnoreList);
+  check(a.getNumObjectsWithoutCollision() == 1 && ignored && ignored[0] == a.getObjectWithoutCollision(0),
+        "kIgnoreList: the bodies without a collision check", a.getNumObjectsWithoutCollision());
   a.removeConstraintRef(&joint);
   btPersistentManifold m(&a, &b, 0, 0.02f, 0.02f);
   check(readAt<const btCollisionObject*>(&m, kManifoldBodies) == &a, "kManifoldBodies: body 0", 0);

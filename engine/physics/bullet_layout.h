@@ -19,6 +19,7 @@ constexpr int kActivation = 240;    ///< m_activationState1
 constexpr int kInternalType = 272;  ///< m_internalType
 constexpr int kUserIndex = 292;     ///< m_userIndex
 constexpr int kCollideWith = 312;   ///< m_checkCollideWith
+constexpr int kIgnoreList = 336;    ///< m_objectsWithoutCollisionCheck's array (what checkCollideWith reads)
 // btRigidBody.
 constexpr int kVelocities = 420;      ///< m_linearVelocity, then m_angularVelocity
 constexpr int kInverseMass = 452;     ///< m_inverseMass

@@ -77,6 +77,7 @@ struct BenchArgs {
   std::string type = "superbot";
   std::string json;
   bool converged = false;  ///< --converged: the converged reference (bench_converged.cpp)
+  bool together = false;   ///< --together: every scene's worlds built first and measured in turns
 };
 
 struct PlotArgs {

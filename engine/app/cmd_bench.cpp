@@ -250,16 +250,21 @@ class SceneRun {
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m_wall += wall;
-    m_cpu += processCpuSeconds() - cpu0;
+    const double cpu = processCpuSeconds() - cpu0;
+    m_cpu += cpu;
     m_taken += taken;
     const double sps = taken > 0 && wall > 0 ? double(taken) / wall : 0;
     m_rounds.push_back(sps);
+    m_roundCpu.push_back(taken > 0 ? 1000 * cpu / double(taken) : 0);
     return sps;
   }
 
   const World& world() const { return *m_world; }
   int threads() const { return m_threads; }
   const std::vector<double>& rounds() const { return m_rounds; }
+  /// CPU time a step, ms, a block each.
+  const std::vector<double>& roundCpu() const { return m_roundCpu; }
+  const Scene& scene() const { return m_scene; }
 
   Result result() const {
     const World& w = *m_world;
@@ -304,7 +309,8 @@ class SceneRun {
   ParticleSystem::Times m_pt;
   Quality m_worst;
   long long m_taken = 0, m_counted = 0;
-  std::vector<double> m_rounds;  ///< steps per second, a block each
+  std::vector<double> m_rounds;    ///< steps per second, a block each
+  std::vector<double> m_roundCpu;  ///< CPU ms a step, a block each
 };
 
 /// How much a second busy thread slows this one: the time of a chain of dependent multiply-adds
@@ -513,7 +519,7 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   const int iterations = a.iterations.value_or(defaultIterations(solver));
   const int jointIterations = a.jointIterations.value_or(defaults.jointIterations);
   const std::vector<int>& counts = a.threads;
-  const int rounds = a.rounds > 0 ? a.rounds : counts.size() > 1 ? 4 : 1;
+  const int rounds = a.rounds > 0 ? a.rounds : counts.size() > 1 || a.together ? 4 : 1;
   auto given = [](bool g) { return g ? "given" : "world default"; };
   std::printf(
       "settings: solver %s (%s), dt %.5f s (%s), substeps %d (%s), "
@@ -589,12 +595,12 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
         "threads %s: each scene's worlds built side by side and measured in %d rounds of %lld steps each, "
         "in turn (every other round in the reverse order)\n",
         joined(counts).c_str(), rounds, (a.steps + rounds - 1) / rounds);
-  for (const Scene* s : scenes) {
-    std::vector<std::unique_ptr<SceneRun>> runs;
-    for (int t : counts) {
-      runs.push_back(std::make_unique<SceneRun>(*s, a, t));
-      if (!runs.back()->load(root)) return 2;
-    }
+  if (a.together && scenes.size() > 1)
+    std::printf("together: every scene's worlds built first, then measured in the same turns\n");
+  // Each scene's worlds, one per thread count; with --together all of them are built before any is
+  // measured, and the rounds take every world in turn.
+  std::vector<std::vector<std::unique_ptr<SceneRun>>> built;
+  auto measureRounds = [&](const std::vector<SceneRun*>& runs) {
     // The steps in `rounds` blocks, the worlds in turn: A B, B A, A B ... so that a machine's
     // slow minute falls on every count alike.
     for (int r = 0; r < rounds; ++r) {
@@ -602,6 +608,32 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       if (steps == 0) continue;
       for (size_t k = 0; k < runs.size(); ++k) runs[r % 2 ? runs.size() - 1 - k : k]->measure(steps);
     }
+  };
+  if (a.together) {
+    std::vector<SceneRun*> all;
+    for (const Scene* s : scenes) {
+      built.emplace_back();
+      for (int t : counts) {
+        built.back().push_back(std::make_unique<SceneRun>(*s, a, t));
+        if (!built.back().back()->load(root)) return 2;
+        all.push_back(built.back().back().get());
+      }
+    }
+    measureRounds(all);
+  }
+  for (size_t si = 0; si < scenes.size(); ++si) {
+    const Scene* s = scenes[si];
+    std::vector<std::unique_ptr<SceneRun>> own;
+    if (!a.together) {
+      for (int t : counts) {
+        own.push_back(std::make_unique<SceneRun>(*s, a, t));
+        if (!own.back()->load(root)) return 2;
+      }
+      std::vector<SceneRun*> list;
+      for (const auto& run : own) list.push_back(run.get());
+      measureRounds(list);
+    }
+    const std::vector<std::unique_ptr<SceneRun>>& runs = a.together ? built[si] : own;
     for (const auto& run : runs) {
       const Result r = run->result();
       const uint64_t digest = stateDigest(run->world());
@@ -640,6 +672,34 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
            {"ratio_max", high},
            {"same_state", comparable ? nlohmann::json(same) : nlohmann::json(nullptr)}});
     }
+    // Measured together: this scene's CPU a step against the first scene's, round by round, at
+    // each thread count (how the step's cost grows with the world: the same steps of the same
+    // simulated time, on a machine whose load drifts alike for both).
+    if (a.together && si > 0)
+      for (size_t k = 0; k < runs.size(); ++k) {
+        const SceneRun& base = *built[0][k];
+        std::vector<double> ratios;
+        for (size_t i = 0; i < runs[k]->roundCpu().size() && i < base.roundCpu().size(); ++i)
+          if (runs[k]->roundCpu()[i] > 0 && base.roundCpu()[i] > 0)
+            ratios.push_back(runs[k]->roundCpu()[i] / base.roundCpu()[i]);
+        const double low = ratios.empty() ? 0.0 : *std::min_element(ratios.begin(), ratios.end());
+        const double high = ratios.empty() ? 0.0 : *std::max_element(ratios.begin(), ratios.end());
+        const int m0 = int(base.world().modules().size()), m1 = int(runs[k]->world().modules().size());
+        const double perModule = m0 > 0 && m1 > 0 ? median(ratios) * m0 / m1 : 0;
+        std::printf(
+            "  %s / %s at %d thread%s: %.3f times the CPU a step (median of %zu rounds, %.3f to %.3f); "
+            "%.3f times a module's\n",
+            s->name, base.scene().name, runs[k]->threads(), runs[k]->threads() == 1 ? "" : "s",
+            median(ratios), ratios.size(), low, high, perModule);
+        out["comparisons"].push_back({{"scene", s->name},
+                                      {"against_scene", base.scene().name},
+                                      {"threads", runs[k]->threads()},
+                                      {"cpu_ratios", ratios},
+                                      {"cpu_ratio_median", median(ratios)},
+                                      {"cpu_ratio_min", low},
+                                      {"cpu_ratio_max", high},
+                                      {"cpu_ratio_per_module", perModule}});
+      }
     std::fflush(stdout);
   }
   if (counts.size() > 1) {

@@ -215,6 +215,10 @@ int run(int argc, char** argv) {
                        "SuperBot scenes' module type (default superbot; superbot_box: brackets as boxes)");
   benchCmd->add_option("--json", bench.json, "write results as JSON");
   benchCmd->add_flag(
+      "--together", bench.together,
+      "build every scene's worlds first and measure them all in turns (--rounds, default 4): each "
+      "scene's CPU a step against the first's, round by round");
+  benchCmd->add_flag(
       "--converged", bench.converged,
       "the 10-module snake for 2 s at the world's defaults against a converged run (20 substeps x "
       "100 iterations): largest joint, position and dock-load differences; exit 1 above 1 deg, 2 mm, "

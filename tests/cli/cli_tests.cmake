@@ -138,6 +138,25 @@ if(NOT bench3_n EQUAL 2 OR NOT bench3_t1 EQUAL 2 OR NOT bench3_rounds EQUAL 3 OR
                      "${bench3_rounds} rounds and ${bench3_steps} steps, same state ${bench3_same}, digests ${bench3_d0} ${bench3_d1}, "
                      "cores ${bench3_cores}")
 endif()
+# Scenes together: every world built first, measured in the same turns; each scene's CPU a step
+# against the first's, round by round; a world's state the same bits as when it runs alone.
+expect_run("bench scenes together" 0
+           "together: every scene's worlds built first.*snake_150 / superbots_200 at 1 thread: [0-9.]+ times the CPU a step \\(median of 3 rounds, [0-9.]+ to [0-9.]+\\); [0-9.]+ times a module's"
+           bench superbots_200 snake_150 --modules 4 --steps 6 --together --rounds 3 --json ${OUT}/bench4.json)
+expect_run("bench a scene alone" 0 "" bench snake_150 --modules 4 --steps 6 --rounds 3 --json ${OUT}/bench5.json)
+file(READ ${OUT}/bench4.json bench4)
+file(READ ${OUT}/bench5.json bench5)
+string(JSON bench4_n LENGTH "${bench4}" scenes)
+string(JSON bench4_against GET "${bench4}" comparisons 0 against_scene)
+string(JSON bench4_ratios LENGTH "${bench4}" comparisons 0 cpu_ratios)
+string(JSON bench4_d GET "${bench4}" scenes 1 state_digest)
+string(JSON bench4_steps GET "${bench4}" scenes 1 steps)
+string(JSON bench5_d GET "${bench5}" scenes 0 state_digest)
+if(NOT bench4_n EQUAL 2 OR NOT bench4_against STREQUAL "superbots_200" OR NOT bench4_ratios EQUAL 3
+   OR NOT bench4_steps EQUAL 6 OR NOT bench4_d STREQUAL bench5_d)
+  message(SEND_ERROR "bench JSON together: ${bench4_n} scenes, against '${bench4_against}', ${bench4_ratios} ratios, "
+                     "${bench4_steps} steps, digest ${bench4_d} against ${bench5_d} alone")
+endif()
 expect_run("test folder" 0 "^.*2 passed, 0 failed" test ${SRC}/tests/worlds/servo_45.lua ${SRC}/tests/worlds/joint_limits.lua --junit ${OUT}/junit.xml)
 expect_run("test with a failing world" 1 "0 passed, 1 failed" test ${OUT}/failing.lua)
 file(READ ${OUT}/junit.xml junit)

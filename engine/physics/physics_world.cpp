@@ -40,6 +40,13 @@ namespace rm3d {
 
 namespace {
 
+/// Fetches the cache lines of the bytes from `from` up to `to` (two places in one object).
+void fetchSpan(const void* from, const void* to) {
+  const char* a = static_cast<const char*>(from);
+  const int bytes = int(static_cast<const char*>(to) - a);
+  if (bytes > 0) bullet_layout::fetchRange(a, 0, bytes);
+}
+
 btVector3 toBt(const Vec3& v) {
   return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
 }
@@ -1446,9 +1453,17 @@ void PhysicsWorld::step(double dt, int substeps) {
       // caches since the last step.)
       // (The joints are as many as the hinges up to the last one made a link: frozen hinges
       // after it have none.)
-      if (i + 4 < hinges) bullet_layout::fetchRange(&m->hinges[size_t(i + 4)], 0, int(sizeof(Impl::Hinge)));
-      if (exact && size_t(i + 4) < m->solver.joints.size())
-        bullet_layout::fetchRange(&m->solver.joints[size_t(i + 4)], 0, int(sizeof(ExactJoint)));
+      // (Only what the motor reads and writes: of the hinge, its ratings on; of the joint, its
+      // motor's inputs. The rest of each would be fetched for nothing: at 10,000 modules the
+      // joints have left the caches again before the solve reads them.)
+      if (i + 4 < hinges) {
+        const Impl::Hinge& ahead = m->hinges[size_t(i + 4)];
+        fetchSpan(&ahead.d.limited, &ahead.feedback);
+      }
+      if (exact && size_t(i + 4) < m->solver.joints.size()) {
+        const ExactJoint& ahead = m->solver.joints[size_t(i + 4)];
+        fetchSpan(&ahead.motorOn, &ahead.axialImpulse);
+      }
       Impl::Hinge& hg = m->hinges[size_t(i)];
       if (s == 0) {
         hg.torque = 0;
@@ -1494,11 +1509,12 @@ void PhysicsWorld::step(double dt, int substeps) {
       // integration and the solve, and reading the hinge 4 ahead's link waited on memory.
       if (i + 8 < hinges) {
         const Impl::Hinge* ahead = &m->hinges[size_t(i + 8)];
-        const char* from = reinterpret_cast<const char*>(&ahead->c);
-        bullet_layout::fetchRange(from, 0, int(reinterpret_cast<const char*>(ahead + 1) - from));
+        fetchSpan(&ahead->c, ahead + 1);
       }
-      if (exact && size_t(i + 8) < m->solver.joints.size())
-        bullet_layout::fetchRange(&m->solver.joints[size_t(i + 8)], 0, int(sizeof(ExactJoint)));
+      if (exact && size_t(i + 8) < m->solver.joints.size()) {  // (its bodies, frames and outputs)
+        const ExactJoint& ahead = m->solver.joints[size_t(i + 8)];
+        fetchSpan(&ahead, &ahead.impulseA);
+      }
       if (exact && i + 4 < hinges && m->hinges[size_t(i + 4)].link) {
         const ExactJoint& f = m->solver.joints[size_t(i + 4)];
         bullet_layout::fetchPose(f.a);

@@ -78,11 +78,11 @@ class Batches : public btSimulationIslandManager::IslandCallback {
     btTypedConstraint** first = known ? m_sorted + m_start[size_t(island)] : nullptr;
     const int n = known ? m_runs[size_t(island)] : 0;
     for (int i = 0; i < numBodies; ++i) m_bodies.push_back(bodies[i]);
-    // A manifold without contact points makes no rows, and it may join bodies of two islands
-    // (ContactIslands): solving it would make the other island's body a solver body of this batch,
-    // which writes its velocity back, gravity included, a second time.
-    for (int i = 0; i < numManifolds; ++i)
-      if (manifolds[i]->getNumContacts() > 0) m_manifolds.push_back(manifolds[i]);
+    // Only manifolds with contact points come here (ContactIslands::buildAndProcess): one without
+    // makes no rows, and it may join bodies of two islands, so solving it would make the other
+    // island's body a solver body of this batch, which writes its velocity back, gravity included,
+    // a second time.
+    for (int i = 0; i < numManifolds; ++i) m_manifolds.push_back(manifolds[i]);
     for (int i = 0; i < n; ++i) m_constraints.push_back(first[i]);
     if (m_constraints.size() + m_manifolds.size() > m_info.m_minimumSolverBatchSize) flush();
   }
@@ -223,7 +223,10 @@ class ContactIslands : public btSimulationIslandManager {
       const int manifolds = dispatcher->getNumManifolds();
       btPersistentManifold* const* list = dispatcher->getInternalManifoldPointer();
       for (int i = 0; i < manifolds; ++i) {
-        if (i + 2 * kAhead < manifolds) fetch(list[i + 2 * kAhead], kManifoldBodies);
+        if (i + 2 * kAhead < manifolds) {
+          fetch(list[i + 2 * kAhead], kManifoldBodies);
+          fetch(list[i + 2 * kAhead], kManifoldCount);
+        }
         if (i + kAhead < manifolds) {
           fetch(list[i + kAhead]->getBody0(), kActivation);
           fetch(list[i + kAhead]->getBody1(), kActivation);
@@ -239,7 +242,8 @@ class ContactIslands : public btSimulationIslandManager {
         if (b->isKinematicObject() && b->getActivationState() != ISLAND_SLEEPING && b->hasContactResponse())
           a->activate();
         if (getSplitIslands() && dispatcher->needsResponse(a, b))
-          m_manifolds.push_back({a->getIslandTag() >= 0 ? a->getIslandTag() : b->getIslandTag(), m});
+          m_manifolds.push_back(
+              {a->getIslandTag() >= 0 ? a->getIslandTag() : b->getIslandTag(), m->getNumContacts() > 0, m});
       }
     }
     BT_PROFILE("processIslands");
@@ -252,11 +256,15 @@ class ContactIslands : public btSimulationIslandManager {
       m_manifolds.quickSort(DeterministicOrder());
     else
       m_manifolds.quickSort(KeyOrder());
+    // Each island's manifolds with contact points, in their sorted order (one without points makes
+    // no rows, and it may join bodies of two islands: see Batches::processIsland). Whether a
+    // manifold has points was read above, beside its bodies: read here, each would wait on memory.
     const int manifolds = m_manifolds.size();
-    m_sorted.resize(manifolds);
-    for (int i = 0; i < manifolds; ++i) m_sorted[i] = m_manifolds[i].manifold;
-    int first = 0;    // the next island's manifolds start here
-    int fetched = 0;  // the manifolds fetched ahead so far (each island's are checked for points)
+    m_sorted.resize(0);
+    for (int i = 0; i < manifolds; ++i)
+      if (m_manifolds[i].points) m_sorted.push_back(m_manifolds[i].manifold);
+    int first = 0;   // the next island's manifolds start here (in m_manifolds)
+    int listed = 0;  // and its manifolds with points here (in m_sorted)
     for (int start = 0, end = 1; start < count; start = end) {
       const int id = islands.getElement(start).m_id;
       bool sleeping = true;
@@ -266,16 +274,13 @@ class ContactIslands : public btSimulationIslandManager {
         m_bodies.push_back(o);
         if (o->isActive()) sleeping = false;
       }
-      for (; fetched < std::min(first + kAhead, manifolds); ++fetched)
-        fetch(m_sorted[fetched], kManifoldCount);
-      int last = first;
-      if (first < manifolds && m_manifolds[first].island == id)
-        for (last = first + 1; last < manifolds && m_manifolds[last].island == id; ++last) {
-        }
+      int last = first, points = 0;
+      for (; last < manifolds && m_manifolds[last].island == id; ++last) points += m_manifolds[last].points;
       if (!sleeping)
-        callback->processIsland(&m_bodies[0], m_bodies.size(), last > first ? &m_sorted[first] : nullptr,
-                                last - first, id);
+        callback->processIsland(&m_bodies[0], m_bodies.size(), points > 0 ? &m_sorted[listed] : nullptr,
+                                points, id);
       first = last;
+      listed += points;
       m_bodies.resize(0);
     }
   }
@@ -284,6 +289,7 @@ class ContactIslands : public btSimulationIslandManager {
   static constexpr int kAhead = 8;
   struct Keyed {
     int island;
+    bool points;  ///< the manifold has contact points (read here, in memory's order: see below)
     btPersistentManifold* manifold;
   };
   struct KeyOrder {

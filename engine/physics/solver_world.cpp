@@ -132,7 +132,11 @@ class Batches : public btSimulationIslandManager::IslandCallback {
 class ContactIslands : public btSimulationIslandManager {
  public:
   void updateActivationState(btCollisionWorld* world, btDispatcher* dispatcher) override {
-    // As Bullet's, each object, manifold and manifold's bodies fetched ahead (buildAndProcess).
+    // As Bullet's, each object, manifold and manifold's bodies fetched ahead (buildAndProcess);
+    // without Bullet's reset of each object's hit fraction, which nothing reads: the integration
+    // sets it to 1 before it reads it (SolverWorld::integrateBody, and Bullet's own integration
+    // where it runs), nothing else sets it, and it lies on another line than the island tag (one
+    // line less for each body: with many modules, each line is fetched from memory).
     using namespace bullet_layout;
     int index = 0;
     btCollisionObjectArray& objects = world->getCollisionObjectArray();
@@ -141,12 +145,14 @@ class ContactIslands : public btSimulationIslandManager {
       btCollisionObject* o = objects[i];
       if (!o->isStaticOrKinematicObject()) o->setIslandTag(index++);
       o->setCompanionId(-1);
-      o->setHitFraction(btScalar(1));
     }
     initUnionFind(index);
     btPersistentManifold* const* list = dispatcher->getInternalManifoldPointer();
     for (int i = 0, n = dispatcher->getNumManifolds(); i < n; ++i) {
-      if (i + 2 * kAhead < n) fetch(list[i + 2 * kAhead], kManifoldBodies);
+      if (i + 2 * kAhead < n) {
+        fetch(list[i + 2 * kAhead], kManifoldBodies);
+        fetch(list[i + 2 * kAhead], kManifoldCount);
+      }
       if (i + kAhead < n) {
         fetch(list[i + kAhead]->getBody0(), kIslandTag);
         fetch(list[i + kAhead]->getBody1(), kIslandTag);

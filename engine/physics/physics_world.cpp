@@ -1414,6 +1414,14 @@ void PhysicsWorld::removeCapture(int id) {
   m->freeCaptures.push_back(id);
 }
 
+void PhysicsWorld::fetchMotor(int hinge) const {
+  if (hinge >= 0 && size_t(hinge) < m->hinges.size()) {
+    const Impl::Hinge& h = m->hinges[size_t(hinge)];
+    __builtin_prefetch(&h.mode, 1);
+    __builtin_prefetch(&h.value, 1);
+  }
+}
+
 void PhysicsWorld::setMotor(int hinge, MotorMode mode, double value) {
   Impl::Hinge& h = m->hinges[hinge];
   h.mode = mode;

@@ -185,6 +185,9 @@ class PhysicsWorld {
   void removeCapture(int id);
 
   void setMotor(int hinge, MotorMode mode, double value);
+  /// Starts fetching, for writing, what setMotor(hinge, ...) writes (a pass over many modules calls
+  /// it a few modules ahead); no effect on any result.
+  void fetchMotor(int hinge) const;
   /// Sets the linear velocity of the body holding the part (a thrown obstacle), waking it.
   void setPartVelocity(int part, const Vec3& v);
   /// True when the body holding the part is static or asleep. Obstacles (parts of no module)

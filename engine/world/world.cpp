@@ -507,6 +507,9 @@ void World::runBehaviour(int i) {
     const char* record = reinterpret_cast<const char*>(&m_modules[size_t(i + 3)]);
     for (size_t at = 0; at < sizeof(Module); at += 64) __builtin_prefetch(record + at);
   }
+  // (And the joint commands of the next module, which its joints' set calls write; read through its
+  // record, fetched two modules ago.)
+  if (size_t(i + 1) < n) __builtin_prefetch(m_modules[size_t(i + 1)].commands.data(), 1);
   for (int stage = 2; stage >= 0; --stage)
     if (size_t(i + 1 + stage) < n && m_behaviours[size_t(i + 1 + stage)])
       m_behaviours[size_t(i + 1 + stage)]->fetchState(stage);

@@ -598,8 +598,16 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
   if (a.together && scenes.size() > 1)
     std::printf("together: every scene's worlds built first, then measured in the same turns\n");
   // Each scene's worlds, one per thread count; with --together all of them are built before any is
-  // measured, and the rounds take every world in turn.
-  std::vector<std::vector<std::unique_ptr<SceneRun>>> built;
+  // measured, and the rounds take every world in turn (else each scene's are built, measured and
+  // let go before the next scene's).
+  std::vector<std::vector<std::unique_ptr<SceneRun>>> built(scenes.size());
+  auto build = [&](size_t si) {
+    for (int t : counts) {
+      built[si].push_back(std::make_unique<SceneRun>(*scenes[si], a, t));
+      if (!built[si].back()->load(root)) return false;
+    }
+    return true;
+  };
   auto measureRounds = [&](const std::vector<SceneRun*>& runs) {
     // The steps in `rounds` blocks, the worlds in turn: A B, B A, A B ... so that a machine's
     // slow minute falls on every count alike.
@@ -609,31 +617,24 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
       for (size_t k = 0; k < runs.size(); ++k) runs[r % 2 ? runs.size() - 1 - k : k]->measure(steps);
     }
   };
+  auto measureScenes = [&](size_t from, size_t to) {
+    std::vector<SceneRun*> runs;
+    for (size_t si = from; si < to; ++si)
+      for (const auto& run : built[si]) runs.push_back(run.get());
+    measureRounds(runs);
+  };
   if (a.together) {
-    std::vector<SceneRun*> all;
-    for (const Scene* s : scenes) {
-      built.emplace_back();
-      for (int t : counts) {
-        built.back().push_back(std::make_unique<SceneRun>(*s, a, t));
-        if (!built.back().back()->load(root)) return 2;
-        all.push_back(built.back().back().get());
-      }
-    }
-    measureRounds(all);
+    for (size_t si = 0; si < scenes.size(); ++si)
+      if (!build(si)) return 2;
+    measureScenes(0, scenes.size());
   }
   for (size_t si = 0; si < scenes.size(); ++si) {
     const Scene* s = scenes[si];
-    std::vector<std::unique_ptr<SceneRun>> own;
     if (!a.together) {
-      for (int t : counts) {
-        own.push_back(std::make_unique<SceneRun>(*s, a, t));
-        if (!own.back()->load(root)) return 2;
-      }
-      std::vector<SceneRun*> list;
-      for (const auto& run : own) list.push_back(run.get());
-      measureRounds(list);
+      if (!build(si)) return 2;
+      measureScenes(si, si + 1);
     }
-    const std::vector<std::unique_ptr<SceneRun>>& runs = a.together ? built[si] : own;
+    const std::vector<std::unique_ptr<SceneRun>>& runs = built[si];
     for (const auto& run : runs) {
       const Result r = run->result();
       const uint64_t digest = stateDigest(run->world());
@@ -701,6 +702,7 @@ int benchCommand(const BenchArgs& a, const std::string& root) {
                                       {"cpu_ratio_per_module", perModule}});
       }
     std::fflush(stdout);
+    if (!a.together) built[si].clear();  // (the next scene's worlds need the memory)
   }
   if (counts.size() > 1) {
     const double coresAfter = sharedCoreFactor();

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "docking/dock_frame.h"
+#include "physics/bullet_layout.h"
 
 namespace rm3d {
 
@@ -353,10 +354,8 @@ void Docking::dock(const DockingScene& s) {
       }
       if (i + 8 < end) {
         const Module& ahead = s.modules[size_t(i + 8)];
-        const char* docks = reinterpret_cast<const char*>(ahead.docks.data());
-        for (size_t at = 0; at < ahead.docks.size() * sizeof(DockState); at += 64)
-          __builtin_prefetch(docks + at);
-        if (!ahead.docks.empty()) __builtin_prefetch(docks + ahead.docks.size() * sizeof(DockState) - 1);
+        if (!ahead.docks.empty())
+          bullet_layout::fetchRange(ahead.docks.data(), 0, int(ahead.docks.size() * sizeof(DockState)));
         __builtin_prefetch(ahead.parts.data());
       }
       if (i + 4 < end) {
